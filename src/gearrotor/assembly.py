@@ -1,0 +1,302 @@
+"""One path from a model to the global matrices and the DOF map.
+
+Global DOF order: the nodes of shaft 0 (6 DOFs each, ``x, y, z, θx, θy, θz``), then shaft 1, ...,
+then the pedestal (support) nodes, 2 DOFs each (``x, y``). Element matrices are scattered as
+COO triplets and summed into CSR matrices once.
+
+The equations of motion at a reference speed Ω_ref are
+
+    M q̈ + (C + Σ_s Ω_s G_s) q̇ + K q = f,    Ω_s = ratio_s · Ω_ref,
+
+where C and K include speed-dependent bearings evaluated at each bearing's own shaft speed.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.sparse as sp
+from numpy.typing import NDArray
+
+from .elements import (
+    CoefficientTable,
+    CouplingElement,
+    CrossCoupling,
+    DiskElement,
+    MeshGeometry,
+    RadialBearing,
+    ShaftElement,
+    ThrustBearing,
+    buckingham_stiffness,
+    iso6336_stiffness,
+)
+from .errors import ModelError
+from .model import Train
+
+__all__ = ["Assembly", "MeshInfo", "BearingInfo", "assemble", "DOF_NAMES"]
+
+DOF_NAMES = ("x", "y", "z", "θx", "θy", "θz")
+
+
+class _Triplets:
+    def __init__(self) -> None:
+        self.rows: list[NDArray] = []
+        self.cols: list[NDArray] = []
+        self.vals: list[NDArray] = []
+
+    def add(self, dofs: NDArray, mat: NDArray) -> None:
+        dofs = np.asarray(dofs)
+        r, c = np.meshgrid(dofs, dofs, indexing="ij")
+        self.rows.append(r.ravel())
+        self.cols.append(c.ravel())
+        self.vals.append(np.asarray(mat, float).ravel())
+
+    def csr(self, n: int) -> sp.csr_array:
+        if not self.rows:
+            return sp.csr_array((n, n))
+        m = sp.coo_array(
+            (np.concatenate(self.vals), (np.concatenate(self.rows), np.concatenate(self.cols))),
+            shape=(n, n),
+        ).tocsr()
+        m.sum_duplicates()
+        m.eliminate_zeros()
+        return m
+
+
+@dataclass(frozen=True)
+class MeshInfo:
+    """A gear mesh resolved to global DOFs."""
+
+    name: str
+    dofs: NDArray  # (12,) global DOFs of gear i then gear j
+    geometry: MeshGeometry
+    w: NDArray  # (12,) kinematic vector, δ = w · q[dofs]
+    stiffness: float  # average Kg, N/m
+    damping: float  # N·s/m
+    shafts: tuple[int, int]
+    teeth: tuple[int, int]
+    spec_index: int
+
+
+@dataclass(frozen=True)
+class BearingInfo:
+    """A radial bearing resolved to global DOFs (x, y of the journal, and of its pedestal)."""
+
+    name: str
+    shaft: int
+    dofs: NDArray  # (2,) journal x, y
+    support_dofs: NDArray | None  # (2,) pedestal x, y, or None for ground
+    element: RadialBearing
+
+    def scatter(self, K: _Triplets, C: _Triplets, speed: float) -> None:
+        k, c = self.element.K(speed), self.element.C(speed)
+        if self.support_dofs is None:
+            K.add(self.dofs, k)
+            C.add(self.dofs, c)
+        else:
+            d = np.concatenate([self.dofs, self.support_dofs])
+            K.add(d, np.block([[k, -k], [-k, k]]))
+            C.add(d, np.block([[c, -c], [-c, c]]))
+
+
+@dataclass(frozen=True)
+class Assembly:
+    """Global matrices and DOF map of a train (SI units)."""
+
+    train: Train
+    n_dof: int
+    node_offset: tuple[NDArray, ...]  # per shaft: global index of DOF x of each node
+    M: sp.csr_array
+    K0: sp.csr_array  # speed-independent stiffness (shafts, couplings, meshes, constant bearings)
+    C0: sp.csr_array
+    G_shaft: tuple[sp.csr_array, ...]  # per shaft, per unit of that shaft's speed
+    speed_ratio: NDArray  # per shaft, Ω_s / Ω_ref
+    meshes: tuple[MeshInfo, ...]
+    bearings: tuple[BearingInfo, ...] = field(repr=False)
+    dof_labels: tuple[str, ...] = field(repr=False)
+    support_offset: tuple[int, ...] = ()
+
+    # --- DOF helpers ------------------------------------------------------------------------
+    def dof(self, shaft: int, node: int, direction: int) -> int:
+        return int(self.node_offset[shaft][node] + direction)
+
+    def shaft_dofs(self, shaft: int, direction: int) -> NDArray:
+        return self.node_offset[shaft] + direction
+
+    def dof_kind(self) -> NDArray:
+        """Per DOF: 0 lateral (x, y, θx, θy, pedestals), 1 axial (z), 2 torsional (θz)."""
+        kind = np.zeros(self.n_dof, int)
+        for offs in self.node_offset:
+            kind[offs + 2] = 1
+            kind[offs + 5] = 2
+        return kind
+
+    # --- matrices at a speed -----------------------------------------------------------------
+    def shaft_speeds(self, speed: float) -> NDArray:
+        return self.speed_ratio * speed
+
+    def matrices(self, speed: float) -> tuple[sp.csr_array, sp.csr_array, sp.csr_array, sp.csr_array]:
+        """(M, C, G, K) at reference-shaft speed ``speed`` (rad/s); G already scaled by speeds."""
+        speeds = self.shaft_speeds(speed)
+        G = sp.csr_array((self.n_dof, self.n_dof))
+        for s, g in zip(speeds, self.G_shaft, strict=True):
+            if s != 0.0:
+                G = G + s * g
+        Kt, Ct = _Triplets(), _Triplets()
+        for b in self.bearings:
+            if b.element.speed_dependent:
+                b.scatter(Kt, Ct, speeds[b.shaft])
+        return self.M, self.C0 + Ct.csr(self.n_dof), G, self.K0 + Kt.csr(self.n_dof)
+
+    @property
+    def speed_dependent(self) -> bool:
+        return any(b.element.speed_dependent for b in self.bearings)
+
+
+def _shaft_elements(train: Train, i: int) -> list[ShaftElement]:
+    s = train.shafts[i]
+    out = []
+    for sec in s.sections:
+        mat = train.materials[sec.material or s.material]
+        h = sec.length / sec.elements
+        el = ShaftElement(
+            length=h, outer_diameter=sec.outer_diameter, inner_diameter=sec.inner_diameter,
+            E=mat.E, shear_modulus=mat.G, density=mat.density,
+            mass_outer_diameter=sec.mass_outer_diameter,
+            mass_inner_diameter=sec.mass_inner_diameter, shear_method=train.shear_method,
+        )
+        out.extend([el] * sec.elements)
+    return out
+
+
+def _disk_element(train: Train, shaft_i: int, k: int) -> DiskElement:
+    s = train.shafts[shaft_i]
+    d = s.disks[k]
+    if d.mass is not None:
+        return DiskElement(d.mass, d.polar, d.transverse)
+    mat = train.material(d.material or s.material, f"shafts[{shaft_i}].disks[{k}].material")
+    D, di, w = d.outer_diameter, d.inner_diameter, d.width
+    if di >= D:
+        raise ModelError("disk inner diameter must be smaller than its outer diameter",
+                         field=f"shafts[{shaft_i}].disks[{k}].inner_diameter", value=di)
+    m = mat.density * np.pi / 4 * (D**2 - di**2) * w
+    return DiskElement(m, m / 8 * (D**2 + di**2), m / 16 * (D**2 + di**2) + m * w**2 / 12)
+
+
+def mesh_stiffness(train: Train, k: int) -> float:
+    """Average mesh stiffness Kg (N/m) of mesh k: given, Buckingham or ISO 6336-1."""
+    m = train.meshes[k]
+    if isinstance(m.stiffness, float):
+        return m.stiffness
+    if m.stiffness.method == "value":
+        return m.stiffness.value
+
+    def modulus(side, field):
+        if side.E is not None:
+            return side.E
+        si = train.shaft_index(side.shaft, f"meshes[{k}].{field}.shaft")
+        return train.materials[train.shafts[si].material].E
+
+    Ei, Ej = modulus(m.gear, "gear"), modulus(m.mate, "mate")
+    c = m.stiffness.contact_ratio
+    if m.stiffness.method == "buckingham":
+        return buckingham_stiffness(c, m.face_width, Ei, Ej)
+    return iso6336_stiffness(m.gear.teeth, m.mate.teeth, m.face_width, c, m.helix_angle,
+                             m.pressure_angle, Ei, Ej)
+
+
+def assemble(train: Train) -> Assembly:
+    """Build the global matrices of a train (raises :class:`ModelError` on bad input)."""
+    layout = train.layout()
+    offsets = []
+    n = 0
+    labels: list[str] = []
+    for sl in layout.shafts:
+        offsets.append(n + 6 * np.arange(sl.n_nodes))
+        n += 6 * sl.n_nodes
+        labels += [f"{sl.name}[{j}].{d}" for j in range(sl.n_nodes) for d in DOF_NAMES]
+    support_offset = []
+    for k, b in enumerate(train.bearings):
+        if b.support is not None:
+            support_offset.append(n)
+            labels += [f"bearings[{k}].support.x", f"bearings[{k}].support.y"]
+            n += 2
+        else:
+            support_offset.append(-1)
+
+    M, K, C = _Triplets(), _Triplets(), _Triplets()
+    G = []
+    for i, sl in enumerate(layout.shafts):
+        Gi = _Triplets()
+        for e, el in enumerate(_shaft_elements(train, i)):
+            dofs = np.concatenate([offsets[i][e] + np.arange(6), offsets[i][e + 1] + np.arange(6)])
+            M.add(dofs, el.M())
+            K.add(dofs, el.K())
+            Gi.add(dofs, el.G())
+        for k, d in enumerate(train.shafts[i].disks):
+            _, node = train.node_index(d, f"shafts[{i}].disks[{k}]", shaft=sl.name)
+            el = _disk_element(train, i, k)
+            dofs = offsets[i][node] + np.arange(6)
+            M.add(dofs, el.M())
+            Gi.add(dofs, el.G())
+        G.append(Gi.csr(n))
+
+    def node_dofs(ref, field, dirs):
+        si, node = train.node_index(ref, field)
+        return si, offsets[si][node] + np.asarray(dirs)
+
+    bearings = []
+    for k, b in enumerate(train.bearings):
+        si, dofs = node_dofs(b, f"bearings[{k}]", [0, 1])
+        if b.table is not None:
+            t = b.table
+            vals = np.column_stack([t.kxx, t.kxy, t.kyx, t.kyy, t.cxx, t.cxy, t.cyx, t.cyy])
+            el = RadialBearing(table=CoefficientTable(np.asarray(t.speed), vals, t.extrapolate))
+        else:
+            el = RadialBearing(*b.coefficients())
+        sup = None
+        if b.support is not None:
+            so = support_offset[k]
+            sup = np.array([so, so + 1])
+            M.add(sup, np.eye(2) * b.support.mass)
+            K.add(sup, np.diag([b.support.kxx, b.support.kyy]))
+            C.add(sup, np.diag([b.support.cxx, b.support.cyy]))
+        info = BearingInfo(b.name or f"bearings[{k}]", si, dofs, sup, el)
+        if not el.speed_dependent:
+            info.scatter(K, C, 0.0)
+        bearings.append(info)
+    for k, t in enumerate(train.thrust_bearings):
+        _, dofs = node_dofs(t, f"thrust_bearings[{k}]", [2])
+        el = ThrustBearing(t.kzz, t.czz)
+        K.add(dofs, el.K())
+        C.add(dofs, el.C())
+    for k, q in enumerate(train.cross_couplings):
+        _, dofs = node_dofs(q, f"cross_couplings[{k}]", [0, 1])
+        K.add(dofs, CrossCoupling(q.q).K())
+    for k, c in enumerate(train.couplings):
+        _, di = node_dofs(c.node_i, f"couplings[{k}].node_i", range(6))
+        _, dj = node_dofs(c.node_j, f"couplings[{k}].node_j", range(6))
+        el = CouplingElement((c.kx, c.ky, c.kz, c.ktx, c.kty, c.ktz),
+                             (c.cx, c.cy, c.cz, c.ctx, c.cty, c.ctz))
+        K.add(np.concatenate([di, dj]), el.K())
+        C.add(np.concatenate([di, dj]), el.C())
+    meshes = []
+    for k, m in enumerate(train.meshes):
+        si, di = node_dofs(m.gear, f"meshes[{k}].gear", range(6))
+        sj, dj = node_dofs(m.mate, f"meshes[{k}].mate", range(6))
+        ri, rj = train.pitch_radii(k)
+        geo = MeshGeometry(ri, rj, m.pressure_angle, m.helix_angle, m.orientation)
+        kg = mesh_stiffness(train, k)
+        dofs = np.concatenate([di, dj])
+        K.add(dofs, geo.K(kg))
+        C.add(dofs, geo.C(m.damping))
+        meshes.append(MeshInfo(m.name or f"meshes[{k}]", dofs, geo, geo.w(), kg, m.damping,
+                               (si, sj), (m.gear.teeth, m.mate.teeth), k))
+
+    return Assembly(
+        train=train, n_dof=n, node_offset=tuple(offsets), M=M.csr(n), K0=K.csr(n), C0=C.csr(n),
+        G_shaft=tuple(G), speed_ratio=np.array([s.speed_ratio for s in layout.shafts]),
+        meshes=tuple(meshes), bearings=tuple(bearings), dof_labels=tuple(labels),
+        support_offset=tuple(support_offset),
+    )

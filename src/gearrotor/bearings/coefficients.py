@@ -1,0 +1,361 @@
+"""Dynamic coefficients by perturbation, load and speed sweeps, and coefficient tables.
+
+Sign convention: F is the film reaction on the journal, K_ij = −∂F_i/∂x_j and
+C_ij = −∂F_i/∂ẋ_j (i, j ∈ {x, y}), so a stable bearing has positive direct stiffness and
+damping; the rotor sees ``f = −K u − C u̇`` about the static equilibrium.
+
+Coefficients are central differences of the film forces in the journal (and pad) displacements
+and velocities about the equilibrium (perturbation ``SolverOptions.perturbation`` · c and
+· c·|ω|). For tilting-pad bearings the full matrices over [x, y, pad DOFs] are kept (pad
+DOFs: tilt in rad, radial pivot displacement in m) together with the pad mass matrix, and
+:meth:`Coefficients.reduced` condenses them to the journal at any whirl frequency; ``K``/``C``
+are the synchronously reduced values (whirl = |speed|).
+
+Dimensionless: K̄ = K c / W, C̄ = C c |ω| / W with W = |load|, and the Sommerfeld number
+S = μ N L D / W (R/c)², N = |speed|/2π in rev/s.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+import tomllib
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from ..errors import ModelError
+from .equilibrium import Equilibrium, equilibrium
+from .film import SolverOptions, _Evaluator, _lever_scale, dof_names
+from .geometry import Bearing, TiltingPadBearing
+
+__all__ = [
+    "Coefficients",
+    "coefficients",
+    "load_sweep",
+    "BearingTable",
+    "coefficients_table",
+    "save_table",
+    "load_table",
+    "COEFFICIENT_NAMES",
+]
+
+COEFFICIENT_NAMES = ("kxx", "kxy", "kyx", "kyy", "cxx", "cxy", "cyx", "cyy")
+
+
+@dataclass(frozen=True)
+class Coefficients:
+    """Eight dynamic coefficients at an equilibrium.
+
+    Attributes
+    ----------
+    equilibrium
+        The static equilibrium they linearise about.
+    K
+        Journal stiffness (N/m), 2×2 [[kxx, kxy], [kyx, kyy]] (synchronously reduced for
+        tilting pads).
+    C
+        Journal damping (N·s/m), 2×2.
+    K_full, C_full, M_full
+        Full matrices over :attr:`dofs` (x, y in m; pad tilts in rad; radial pad DOFs in m);
+        for fixed bearings equal to K, C and zeros.
+    dofs
+        Names of the full coordinates.
+    """
+
+    equilibrium: Equilibrium
+    K: NDArray
+    C: NDArray
+    K_full: NDArray
+    C_full: NDArray
+    M_full: NDArray
+    dofs: tuple[str, ...]
+
+    def __getattr__(self, name: str) -> float:
+        if name in COEFFICIENT_NAMES:
+            mat = self.K if name[0] == "k" else self.C
+            return float(mat["xy".index(name[1]), "xy".index(name[2])])
+        raise AttributeError(name)
+
+    @property
+    def speed(self) -> float:
+        """Journal speed (rad/s, signed)."""
+        return self.equilibrium.speed
+
+    @property
+    def sommerfeld(self) -> float:
+        """Sommerfeld number S = μ N L D / W (R/c)²."""
+        return self.equilibrium.sommerfeld
+
+    @property
+    def load_magnitude(self) -> float:
+        """|W| (N)."""
+        return math.hypot(*self.equilibrium.load)
+
+    def dimensionless(self, clearance: float) -> tuple[NDArray, NDArray]:
+        """(K c/W, C c |ω|/W) with the given reference clearance c (m)."""
+        w = self.load_magnitude
+        if w == 0:
+            raise ModelError("dimensionless coefficients need a non-zero load", field="load",
+                             value=self.equilibrium.load, expected="|W| > 0")
+        return self.K * clearance / w, self.C * clearance * abs(self.speed) / w
+
+    def as_array(self) -> NDArray:
+        """The 8 coefficients in :data:`COEFFICIENT_NAMES` order."""
+        return np.concatenate([self.K.ravel(), self.C.ravel()])
+
+    def reduced(self, whirl: float) -> tuple[NDArray, NDArray]:
+        """Journal K, C condensed at whirl frequency ``whirl`` (rad/s) (pad DOFs eliminated).
+
+        ``Z(Ω) = K + iΩC − Ω²M``, ``Z_r = Z_jj − Z_jp Z_pp⁻¹ Z_pj``; K = Re Z_r, C = Im Z_r / Ω.
+        """
+        return _reduce(self.K_full, self.C_full, self.M_full, whirl)
+
+
+def _reduce(k: NDArray, c: NDArray, m: NDArray, whirl: float) -> tuple[NDArray, NDArray]:
+    if k.shape[0] == 2:
+        return k.copy(), c.copy()
+    w = abs(whirl)
+    if w == 0:
+        w = 1e-9
+    z = k + 1j * w * c - w**2 * m
+    zjj, zjp, zpj, zpp = z[:2, :2], z[:2, 2:], z[2:, :2], z[2:, 2:]
+    zr = zjj - zjp @ np.linalg.solve(zpp, zpj)
+    return zr.real.copy(), zr.imag / w
+
+
+def _pad_mass(bearing: Bearing) -> NDArray:
+    names = dof_names(bearing)
+    m = np.zeros((len(names), len(names)))
+    if isinstance(bearing, TiltingPadBearing):
+        k = 2
+        for pad in bearing.pads:
+            m[k, k] = pad.inertia
+            k += 1
+            if pad.pivot_stiffness is not None:
+                m[k, k] = pad.mass
+                k += 1
+    return m
+
+
+def coefficients(bearing: Bearing, load: Sequence[float] | Equilibrium, speed: float | None = None,
+                 *, options: SolverOptions | None = None) -> Coefficients:
+    """Equilibrium and dynamic coefficients of a bearing.
+
+    Parameters
+    ----------
+    bearing
+        Fixed or tilting-pad bearing.
+    load
+        (Fx, Fy) static load on the journal (N), or an already solved :class:`Equilibrium`.
+    speed
+        Journal speed (rad/s, signed); taken from the equilibrium when one is given.
+    options
+        Solver options.
+    """
+    opts = options or SolverOptions()
+    if isinstance(load, Equilibrium):
+        eq = load
+    else:
+        if speed is None:
+            raise ModelError("speed is required with a load vector", field="speed",
+                             value=None, expected="a speed in rad/s")
+        eq = equilibrium(bearing, load, speed, options=opts)
+    ev = _Evaluator(bearing, eq.speed, opts)
+    u = np.concatenate([[eq.x, eq.y], eq.pad_dofs * _lever_scale(bearing)[2:]])
+    k_lev, c_lev = ev.jacobians(u, velocity=True)
+    s = _lever_scale(bearing)
+    k_full = k_lev * s[:, None] * s[None, :]
+    c_full = c_lev * s[:, None] * s[None, :]
+    m_full = _pad_mass(bearing)
+    kr, cr = _reduce(k_full, c_full, m_full, eq.speed)
+    return Coefficients(eq, kr, cr, k_full, c_full, m_full, tuple(dof_names(bearing)))
+
+
+def load_sweep(bearing: Bearing, loads: Iterable[Sequence[float]], speed: float, *,
+               options: SolverOptions | None = None) -> list[Coefficients]:
+    """Coefficients for several load cases at one speed (rad/s)."""
+    return [coefficients(bearing, tuple(w), speed, options=options) for w in loads]
+
+
+@dataclass(frozen=True)
+class BearingTable:
+    """Bearing coefficients tabulated against speed, read by the rotor's bearing elements.
+
+    Attributes
+    ----------
+    speed_rpm
+        Speeds (rpm, signed as solved), shape (n,).
+    kxx, kxy, kyx, kyy
+        Stiffness (N/m), shape (n,).
+    cxx, cxy, cyx, cyy
+        Damping (N·s/m), shape (n,).
+    load
+        The static load (Fx, Fy) they were computed at (N).
+    eccentricity_ratio, attitude_angle
+        Equilibrium per speed (attitude in rad); NaN when read from a file without them.
+    name
+        The bearing's name.
+    """
+
+    speed_rpm: NDArray
+    kxx: NDArray
+    kxy: NDArray
+    kyx: NDArray
+    kyy: NDArray
+    cxx: NDArray
+    cxy: NDArray
+    cyx: NDArray
+    cyy: NDArray
+    load: tuple[float, float] = (0.0, 0.0)
+    eccentricity_ratio: NDArray | None = None
+    attitude_angle: NDArray | None = None
+    name: str = field(default="")
+
+    def __post_init__(self) -> None:
+        n = len(np.atleast_1d(self.speed_rpm))
+        for name in ("speed_rpm", *COEFFICIENT_NAMES):
+            arr = np.atleast_1d(np.asarray(getattr(self, name), dtype=float))
+            if arr.shape != (n,):
+                raise ModelError("coefficient table columns differ in length", field=name,
+                                 value=arr.shape, expected=f"shape ({n},)")
+            object.__setattr__(self, name, arr)
+
+    def values(self) -> NDArray:
+        """All coefficients, shape (n, 8), in :data:`COEFFICIENT_NAMES` order."""
+        return np.stack([getattr(self, n) for n in COEFFICIENT_NAMES], axis=1)
+
+    def to_coefficient_table(self, extrapolate: str = "error"):
+        """The rotor model's :class:`gearrotor.elements.bearing.CoefficientTable` (rad/s)."""
+        from ..elements.bearing import CoefficientTable
+
+        speed = np.abs(self.speed_rpm) * math.pi / 30.0
+        order = np.argsort(speed)
+        return CoefficientTable(speed[order], self.values()[order], extrapolate)
+
+
+def coefficients_table(bearing: Bearing, load: Sequence[float], speeds: ArrayLike, *,
+                       options: SolverOptions | None = None) -> BearingTable:
+    """Coefficients at one load over several speeds.
+
+    Parameters
+    ----------
+    bearing
+        Fixed or tilting-pad bearing.
+    load
+        (Fx, Fy) static load on the journal (N).
+    speeds
+        Speeds in **rpm** (signed; the table's unit), any order.
+    options
+        Solver options.
+    """
+    rpm = np.atleast_1d(np.asarray(speeds, dtype=float))
+    rows, ecc, att = [], [], []
+    prev: Equilibrium | None = None
+    for n in rpm:
+        w = n * math.pi / 30.0
+        eq = equilibrium(bearing, load, w, options=options,
+                         start=prev if prev is not None and prev.speed * w > 0 else None)
+        co = coefficients(bearing, eq, options=options)
+        rows.append(co.as_array())
+        ecc.append(eq.eccentricity_ratio)
+        att.append(eq.attitude_angle)
+        prev = eq
+    vals = np.array(rows)
+    return BearingTable(rpm, *vals.T, load=(float(load[0]), float(load[1])),
+                        eccentricity_ratio=np.array(ecc), attitude_angle=np.array(att),
+                        name=bearing.name)
+
+
+_CSV_UNITS = ["rpm"] + ["N/m"] * 4 + ["N*s/m"] * 4
+
+
+def save_table(table: BearingTable, path: str | Path) -> Path:
+    """Write a table as CSV (``.csv``) or TOML (``.toml``); returns the path.
+
+    CSV: one header line ``speed_rpm,kxx,…,cyy``, one units line starting with ``#``, then
+    rows. TOML: ``name``, ``load = [Fx, Fy]`` and one array per column.
+    """
+    path = Path(path)
+    cols = ["speed_rpm", *COEFFICIENT_NAMES]
+    if path.suffix.lower() == ".csv":
+        with path.open("w", newline="") as fh:
+            fh.write(f"# bearing: {table.name}; load Fx,Fy = {table.load[0]!r},"
+                     f"{table.load[1]!r} N\n")
+            w = csv.writer(fh)
+            w.writerow(cols)
+            fh.write("# " + ",".join(_CSV_UNITS) + "\n")
+            for row in zip(*(getattr(table, c) for c in cols), strict=True):
+                w.writerow([repr(float(v)) for v in row])
+    elif path.suffix.lower() == ".toml":
+        lines = [f"name = {_toml_str(table.name)}",
+                 f"load = [{table.load[0]!r}, {table.load[1]!r}]  # N",
+                 "# units: speed_rpm rpm; k* N/m; c* N*s/m"]
+        for c in cols:
+            vals = ", ".join(repr(float(v)) for v in getattr(table, c))
+            lines.append(f"{c} = [{vals}]")
+        path.write_text("\n".join(lines) + "\n")
+    else:
+        raise ModelError("unknown table format", field="path", value=str(path),
+                         expected="a .csv or .toml file")
+    return path
+
+
+def _toml_str(s: str) -> str:
+    return '"' + s.replace("\\", "\\\\").replace('"', '\\"') + '"'
+
+
+def load_table(path: str | Path) -> BearingTable:
+    """Read a table written by :func:`save_table` (CSV or TOML)."""
+    path = Path(path)
+    cols = ["speed_rpm", *COEFFICIENT_NAMES]
+    if path.suffix.lower() == ".csv":
+        name, load = "", (0.0, 0.0)
+        data: dict[str, list[float]] = {c: [] for c in cols}
+        header = None
+        with path.open(newline="") as fh:
+            for line_no, line in enumerate(fh, start=1):
+                if line.startswith("# bearing:"):
+                    head, _, rest = line[len("# bearing:"):].partition("; load Fx,Fy = ")
+                    name = head.strip()
+                    try:
+                        load = tuple(float(v) for v in rest.replace("N", "").split(","))[:2]
+                    except ValueError:
+                        load = (0.0, 0.0)
+                    continue
+                if line.startswith("#") or not line.strip():
+                    continue
+                row = next(csv.reader([line]))
+                if header is None:
+                    header = [h.strip() for h in row]
+                    if header != cols:
+                        raise ModelError("unexpected CSV columns", field="header", value=header,
+                                         expected=",".join(cols), file=str(path))
+                    continue
+                try:
+                    for c, v in zip(cols, row, strict=True):
+                        data[c].append(float(v))
+                except ValueError as exc:
+                    raise ModelError("bad number in table", field=f"line {line_no}",
+                                     value=line.strip(), expected="9 numbers",
+                                     file=str(path)) from exc
+        return BearingTable(*(np.array(data[c]) for c in cols), load=load, name=name)
+    if path.suffix.lower() == ".toml":
+        with path.open("rb") as fh:
+            doc = tomllib.load(fh)
+        unknown = set(doc) - set(cols) - {"name", "load"}
+        if unknown:
+            raise ModelError("unknown keys in table", field=", ".join(sorted(unknown)),
+                             value=sorted(unknown), expected=", ".join(cols), file=str(path))
+        missing = [c for c in cols if c not in doc]
+        if missing:
+            raise ModelError("missing columns in table", field=", ".join(missing), value=None,
+                             expected=", ".join(cols), file=str(path))
+        load = tuple(float(v) for v in doc.get("load", (0.0, 0.0)))
+        return BearingTable(*(np.array(doc[c], dtype=float) for c in cols), load=load,
+                            name=str(doc.get("name", "")))
+    raise ModelError("unknown table format", field="path", value=str(path),
+                     expected="a .csv or .toml file")

@@ -1,0 +1,264 @@
+"""Bearing-level film forces: all pads of a bearing at one journal (and pad) state.
+
+Generalised coordinates of a bearing (all in metres, "lever" form for pad tilts)::
+
+    u = [x, y, a_1, ξ_1?, a_2, ξ_2?, ...]
+
+x, y: journal centre displacement; a_k = δ_k (R + t_k): tilt δ_k (rad) of tilting pad k times
+its lever; ξ_k: outward radial displacement of pad k's pivot (only for a flexible pivot).
+Fixed-geometry bearings have only x, y. The generalised forces are ``∫ p ∂h/∂u dA`` (the film
+reaction on the journal for x, y; the pad tilt force, times the lever = pad moment; the radial
+pad force) plus the pivot spring force ``−k_p ξ`` on ξ.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..errors import ModelError
+from .geometry import Bearing, FixedBearing, TiltingPadBearing
+from .reynolds import Cavitation, Grid, PadFilm, WorkCounter, pad_mesh, solve_pad
+
+__all__ = ["SolverOptions", "BearingFilm", "film_state", "dof_names"]
+
+
+@dataclass(frozen=True)
+class SolverOptions:
+    """Numerical options of the bearing solvers.
+
+    Attributes
+    ----------
+    grid
+        Finite-volume grid of every pad.
+    cavitation
+        ``"swift_stieber"`` (default), ``"half_sommerfeld"`` or ``"none"``.
+    tol
+        Equilibrium tolerance: force residual ≤ tol · max(|W|, μ|ω|R³L/c² · 1e-3).
+    max_iter
+        Newton iterations per equilibrium attempt.
+    perturbation
+        Displacement perturbation for the coefficients, as a fraction of the clearance
+        (reduced near contact to a fraction of the minimum film); the velocity perturbation is
+        ``perturbation · c · |ω|``.
+    """
+
+    grid: Grid = field(default_factory=Grid)
+    cavitation: Cavitation = "swift_stieber"
+    tol: float = 1e-9
+    max_iter: int = 40
+    perturbation: float = 1e-3
+
+    def __post_init__(self) -> None:
+        if self.cavitation not in ("swift_stieber", "half_sommerfeld", "none"):
+            raise ModelError("unknown cavitation model", field="cavitation",
+                             value=self.cavitation,
+                             expected="'swift_stieber', 'half_sommerfeld' or 'none'")
+        if not 0 < self.perturbation < 0.1:
+            raise ModelError("perturbation out of range", field="perturbation",
+                             value=self.perturbation, expected="0 < perturbation < 0.1")
+
+
+@dataclass(frozen=True)
+class _PadSlot:
+    """Where one pad's local coordinates (x, y, a, ξ) sit in the bearing's u (internal)."""
+
+    index: tuple[int, int, int, int]  # −1 when the local coordinate is absent
+    lever: float  # R + t (m) for tilting pads, 1 for fixed pads
+    pivot_stiffness: float  # N/m (0 when rigid or fixed)
+
+
+def _slots(bearing: Bearing) -> tuple[_PadSlot, ...]:
+    if isinstance(bearing, FixedBearing):
+        return tuple(_PadSlot((0, 1, -1, -1), 1.0, 0.0) for _ in bearing.pads)
+    slots, k = [], 2
+    for pad in bearing.pads:
+        tilt = k
+        k += 1
+        radial = -1
+        if pad.pivot_stiffness is not None:
+            radial = k
+            k += 1
+        slots.append(_PadSlot((0, 1, tilt, radial), bearing.radius + pad.thickness,
+                              pad.pivot_stiffness or 0.0))
+    return tuple(slots)
+
+
+def n_dofs(bearing: Bearing) -> int:
+    """Number of generalised coordinates (2 + pad DOFs)."""
+    return 2 + (bearing.n_pad_dofs if isinstance(bearing, TiltingPadBearing) else 0)
+
+
+def dof_names(bearing: Bearing) -> list[str]:
+    """Names of the generalised coordinates: x, y, tilt_1, radial_1, …"""
+    names = ["x", "y"]
+    if isinstance(bearing, TiltingPadBearing):
+        for k, pad in enumerate(bearing.pads, start=1):
+            names.append(f"tilt_{k}")
+            if pad.pivot_stiffness is not None:
+                names.append(f"radial_{k}")
+    return names
+
+
+@dataclass(frozen=True)
+class BearingFilm:
+    """Films of all pads at one state, with the generalised forces.
+
+    Attributes
+    ----------
+    forces
+        Generalised forces on u (N): ``forces[:2]`` = (Fx, Fy), the film reaction on the journal;
+        pad entries as in the module docstring (pivot springs included).
+    pads
+        The :class:`~gearrotor.bearings.reynolds.PadFilm` of every pad.
+    """
+
+    forces: NDArray
+    pads: tuple[PadFilm, ...]
+
+    @property
+    def min_film(self) -> float:
+        """Minimum film thickness over all pads (m)."""
+        return min(float(p.film.min()) for p in self.pads)
+
+    @property
+    def peak_pressure(self) -> float:
+        """Peak pressure (Pa)."""
+        return max(float(p.pressure.max()) for p in self.pads)
+
+    @property
+    def side_flow(self) -> float:
+        """Side leakage out of both ends (m³/s)."""
+        return sum(p.side_flow for p in self.pads)
+
+    @property
+    def friction_power(self) -> float:
+        """Viscous power loss (W)."""
+        return sum(p.friction_power for p in self.pads)
+
+
+class _Evaluator:
+    """Evaluates pad films at a bearing state, keeping warm-start active sets (internal)."""
+
+    def __init__(self, bearing: Bearing, speed: float, options: SolverOptions) -> None:
+        self.bearing = bearing
+        self.speed = float(speed)
+        self.options = options
+        self.slots = _slots(bearing)
+        self.n = n_dofs(bearing)
+        r, c = bearing.radius, bearing.clearance
+        self.meshes = [pad_mesh(p, r, bearing.length, c, options.grid) for p in bearing.pads]
+        self.active: list[NDArray | None] = [None] * len(bearing.pads)
+        self.work = WorkCounter()
+
+    def local_q(self, k: int, u: NDArray) -> NDArray:
+        """Pad k's (X, Y, A, S) divided by the clearance."""
+        slot = self.slots[k]
+        q = np.zeros(4)
+        for loc, glob in enumerate(slot.index):
+            if glob >= 0:
+                q[loc] = u[glob]
+        return q / self.bearing.clearance
+
+    def pad(self, k: int, q: NDArray, qdot: NDArray) -> PadFilm:
+        b = self.bearing
+        film = solve_pad(self.meshes[k], q, qdot, self.speed, viscosity=b.viscosity,
+                         radius=b.radius, clearance=b.clearance,
+                         cavitation=self.options.cavitation, active=self.active[k],
+                         work=self.work)
+        self.active[k] = film.active
+        return film
+
+    def evaluate(self, u: NDArray, udot: NDArray | None = None) -> BearingFilm:
+        udot = np.zeros(self.n) if udot is None else udot
+        total = np.zeros(self.n)
+        films = []
+        for k, slot in enumerate(self.slots):
+            film = self.pad(k, self.local_q(k, u), self.local_q(k, udot))
+            films.append(film)
+            for loc, glob in enumerate(slot.index):
+                if glob >= 0:
+                    total[glob] += film.forces[loc]
+            if slot.index[3] >= 0:
+                total[slot.index[3]] -= slot.pivot_stiffness * u[slot.index[3]]
+        return BearingFilm(total, tuple(films))
+
+    def jacobians(self, u: NDArray, velocity: bool = True) -> tuple[NDArray, NDArray]:
+        """Stiffness and damping matrices K = −∂F/∂u, C = −∂F/∂u̇ by central differences."""
+        c = self.bearing.clearance
+        kmat = np.zeros((self.n, self.n))
+        cmat = np.zeros((self.n, self.n))
+        base = self.evaluate(u)
+        hmin = base.min_film / c
+        dx = self.options.perturbation * c * min(1.0, 5.0 * hmin)
+        dv = self.options.perturbation * c * max(abs(self.speed), 1.0)
+        for k, slot in enumerate(self.slots):
+            q0 = self.local_q(k, u)
+            present = [loc for loc, g in enumerate(slot.index) if g >= 0]
+            for loc in present:
+                e = np.zeros(4)
+                e[loc] = 1.0
+                fp = self.pad(k, q0 + e * dx / c, np.zeros(4)).forces
+                fm = self.pad(k, q0 - e * dx / c, np.zeros(4)).forces
+                dk = -(fp - fm) / (2 * dx)
+                if velocity:
+                    gp = self.pad(k, q0, e * dv / c).forces
+                    gm = self.pad(k, q0, -e * dv / c).forces
+                    dc = -(gp - gm) / (2 * dv)
+                for row in present:
+                    kmat[slot.index[row], slot.index[loc]] += dk[row]
+                    if velocity:
+                        cmat[slot.index[row], slot.index[loc]] += dc[row]
+            if slot.index[3] >= 0:
+                kmat[slot.index[3], slot.index[3]] += slot.pivot_stiffness
+        # restore warm starts to the base state
+        self.evaluate(u)
+        return kmat, cmat
+
+
+def film_state(bearing: Bearing, speed: float, x: float = 0.0, y: float = 0.0, *,
+               pad_dofs: NDArray | None = None, xdot: float = 0.0, ydot: float = 0.0,
+               options: SolverOptions | None = None) -> BearingFilm:
+    """Films and forces of a bearing at a given journal position and velocity.
+
+    Parameters
+    ----------
+    bearing
+        Fixed or tilting-pad bearing.
+    speed
+        Journal speed (rad/s, signed; positive = counter-clockwise seen from +z).
+    x, y
+        Journal centre displacement from the bearing centre (m).
+    pad_dofs
+        Tilting pads: the pad coordinates in :func:`dof_names` order after x, y, with tilts in
+        rad and radial pivot displacements in m (default 0).
+    xdot, ydot
+        Journal velocity (m/s).
+    options
+        Solver options.
+    """
+    ev = _Evaluator(bearing, speed, options or SolverOptions())
+    u = np.zeros(ev.n)
+    u[0], u[1] = x, y
+    if pad_dofs is not None:
+        u[2:] = _pad_dofs_to_lever(bearing, np.asarray(pad_dofs, dtype=float))
+    udot = np.zeros(ev.n)
+    udot[0], udot[1] = xdot, ydot
+    return ev.evaluate(u, udot)
+
+
+def _lever_scale(bearing: Bearing) -> NDArray:
+    """Per-DOF factor from physical units (m, rad) to lever units (m)."""
+    s = [1.0, 1.0]
+    if isinstance(bearing, TiltingPadBearing):
+        for pad in bearing.pads:
+            s.append(bearing.radius + pad.thickness)
+            if pad.pivot_stiffness is not None:
+                s.append(1.0)
+    return np.array(s)
+
+
+def _pad_dofs_to_lever(bearing: Bearing, pad_dofs: NDArray) -> NDArray:
+    return pad_dofs * _lever_scale(bearing)[2:]

@@ -1,0 +1,166 @@
+"""TOML model files.
+
+A model file maps one-to-one onto :class:`gearrotor.model.Train`: top-level keys are the train's
+fields (``name``, ``reference_shaft``, ``speed``, ``[materials.NAME]``, ``[[shafts]]``,
+``[[bearings]]``, ``[[meshes]]``, ...). Values are plain numbers (SI) or strings with units.
+Unknown keys are errors. Every error names the file, the field, the value and what was expected.
+"""
+
+from __future__ import annotations
+
+import copy
+import re
+import tomllib
+from pathlib import Path
+from typing import Any
+
+from pydantic import ValidationError
+
+from ..errors import ModelError
+from ..model import Train
+
+__all__ = ["load_model", "model_from_dict", "apply_overrides", "format_validation_error"]
+
+_PATH_TOKEN = re.compile(r"([^.\[\]]+)|\[(\d+)\]")
+
+
+def _loc_to_path(loc: tuple) -> str:
+    out = ""
+    for part in loc:
+        if isinstance(part, int):
+            out += f"[{part}]"
+        elif isinstance(part, str) and re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", part):
+            out += f".{part}" if out else part
+        # union/validator tags such as 'function-before[...]' are dropped
+    return out or "(top level)"
+
+
+def _lookup(data: Any, loc: tuple) -> Any:
+    cur = data
+    for part in loc:
+        try:
+            cur = cur[part]
+        except (KeyError, IndexError, TypeError):
+            return None
+    return cur
+
+
+def format_validation_error(exc: ValidationError, data: dict, file: str | None) -> ModelError:
+    """Turn a pydantic error into one :class:`ModelError` listing every problem."""
+    lines = []
+    seen = set()
+    for err in exc.errors(include_url=False):
+        path = _loc_to_path(err["loc"])
+        msg = err["msg"].removeprefix("Value error, ")
+        if err["type"] == "extra_forbidden":
+            msg = "unknown key (not a field of this table; check the spelling)"
+        if err["type"] == "missing":
+            msg = "required field is missing"
+        key = (path, msg)
+        if key in seen:
+            continue
+        seen.add(key)
+        value = err.get("input") if err["type"] != "missing" else None
+        if isinstance(value, dict):
+            value = None
+        text = f"{path}: {msg}"
+        if value is not None and err["type"] != "extra_forbidden":
+            text += f" (got {value!r})"
+        lines.append(text)
+    head = f"{file}: " if file else ""
+    if len(lines) == 1:
+        return ModelError(lines[0], file=file)
+    return ModelError(f"{len(lines)} errors in the model\n  " + "\n  ".join(lines),
+                      file=None if not file else file) if head else ModelError(
+        f"{len(lines)} errors in the model\n  " + "\n  ".join(lines))
+
+
+def _parse_path(path: str) -> list[str | int]:
+    parts: list[str | int] = []
+    pos = 0
+    for m in _PATH_TOKEN.finditer(path):
+        if m.group(1) is not None:
+            parts.append(int(m.group(1)) if m.group(1).isdigit() else m.group(1))
+        else:
+            parts.append(int(m.group(2)))
+        pos = m.end()
+    if not parts or pos != len(path):
+        raise ModelError("cannot read the override path", field=path,
+                         expected="a dotted path such as 'meshes[0].variation.ka_ratio'")
+    return parts
+
+
+def _coerce(value: str) -> Any:
+    """A --set value: TOML scalar syntax if it parses (numbers, booleans, arrays), else a string."""
+    try:
+        return tomllib.loads(f"v = {value}")["v"]
+    except tomllib.TOMLDecodeError:
+        return value
+
+
+def apply_overrides(data: dict, overrides: dict[str, Any] | None) -> dict:
+    """Return a copy of ``data`` with values replaced by dotted path.
+
+    Paths use the model's field names: ``speed``, ``meshes[0].variation.ka_ratio`` (``meshes.0``
+    works too), ``unbalances[1].amount``. String values are read as TOML scalars when they parse
+    (``"0.2"`` → 0.2) and kept as strings otherwise (``"720 g*mm"``).
+    """
+    if not overrides:
+        return data
+    data = copy.deepcopy(data)
+    for path, value in overrides.items():
+        parts = _parse_path(path)
+        cur: Any = data
+        for k, part in enumerate(parts[:-1]):
+            nxt = parts[k + 1]
+            try:
+                cur = cur[part]
+            except (KeyError, IndexError, TypeError):
+                if isinstance(cur, dict) and isinstance(part, str) and not isinstance(nxt, int):
+                    cur[part] = {}
+                    cur = cur[part]
+                else:
+                    raise ModelError("override path does not exist in the model", field=path,
+                                     value=value, expected="an existing table or list index") from None
+        last = parts[-1]
+        if isinstance(last, int):
+            if not isinstance(cur, list) or last >= len(cur):
+                raise ModelError("override index out of range", field=path, value=value)
+        elif not isinstance(cur, dict):
+            raise ModelError("override path does not name a table field", field=path, value=value)
+        cur[last] = _coerce(value) if isinstance(value, str) else value
+    return data
+
+
+def model_from_dict(data: dict, *, file: str | None = None) -> Train:
+    """Validate a model given as nested dicts (as read from TOML) and resolve its layout."""
+    try:
+        train = Train.model_validate(data)
+    except ValidationError as exc:
+        raise format_validation_error(exc, data, file) from None
+    try:
+        train.layout()
+    except ModelError as exc:
+        raise exc.with_file(file) if file else exc from None
+    return train
+
+
+def load_model(path: str | Path, overrides: dict[str, Any] | None = None) -> Train:
+    """Read, override and validate a TOML model file."""
+    path = Path(path)
+    name = str(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise ModelError("model file not found", file=name) from None
+    except OSError as exc:
+        raise ModelError(f"cannot read the model file: {exc.strerror}", file=name) from None
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ModelError(f"invalid TOML: {exc}", file=name) from None
+    try:
+        data = apply_overrides(data, overrides)
+    except ModelError as exc:
+        raise exc.with_file(name) from None
+    return model_from_dict(data, file=name)

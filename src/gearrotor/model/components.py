@@ -1,0 +1,362 @@
+"""What a machine is: shafts, disks, bearings, couplings, gear meshes, unbalance, probes.
+
+These are validated, frozen pydantic models. Values accept plain numbers (SI) or strings with
+units; unknown keys are rejected. Cross-references (shaft names, node indices, speeds) are
+checked when a :class:`~gearrotor.model.Train` is built.
+"""
+
+from __future__ import annotations
+
+from typing import Literal
+
+from pydantic import BaseModel, ConfigDict, Field, model_validator
+
+from ..units import (
+    Angle,
+    AngularSpeed,
+    Damping,
+    Density,
+    Dimensionless,
+    Inertia,
+    Length,
+    Mass,
+    Modulus,
+    RotDamping,
+    RotStiffness,
+    Stiffness,
+    Time,
+    Torque,
+    UnbalanceAmount,
+)
+
+__all__ = [
+    "Spec",
+    "Material",
+    "Section",
+    "Disk",
+    "NodeRef",
+    "Shaft",
+    "BearingTable",
+    "Support",
+    "Bearing",
+    "ThrustBearing",
+    "CrossCoupling",
+    "Coupling",
+    "GearSide",
+    "MeshStiffness",
+    "MeshVariation",
+    "Backlash",
+    "Mesh",
+    "Unbalance",
+    "Probe",
+    "ExternalTorque",
+]
+
+
+class Spec(BaseModel):
+    """Base of all model inputs: frozen, unknown keys rejected."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+
+class Material(Spec):
+    """Isotropic elastic material. Give ``poisson`` or ``shear_modulus``."""
+
+    E: Modulus = Field(gt=0, description="Young's modulus (Pa)")
+    density: Density = Field(gt=0, description="kg/m³")
+    poisson: Dimensionless | None = Field(default=None, gt=-1, lt=0.5)
+    shear_modulus: Modulus | None = Field(default=None, gt=0)
+
+    @model_validator(mode="after")
+    def _one_of(self) -> Material:
+        if (self.poisson is None) == (self.shear_modulus is None):
+            raise ValueError("give exactly one of 'poisson' or 'shear_modulus'")
+        return self
+
+    @property
+    def G(self) -> float:
+        if self.shear_modulus is not None:
+            return self.shear_modulus
+        return self.E / (2 * (1 + self.poisson))
+
+
+class Section(Spec):
+    """A uniform stretch of shaft, split into ``elements`` equal Timoshenko elements."""
+
+    length: Length = Field(gt=0)
+    outer_diameter: Length = Field(gt=0)
+    inner_diameter: Length = Field(default=0.0, ge=0)
+    elements: int = Field(default=1, ge=1, le=10000)
+    material: str | None = None
+    mass_outer_diameter: Length | None = Field(default=None, gt=0)
+    mass_inner_diameter: Length | None = Field(default=None, ge=0)
+
+    @model_validator(mode="after")
+    def _hollow(self) -> Section:
+        if self.inner_diameter >= self.outer_diameter:
+            raise ValueError(
+                f"inner_diameter {self.inner_diameter} m must be smaller than outer_diameter "
+                f"{self.outer_diameter} m"
+            )
+        return self
+
+
+class NodeRef(Spec):
+    """A node of a shaft: by ``node`` index (0 at the shaft's start) or by axial position ``at``
+    measured from the shaft's start (must fall on a node)."""
+
+    shaft: str
+    node: int | None = Field(default=None, ge=0)
+    at: Length | None = None
+
+    @model_validator(mode="after")
+    def _one_of(self) -> NodeRef:
+        if (self.node is None) == (self.at is None):
+            raise ValueError("give exactly one of 'node' (index) or 'at' (axial position)")
+        return self
+
+
+class Disk(Spec):
+    """Rigid disk on a shaft node: mass and inertias, or a solid/hollow cylinder geometry."""
+
+    node: int | None = Field(default=None, ge=0)
+    at: Length | None = None
+    name: str | None = None
+    mass: Mass | None = Field(default=None, ge=0)
+    polar: Inertia | None = Field(default=None, ge=0)
+    transverse: Inertia | None = Field(default=None, ge=0)
+    outer_diameter: Length | None = Field(default=None, gt=0)
+    inner_diameter: Length = Field(default=0.0, ge=0)
+    width: Length | None = Field(default=None, gt=0)
+    material: str | None = None
+
+    @model_validator(mode="after")
+    def _given(self) -> Disk:
+        if (self.node is None) == (self.at is None):
+            raise ValueError("give exactly one of 'node' (index) or 'at' (axial position)")
+        lumped = self.mass is not None
+        geom = self.outer_diameter is not None or self.width is not None
+        if lumped == geom:
+            raise ValueError(
+                "give either mass/polar/transverse or outer_diameter/width (+ material)"
+            )
+        if lumped and (self.polar is None or self.transverse is None):
+            raise ValueError("a lumped disk needs mass, polar and transverse")
+        if geom and (self.outer_diameter is None or self.width is None):
+            raise ValueError("a disk by geometry needs outer_diameter and width")
+        return self
+
+
+class Shaft(Spec):
+    """A rotor: sections along +z from ``start`` (axial coordinate of node 0)."""
+
+    name: str
+    material: str
+    sections: list[Section] = Field(min_length=1)
+    disks: list[Disk] = Field(default_factory=list)
+    position: tuple[Length, Length] | None = None
+    start: Length = 0.0
+    speed: AngularSpeed | None = None
+
+
+class BearingTable(Spec):
+    """Eight coefficients tabulated against shaft speed (linear interpolation)."""
+
+    speed: list[AngularSpeed] = Field(min_length=1)
+    kxx: list[Stiffness]
+    kxy: list[Stiffness]
+    kyx: list[Stiffness]
+    kyy: list[Stiffness]
+    cxx: list[Damping]
+    cxy: list[Damping]
+    cyx: list[Damping]
+    cyy: list[Damping]
+    extrapolate: Literal["error", "hold"] = "error"
+
+    @model_validator(mode="after")
+    def _lengths(self) -> BearingTable:
+        n = len(self.speed)
+        for name in ("kxx", "kxy", "kyx", "kyy", "cxx", "cxy", "cyx", "cyy"):
+            if len(getattr(self, name)) != n:
+                raise ValueError(f"'{name}' has {len(getattr(self, name))} values, 'speed' has {n}")
+        if any(b <= a for a, b in zip(self.speed, self.speed[1:], strict=False)):
+            raise ValueError("'speed' must be strictly increasing")
+        return self
+
+
+class Support(Spec):
+    """A pedestal under a bearing: lumped mass on its own stiffness/damping to ground (x, y)."""
+
+    mass: Mass = Field(gt=0)
+    kxx: Stiffness = 0.0
+    kyy: Stiffness = 0.0
+    cxx: Damping = 0.0
+    cyy: Damping = 0.0
+
+
+class Bearing(NodeRef):
+    """Radial bearing or seal with 8 coefficients: constant (``k``/``c`` isotropic shortcuts or
+    kxx..cyy) or a ``table`` against speed; optionally on a ``support`` pedestal."""
+
+    name: str | None = None
+    k: Stiffness | None = None
+    c: Damping | None = None
+    kxx: Stiffness = 0.0
+    kxy: Stiffness = 0.0
+    kyx: Stiffness = 0.0
+    kyy: Stiffness = 0.0
+    cxx: Damping = 0.0
+    cxy: Damping = 0.0
+    cyx: Damping = 0.0
+    cyy: Damping = 0.0
+    table: BearingTable | None = None
+    support: Support | None = None
+
+    def coefficients(self) -> tuple[float, ...]:
+        """The constant coefficients kxx kxy kyx kyy cxx cxy cyx cyy (isotropic shortcuts added)."""
+        k = self.k or 0.0
+        c = self.c or 0.0
+        return (self.kxx + k, self.kxy, self.kyx, self.kyy + k,
+                self.cxx + c, self.cxy, self.cyx, self.cyy + c)
+
+
+class ThrustBearing(NodeRef):
+    name: str | None = None
+    kzz: Stiffness = Field(default=0.0, ge=0)
+    czz: Damping = Field(default=0.0, ge=0)
+
+
+class CrossCoupling(NodeRef):
+    """Destabiliser kxy = −kyx = q (N/m) at a node."""
+
+    name: str | None = None
+    q: Stiffness
+
+
+class Coupling(Spec):
+    """Flexible coupling between two shaft nodes (shafts at the same speed)."""
+
+    name: str | None = None
+    node_i: NodeRef
+    node_j: NodeRef
+    kx: Stiffness = 0.0
+    ky: Stiffness = 0.0
+    kz: Stiffness = 0.0
+    ktx: RotStiffness = 0.0
+    kty: RotStiffness = 0.0
+    ktz: RotStiffness = 0.0
+    cx: Damping = 0.0
+    cy: Damping = 0.0
+    cz: Damping = 0.0
+    ctx: RotDamping = 0.0
+    cty: RotDamping = 0.0
+    ctz: RotDamping = 0.0
+
+
+class GearSide(NodeRef):
+    """One gear of a mesh: its shaft node, tooth count and radius."""
+
+    teeth: int = Field(gt=0)
+    radius: Length = Field(gt=0)
+    E: Modulus | None = Field(default=None, gt=0)
+
+
+class MeshStiffness(Spec):
+    """Average mesh stiffness along the line of action: given ``value``, or ``method`` =
+    ``"buckingham"`` (needs contact_ratio and face width) or ``"iso6336"``."""
+
+    method: Literal["value", "buckingham", "iso6336"] = "value"
+    value: Stiffness | None = Field(default=None, gt=0)
+    contact_ratio: Dimensionless | None = Field(default=None, gt=0)
+
+    @model_validator(mode="after")
+    def _given(self) -> MeshStiffness:
+        if self.method == "value" and self.value is None:
+            raise ValueError("method 'value' needs 'value' (N/m)")
+        if self.method != "value" and self.contact_ratio is None:
+            raise ValueError(f"method {self.method!r} needs 'contact_ratio'")
+        return self
+
+
+class MeshVariation(Spec):
+    """Time-varying stiffness for transient analysis (SPEC 2.4): Ka/Kg, contact ratio, mesh phase,
+    number of Fourier terms. ``ka_ratio = 0`` or ``terms = 0`` switches it off."""
+
+    ka_ratio: Dimensionless = Field(default=0.0, ge=0)
+    contact_ratio: Dimensionless = Field(default=1.0, gt=0)
+    phase: Dimensionless = 0.0
+    terms: int = Field(default=0, ge=0)
+
+
+class Backlash(Spec):
+    """Backlash for transient analysis. ``convention = "total"`` means value = 2b (total
+    clearance), ``"one_side"`` means value = b."""
+
+    value: Length = Field(default=0.0, ge=0)
+    convention: Literal["total", "one_side"] = "one_side"
+
+    @property
+    def half(self) -> float:
+        """b, the one-side clearance (m)."""
+        return self.value / 2 if self.convention == "total" else self.value
+
+
+class Mesh(Spec):
+    """A gear mesh between ``gear`` (i) and ``mate`` (j) (SPEC 2.3)."""
+
+    name: str | None = None
+    gear: GearSide
+    mate: GearSide
+    radius_type: Literal["pitch", "base"] = "pitch"
+    pressure_angle: Angle = Field(gt=0, lt=1.5)
+    helix_angle: Angle = 0.0
+    orientation: Angle = 0.0
+    face_width: Length | None = Field(default=None, gt=0)
+    stiffness: Stiffness | MeshStiffness
+    damping: Damping = Field(default=0.0, ge=0)
+    damping_ratio: Dimensionless | None = Field(default=None, ge=0, lt=1)
+    variation: MeshVariation = MeshVariation()
+    backlash: Backlash = Backlash()
+
+
+class Unbalance(NodeRef):
+    amount: UnbalanceAmount = Field(ge=0)
+    phase: Angle = 0.0
+
+
+class Probe(NodeRef):
+    """Displacement probe at a node, measuring along ``angle`` from +x towards +y."""
+
+    name: str
+    angle: Angle = 0.0
+
+
+class ExternalTorque(NodeRef):
+    """External torque about +z at a shaft node (transient analysis), N·m.
+
+    ``T(t, Ω) = f_time(t) · (|Ω| / reference_speed) ** speed_exponent`` where ``f_time`` is
+    ``value`` (constant) or linear interpolation in the table ``time``/``values`` (held constant
+    outside it: a start-up ramp or a trip). ``speed_exponent = 2`` with a ``reference_speed`` gives
+    a load proportional to Ω² (fan/compressor law); ``speed_exponent = 0`` (default) none.
+    A positive torque accelerates a shaft spinning about +z.
+    """
+
+    name: str | None = None
+    value: Torque = 0.0
+    time: list[Time] | None = None
+    values: list[Torque] | None = None
+    speed_exponent: Dimensionless = 0.0
+    reference_speed: AngularSpeed | None = Field(default=None, gt=0)
+
+    @model_validator(mode="after")
+    def _table(self) -> ExternalTorque:
+        if (self.time is None) != (self.values is None):
+            raise ValueError("a torque table needs both 'time' and 'values'")
+        if self.time is not None:
+            if len(self.time) != len(self.values) or len(self.time) < 1:
+                raise ValueError("'time' and 'values' must have the same, non-zero length")
+            if any(b <= a for a, b in zip(self.time, self.time[1:], strict=False)):
+                raise ValueError("'time' must be strictly increasing")
+        if self.speed_exponent != 0 and self.reference_speed is None:
+            raise ValueError("a speed-dependent torque needs 'reference_speed'")
+        return self
