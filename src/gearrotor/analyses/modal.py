@@ -65,6 +65,7 @@ class ModalResult:
     rigid_body: NDArray  # bool per real eigenvalue
     n_rigid_body: int
     method: str
+    n_eigenvalues: int  # how many eigenvalues the solver returned
     shaft_names: tuple[str, ...]
     assembly: Assembly = field(repr=False)
 
@@ -202,14 +203,14 @@ def _solve_dense(M, Cg, K, asm) -> tuple[NDArray, NDArray]:
     return lam, V[:n]
 
 
-def _solve_sparse(M, Cg, K, asm, max_frequency, n_modes) -> tuple[NDArray, NDArray]:
+def _solve_sparse(M, Cg, K, asm, max_frequency, n_modes, k0=None) -> tuple[NDArray, NDArray]:
     n = M.shape[0]
     I = sp.identity(n, format="csc")
     A = sp.block_array([[None, I], [-K, -Cg]], format="csc")
     B = sp.block_array([[I, None], [None, M]], format="csc")
     scale = max_frequency if max_frequency else 1.0
     sigma = -1e-3 * scale
-    k = min(max(n_modes or 20, 10), 2 * n - 2)
+    k = min(k0 or max(n_modes or 20, 10), 2 * n - 2)
     while True:
         try:
             lam, V = spla.eigs(A, k=k, M=B, sigma=sigma, which="LM")
@@ -319,6 +320,7 @@ def modal(
     rigid_tol: float | None = None,
     overdamped_zeta: float = 0.999,
     type_threshold: float = 0.1,
+    sparse_k: int | None = None,
 ) -> ModalResult:
     """Damped eigenvalues and modes of a train at a reference-shaft speed.
 
@@ -333,6 +335,8 @@ def modal(
         largest elastic frequency scale, at least 1e-3 rad/s)
     overdamped_zeta : damping ratio from which a complex pair is flagged over-damped
     type_threshold : kinetic-energy fraction from which a DOF group names the mode type
+    sparse_k : initial number of eigenvalues the sparse solver asks for (it doubles the number
+        until every mode below ``max_frequency`` is enclosed)
     """
     asm = model if isinstance(model, Assembly) else assemble(model)
     w = asm.train.speed if speed is None else float(speed)
@@ -344,7 +348,8 @@ def modal(
         lam, V = _solve_dense(M.toarray(), Cg.toarray(), K.toarray(), asm)
     elif method == "sparse":
         _check_mass(M.toarray(), asm) if asm.n_dof <= DENSE_LIMIT else None
-        lam, V = _solve_sparse(M.tocsc(), Cg.tocsc(), K.tocsc(), asm, max_frequency, n_modes)
+        lam, V = _solve_sparse(M.tocsc(), Cg.tocsc(), K.tocsc(), asm, max_frequency, n_modes,
+                               sparse_k)
     else:
         raise ValueError(f"unknown method {method!r}; expected 'auto', 'dense' or 'sparse'")
     if not np.all(np.isfinite(lam)):
@@ -361,6 +366,6 @@ def modal(
         for key in ("whirl_per_shaft", "whirl", "mode_type"):
             res[key] = res[key][:n_modes]
     return ModalResult(
-        speed=w, shaft_speeds=asm.shaft_speeds(w), method=method,
+        speed=w, shaft_speeds=asm.shaft_speeds(w), method=method, n_eigenvalues=len(lam),
         shaft_names=tuple(s.name for s in asm.train.shafts), assembly=asm, **res,
     )

@@ -261,8 +261,9 @@ def unbalance_response(
 def _ellipse(X: NDArray, Y: NDArray) -> tuple[NDArray, NDArray]:
     """Semi-axes of the orbit x = Re(X e^{iωt}), y = Re(Y e^{iωt}); minor > 0 for a
     counter-clockwise (about +z) orbit."""
-    fwd = 0.5 * np.abs(X - 1j * Y)  # amplitude of the e^{+iωt} circular component (ccw)
-    bwd = 0.5 * np.abs(X + 1j * Y)
+    # x + iy = ((X + iY) e^{iωt} + conj(X − iY) e^{−iωt}) / 2
+    fwd = 0.5 * np.abs(X + 1j * Y)  # counter-clockwise circular component
+    bwd = 0.5 * np.abs(X - 1j * Y)
     return fwd + bwd, fwd - bwd
 
 
@@ -312,7 +313,7 @@ def critical_speeds(
                 sm = 0.0
             if af is not None:
                 req = api617_required_margin(af, below)
-                ok = sm >= req
+                ok = bool(sm >= req)
         out.append(CriticalSpeed(
             float(sp_), float(nc), float(peak), af,
             (None if n1 is None else float(ratio * n1), None if n2 is None else float(ratio * n2)),

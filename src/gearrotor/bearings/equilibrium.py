@@ -192,6 +192,8 @@ def equilibrium(bearing: Bearing, load: Sequence[float], speed: float, *,
         u0[0], u0[1] = start.x, start.y
         u0[2:] = start.pad_dofs * _lever_scale(bearing)[2:]
     iterations = 0
+    if start is None:
+        u0 = ev.settle_pads(u0)
     try:
         u, film, iterations = _newton(ev, u0, wg, ftol, opts.max_iter)
     except SolverError as first:
@@ -202,7 +204,7 @@ def equilibrium(bearing: Bearing, load: Sequence[float], speed: float, *,
 def _continuation(ev: _Evaluator, wg: NDArray, ftol: float, max_iter: int,
                   first: SolverError) -> tuple[NDArray, BearingFilm, int]:
     """Apply the load in adaptive fractions, Newton at each (after direct Newton failed)."""
-    u = np.zeros(ev.n)
+    u = ev.settle_pads(np.zeros(ev.n))
     lam, step, total = 0.0, 0.25, 0
     film = None
     while lam < 1.0:

@@ -49,7 +49,7 @@ class SolverOptions:
     cavitation: Cavitation = "swift_stieber"
     tol: float = 1e-9
     max_iter: int = 40
-    perturbation: float = 1e-3
+    perturbation: float = 1e-2
 
     def __post_init__(self) -> None:
         if self.cavitation not in ("swift_stieber", "half_sommerfeld", "none"):
@@ -184,6 +184,48 @@ class _Evaluator:
             if slot.index[3] >= 0:
                 total[slot.index[3]] -= slot.pivot_stiffness * u[slot.index[3]]
         return BearingFilm(total, tuple(films))
+
+    def settle_pads(self, u: NDArray) -> NDArray:
+        """Return ``u`` with every tilting pad at its moment equilibrium for the current journal
+        position (a bracketed 1-D root find per pad, between the tilts that would close the
+        film at the leading and trailing edges; radial pivot DOFs then take Q/k_p).
+
+        Newton from zero tilt is unreliable because a preloaded pad with offset > 0.5 has a
+        negative tilt stiffness at zero tilt; its equilibrium is found here instead.
+        """
+        from scipy.optimize import brentq
+
+        u = u.copy()
+        c = self.bearing.clearance
+        for k, slot in enumerate(self.slots):
+            it, ir = slot.index[2], slot.index[3]
+            if it < 0:
+                continue
+            mesh = self.meshes[k]
+            for _ in range(3 if ir >= 0 else 1):
+                q = self.local_q(k, u)
+                q[2] = 0.0
+                h0 = mesh.h0_node + q @ mesh.phi_node
+                phi = mesh.phi_node[2]
+                margin = 0.02
+                with np.errstate(divide="ignore"):
+                    hi = np.min(np.where(phi < 0, (h0 - margin) / -phi, np.inf))
+                    lo = np.max(np.where(phi > 0, -(h0 - margin) / phi, -np.inf))
+                if not (np.isfinite(lo) and np.isfinite(hi) and lo < hi):
+                    continue
+
+                def moment(a, k=k, q=q):
+                    qq = q.copy()
+                    qq[2] = a
+                    return self.pad(k, qq, np.zeros(4)).forces[2]
+
+                f_lo, f_hi = moment(lo), moment(hi)
+                if f_lo > 0 > f_hi:
+                    u[it] = brentq(moment, lo, hi, xtol=1e-10, rtol=1e-12) * c
+                if ir >= 0:
+                    q = self.local_q(k, u)
+                    u[ir] = self.pad(k, q, np.zeros(4)).forces[3] / slot.pivot_stiffness
+        return u
 
     def jacobians(self, u: NDArray, velocity: bool = True) -> tuple[NDArray, NDArray]:
         """Stiffness and damping matrices K = −∂F/∂u, C = −∂F/∂u̇ by central differences."""

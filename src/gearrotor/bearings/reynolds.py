@@ -34,6 +34,7 @@ from typing import Literal
 import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
+from scipy.linalg import solve_banded
 from scipy.sparse.linalg import splu
 
 from ..errors import SolverError
@@ -112,6 +113,7 @@ class _Mesh:
     rows: NDArray  # COO pattern
     cols: NDArray
     slots: tuple  # slices of the COO data: diag, E, W, N, S
+    neighbours: NDArray  # (4, N) unknown index of the E, W, N, S neighbour, or N (none)
     w_area: NDArray  # (N,) Δθ·Δζ_j weights of the unknowns (half bearing)
 
 
@@ -204,6 +206,8 @@ def pad_mesh(pad: Pad | TiltingPad, radius: float, length: float, clearance: flo
         pocket_node=pocket_node, pocket_q=pocket_q, pocket_zq=pocket_zq, h0_c=h0_c, phi_c=phi_c,
         unk_i=unk_i, unk_j=unk_j, rows=np.concatenate(rows), cols=np.concatenate(cols),
         slots=tuple(slots), w_area=dth * dzw[unk_j],
+        neighbours=np.where(np.stack([e_nb, w_nb, n_nb, s_nb]) >= 0,
+                            np.stack([e_nb, w_nb, n_nb, s_nb]), ni * n),
     )
 
 
@@ -279,7 +283,10 @@ def _film_faces(mesh: _Mesh, q: NDArray) -> tuple[NDArray, NDArray, NDArray, NDA
 
 def _lcp_active_set(a: sp.csr_matrix, f: NDArray, active: NDArray | None,
                     max_iter: int = 60) -> tuple[NDArray, NDArray, int]:
-    """Solve the M-matrix LCP ``A p − f ≥ 0, p ≥ 0, complementary`` by primal–dual active set."""
+    """Solve the M-matrix LCP ``A p − f ≥ 0, p ≥ 0, complementary`` by primal–dual active set.
+
+    General sparse version (periodic pads): one sparse LU of the free block per iteration.
+    """
     n = len(f)
     d = a.diagonal()
     act = np.zeros(n, dtype=bool) if active is None else active.copy()
@@ -297,10 +304,51 @@ def _lcp_active_set(a: sp.csr_matrix, f: NDArray, active: NDArray | None,
         if np.array_equal(new, act):
             return np.maximum(p, 0.0), act, it
         act = new
-    raise SolverError(
+    raise _no_lcp_convergence(max_iter)
+
+
+def _no_lcp_convergence(max_iter: int) -> SolverError:
+    return SolverError(
         f"cavitation active-set iteration did not converge in {max_iter} iterations; "
         "refine the grid or use cavitation='half_sommerfeld'"
     )
+
+
+def _lcp_banded(diag: NDArray, off: NDArray, nb: NDArray, nz: int, f: NDArray,
+                active: NDArray | None, clip: bool, max_iter: int = 60,
+                ) -> tuple[NDArray, NDArray, int]:
+    """Banded version for non-periodic pads (unknowns ordered ζ fastest, bandwidth ``nz``).
+
+    ``off`` (4, N) are the positive conductances to the E, W, N, S neighbours ``nb`` (index N
+    = none). Cavitated rows are replaced by ``p = 0``. With ``clip`` False a single linear
+    solve is done (no cavitation).
+    """
+    n = len(f)
+    offsets = (nz, -nz, 1, -1)  # column offset of E, W, N, S
+    act = np.zeros(n, dtype=bool) if active is None else active.copy()
+    if not clip:
+        act[:] = False
+    tol = 1e-13 * (np.abs(f).max() + 1e-300)
+    ab = np.zeros((2 * nz + 1, n))
+    for it in range(1, max_iter + 1):
+        keep = ~act
+        ab[:] = 0.0
+        ab[nz] = np.where(keep, diag, 1.0)
+        for c, (o, nbr) in enumerate(zip(offsets, nb, strict=True)):
+            rows = np.nonzero(keep & (nbr < n))[0]
+            ab[nz - o, rows + o] = -off[c, rows]
+        rhs = np.where(keep, f, 0.0)
+        p = solve_banded((nz, nz), ab, rhs, overwrite_ab=False, overwrite_b=True,
+                         check_finite=False)
+        if not clip:
+            return p, act, it
+        pe = np.append(p, 0.0)
+        lam = diag * p - np.einsum("kn,kn->n", off, pe[nb]) - f
+        new = (lam - diag * p) > tol
+        if np.array_equal(new, act):
+            return np.maximum(p, 0.0), act, it
+        act = new
+    raise _no_lcp_convergence(max_iter)
 
 
 def solve_pad(mesh: _Mesh, q: NDArray, qdot: NDArray, omega: float, *, viscosity: float,
@@ -340,21 +388,30 @@ def solve_pad(mesh: _Mesh, q: NDArray, qdot: NDArray, omega: float, *, viscosity
     n = len(mesh.zeta) - 1
     a_n = np.where(j < n, g_ze[i, np.minimum(j, n - 1)], 0.0) * mesh.dth / mesh.dze
     a_s = g_ze[i, j - 1] * mesh.dth / mesh.dze
-    data = [a_e + a_w + a_n + a_s]
-    for coef, (_, _, mask) in zip((a_e, a_w, a_n, a_s), mesh.slots[1:], strict=True):
-        data.append(-coef[mask])
+    diag = a_e + a_w + a_n + a_s  # includes the conductances to ambient-pressure neighbours
     n_unk = len(i)
-    amat = sp.csr_matrix((np.concatenate(data), (mesh.rows, mesh.cols)), shape=(n_unk, n_unk))
     hdot = qdot @ mesh.phi_node[:, i]
     rhs = -6.0 * omega * (h_c[i, j] - h_c[iw, j]) * dzw - 12.0 * hdot * mesh.w_area
 
-    if cavitation == "swift_stieber":
-        p, act, iters = _lcp_active_set(amat, rhs, active)
-    else:
-        p = splu(amat.tocsc()).solve(rhs)
+    if not mesh.periodic:
+        off = np.where(mesh.neighbours < n_unk, np.stack([a_e, a_w, a_n, a_s]), 0.0)
+        p, act, iters = _lcp_banded(diag, off, mesh.neighbours, n, rhs, active,
+                                    clip=cavitation == "swift_stieber")
         if cavitation == "half_sommerfeld":
             p = np.maximum(p, 0.0)
-        act, iters = np.zeros(n_unk, dtype=bool), 1
+    else:
+        data = [diag]
+        for coef, (_, _, mask) in zip((a_e, a_w, a_n, a_s), mesh.slots[1:], strict=True):
+            data.append(-coef[mask])
+        amat = sp.csr_matrix((np.concatenate(data), (mesh.rows, mesh.cols)),
+                             shape=(n_unk, n_unk))
+        if cavitation == "swift_stieber":
+            p, act, iters = _lcp_active_set(amat, rhs, active)
+        else:
+            p = splu(amat.tocsc()).solve(rhs)
+            if cavitation == "half_sommerfeld":
+                p = np.maximum(p, 0.0)
+            act, iters = np.zeros(n_unk, dtype=bool), 1
     if work is not None:
         work.film_solves += 1
         work.factorizations += iters

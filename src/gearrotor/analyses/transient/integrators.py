@@ -1,0 +1,510 @@
+"""Time integrators of the transient and the :func:`transient` driver (SPEC 2.6).
+
+Contract of an integrator option object (:class:`RK4`, :class:`ModalRK4`): it is frozen data;
+:func:`transient` prepares the compiled kernel's arrays from it once, then advances the state in
+chunks (progress, checkpoints) with a fixed step ``dt``. Work is counted: ``steps`` and
+``rhs_evaluations`` (4 per RK4 step) are reported in :class:`~.results.SolverStats`.
+
+* :class:`RK4` — classical fixed-step 4th-order Runge–Kutta on the first-order state
+  (q, q̇) of the full (active-DOF) model: the reference. Explicit, so the step must satisfy
+  ``ω_max Δt < 2√2`` for the highest undamped mode; this is checked before the run and a step
+  that violates it raises :class:`~gearrotor.errors.SolverError` with the largest stable step.
+* :class:`ModalRK4` — the same RK4 on a modal reduction: the undamped modes of the
+  constant-speed linear model (meshes at Kg, bearings at the nominal speeds) up to a cut-off
+  frequency, always including the rigid-body rotation, so θz stays the absolute angle. Damping,
+  gyroscopics (Σ Ω_s(t) Φᵀ G_s Φ), the angular-acceleration and unbalance θ̈ terms (exact
+  Woodbury solve with M_r = I) and every nonlinear force (mesh minus its Kg part, unbalance,
+  torques, speed-dependent bearings) are evaluated through the rows Φ_sel of the DOFs they act
+  on. Dropping the modes above the cut-off removes the stiff shear/axial modes, so the step is
+  set by accuracy, not by stability.
+
+Divergence (non-finite state, or a lateral displacement above ``blowup`` m / torsional deviation
+above 1 rad from rigid rotation) stops the run with a SolverError that names the time.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import sys
+import time as _time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import scipy.linalg as la
+import scipy.sparse as sp
+from numpy.typing import NDArray
+from scipy.sparse.csgraph import connected_components
+
+from ...assembly import Assembly
+from ...errors import ModelError, SolverError
+from ...model import Train
+from . import kernels as kn
+from .equations import TransientSystem, build_system
+
+__all__ = ["RK4", "ModalRK4", "Save", "Checkpoint", "transient", "RK4_STABILITY"]
+
+RK4_STABILITY = 2.0 * np.sqrt(2.0)  # RK4 stability limit on the imaginary axis, ω Δt
+
+
+@dataclass(frozen=True)
+class RK4:
+    """Classical RK4 on the full active-DOF model. dt : s. ``check_stability`` compares
+    ω_max·dt with 2√2 before the run (raises SolverError when violated)."""
+
+    dt: float
+    check_stability: bool = True
+    name: str = field(default="rk4", init=False)
+
+
+@dataclass(frozen=True)
+class ModalRK4:
+    """RK4 on the modal reduction of the linear part.
+
+    dt : s (default: ``accuracy / ω_cut``, see below); cutoff : Hz, keep the undamped modes up
+    to this frequency (default: ``cutoff_factor`` × the highest excitation frequency, which is
+    the highest mesh frequency |N Ω| or, without meshes, 10× the highest shaft speed);
+    accuracy : ω_cut·dt for the default step (0.5 keeps RK4's error at the cut-off below 1e-4
+    per cycle).
+    """
+
+    dt: float | None = None
+    cutoff: float | None = None
+    cutoff_factor: float = 2.0
+    accuracy: float = 0.5
+    name: str = field(default="modal-rk4", init=False)
+
+
+@dataclass(frozen=True)
+class Save:
+    """What to record: every ``dt`` seconds (default: 4 samples per period of the highest
+    mesh frequency, or 64 per revolution without meshes); ``full_state`` records every active
+    DOF (for checks; memory grows with the model)."""
+
+    dt: float | None = None
+    full_state: bool = False
+
+
+@dataclass(frozen=True)
+class Checkpoint:
+    """Write the state to ``path`` every ``every`` seconds of wall time (atomic replace) and
+    resume from it when it exists and matches the run (model, method, step)."""
+
+    path: Path
+    every: float = 60.0
+
+
+# ------------------------------------------------------------------------------------------
+def _blocks(M: sp.csr_array) -> tuple[NDArray, NDArray, NDArray, NDArray]:
+    n = M.shape[0]
+    nb, labels = connected_components(M, directed=False)
+    order = np.argsort(labels, kind="stable")
+    counts = np.bincount(labels, minlength=nb)
+    blk_ptr = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
+    inv_ptr = np.concatenate([[0], np.cumsum(counts**2)]).astype(np.int64)
+    Md = M.toarray()
+    inv = np.empty(int(inv_ptr[-1]))
+    for b in range(nb):
+        idx = order[blk_ptr[b]:blk_ptr[b + 1]]
+        blk = Md[np.ix_(idx, idx)]
+        try:
+            c = la.cho_factor(blk)
+        except la.LinAlgError:
+            raise ModelError("the mass matrix is not positive definite on some DOFs (a node "
+                             "without mass or inertia?)") from None
+        inv[inv_ptr[b]:inv_ptr[b + 1]] = la.cho_solve(c, np.eye(len(idx))).ravel()
+    assert blk_ptr[-1] == n
+    return blk_ptr, order.astype(np.int64), inv_ptr, inv
+
+
+def _csr(A: sp.csr_array) -> tuple[NDArray, NDArray, NDArray]:
+    A = sp.csr_array(A)
+    A.sort_indices()
+    return A.indptr.astype(np.int64), A.indices.astype(np.int64), A.data.astype(float)
+
+
+def _output_dofs(system: TransientSystem, full_state: bool) -> NDArray:
+    """Active indices recorded: gear nodes, probes, unbalances, bearings, couplings, torques."""
+    if full_state:
+        return np.arange(system.n, dtype=np.int64)
+    asm, train = system.assembly, system.train
+    glob = []
+    for m in asm.meshes:
+        glob.extend(m.dofs)
+    for b in asm.bearings:
+        glob.extend(b.dofs)
+        if b.support_dofs is not None:
+            glob.extend(b.support_dofs)
+    for group, prefix in ((train.unbalances, "unbalances"), (train.probes, "probes"),
+                          (train.torques, "torques")):
+        for k, it in enumerate(group):
+            si, node = train.node_index(it, f"{prefix}[{k}]")
+            glob.extend(asm.node_offset[si][node] + np.arange(6))
+    for k, c in enumerate(train.couplings):
+        for ref, nm in ((c.node_i, "node_i"), (c.node_j, "node_j")):
+            si, node = train.node_index(ref, f"couplings[{k}].{nm}")
+            glob.extend(asm.node_offset[si][node] + np.arange(6))
+    idx = {system.index(int(g)) for g in glob}
+    idx.discard(-1)
+    return np.array(sorted(idx), dtype=np.int64)
+
+
+def _pack_forces(system: TransientSystem, sel: NDArray, *, modal: bool,
+                 bearing_ref: bool) -> tuple:
+    """Parameter arrays of :func:`kernels.nl_forces` with indices into ``sel``."""
+    loc = -np.ones(system.n + 1, np.int64)
+    loc[sel] = np.arange(len(sel))
+
+    def at(idx):
+        idx = np.asarray(idx, np.int64)
+        return np.where(idx >= 0, loc[np.where(idx >= 0, idx, system.n)], -1)
+
+    laws = system.meshes
+    nm = len(laws)
+    S = max([len(law.coef_a) for law in laws] + [1])
+    Se = max([len(law.te) for law in laws] + [1])
+    m_sel = np.array([at(d) for d in system.mesh_dofs], np.int64).reshape(nm, 12)
+    m_w = np.array([law.w for law in laws], float).reshape(nm, 12)
+    m_par = np.array([[law.kg, law.ka, law.backlash, law.damping, law.teeth,
+                       law.kg if modal else 0.0, 0.0] for law in laws], float).reshape(nm, 7)
+    m_ab = np.zeros((nm, S, 2))
+    m_ns = np.zeros(nm, np.int64)
+    m_te = np.zeros((nm, Se, 2))
+    m_nte = np.zeros(nm, np.int64)
+    tptr = [0]
+    tphi, tk = [], []
+    for k, law in enumerate(laws):
+        m_ab[k, :len(law.coef_a), 0] = law.coef_a
+        m_ab[k, :len(law.coef_b), 1] = law.coef_b
+        m_ns[k] = len(law.coef_a)
+        m_te[k, :len(law.te)] = law.te
+        m_nte[k] = len(law.te)
+        tphi.append(law.table_phi)
+        tk.append(law.table_k)
+        tptr.append(tptr[-1] + len(law.table_phi))
+    mesh = (m_sel, m_w, m_par, m_ab, m_ns, np.array(tptr, np.int64),
+            np.concatenate(tphi + [np.zeros(1)]), np.concatenate(tk + [np.zeros(1)]),
+            m_te, m_nte)
+    u_sel = np.array([at(d) for d in system.unbalance_dofs], np.int64).reshape(-1, 3)
+    unb = (u_sel, system.unbalance_me.astype(float), system.unbalance_phase.astype(float))
+    train = system.train
+    t_par, t_ptr, t_time, t_vals = [], [0], [], []
+    for tq in train.torques:
+        t_par.append([tq.value, tq.speed_exponent, tq.reference_speed or 1.0])
+        if tq.time is not None:
+            t_time.extend(tq.time)
+            t_vals.extend(tq.values)
+        t_ptr.append(len(t_time))
+    torq = (at(system.torque_dof).astype(np.int64), np.array(t_par, float).reshape(-1, 3),
+            np.array(t_ptr, np.int64), np.array(t_time + [0.0], float),
+            np.array(t_vals + [0.0], float))
+    b_sel, b_shaft, b_ptr, b_speed, b_coef, b_ref = [], [], [0], [], [], []
+    for j, info in enumerate(system.assembly.bearings):
+        if not system.bearing_dynamic[j]:
+            continue
+        tab = info.element.table
+        b_sel.append(at(system.bearing_dofs[j]))
+        b_shaft.append(system.bearing_shaft[j])
+        b_speed.extend(tab.speed)
+        b_coef.append(np.asarray(tab.values, float))
+        b_ptr.append(len(b_speed))
+        b_ref.append(info.element.coefficients(system.nominal_speeds[system.bearing_shaft[j]])
+                     if bearing_ref else np.zeros(8))
+    brg = (np.array(b_sel, np.int64).reshape(-1, 4), np.array(b_shaft, np.int64),
+           np.array(b_ptr, np.int64), np.array(b_speed + [0.0], float),
+           np.concatenate(b_coef + [np.zeros((1, 8))]), np.array(b_ref, float).reshape(-1, 8))
+    return mesh + unb + torq + brg
+
+
+def _force_dofs(system: TransientSystem) -> NDArray:
+    idx = set(system.mesh_dofs[system.mesh_dofs >= 0].tolist())
+    idx |= set(system.unbalance_dofs.ravel().tolist())
+    idx |= set(system.torque_dof.tolist())
+    for j in range(len(system.bearing_dofs)):
+        if system.bearing_dynamic[j]:
+            idx |= set(system.bearing_dofs[j][system.bearing_dofs[j] >= 0].tolist())
+    idx.discard(-1)
+    return np.array(sorted(idx), dtype=np.int64)
+
+
+def omega_max(system: TransientSystem) -> float:
+    """Highest undamped natural frequency (rad/s) of the linear model."""
+    M, K, _ = system.linear_matrices()
+    w2 = la.eigh(K, M, eigvals_only=True, subset_by_index=[system.n - 1, system.n - 1])
+    return float(np.sqrt(max(w2[0], 0.0)))
+
+
+def excitation_frequency(system: TransientSystem) -> float:
+    """Highest excitation frequency (rad/s): mesh frequency |N_i Ω_i|, else 10× shaft speed."""
+    f = [abs(law.teeth * system.nominal_speeds[system.assembly.meshes[k].shafts[0]])
+         for k, law in enumerate(system.meshes)]
+    return max(f) if f else 10.0 * float(np.max(np.abs(system.nominal_speeds)))
+
+
+# ------------------------------------------------------------------------------------------
+@dataclass
+class _Prepared:
+    kind: str
+    dt: float
+    n_state: int
+    P: tuple
+    W: tuple
+    K1: tuple
+    out: NDArray  # active output DOFs
+    Phi_out: NDArray | None
+    info: dict
+
+
+def _prepare_physical(system: TransientSystem, integ: RK4, out: NDArray,
+                      frozen: bool) -> _Prepared:
+    n = system.n
+    if integ.check_stability:
+        wmax = omega_max(system)
+        if wmax * integ.dt >= RK4_STABILITY * 0.995:
+            raise SolverError(
+                f"RK4 step dt = {integ.dt:.4g} s is outside the stability region for the "
+                f"highest mode of this model ({wmax / 2 / np.pi:.5g} Hz: ω·dt = "
+                f"{wmax * integ.dt:.3f} ≥ 2√2); use dt ≤ {0.99 * RK4_STABILITY / wmax:.4g} s, "
+                "or the modal integrator (ModalRK4), which drops the stiff modes"
+            )
+    sel = _force_dofs(system)
+    G = sum((g for g in system.G), sp.csr_array((n, n)))
+    blk = _blocks(system.M)
+    ns = len(system.a_weights)
+    a_idx, a_w, a_ptr = [], [], [0]
+    for a in system.a_weights:
+        nz = np.flatnonzero(a)
+        a_idx.extend(nz)
+        a_w.extend(a[nz])
+        a_ptr.append(len(a_idx))
+    Md = system.M.toarray()
+    Minv_a = np.array([la.solve(Md, a, assume_a="pos") for a in system.a_weights]).reshape(ns, n)
+
+    def minv_unit(col):
+        e = np.zeros(n)
+        e[col] = 1.0
+        return la.solve(Md, e, assume_a="pos")
+
+    ud = system.unbalance_dofs
+    Minv_u = [np.array([minv_unit(d[c]) for d in ud]).reshape(-1, n) for c in range(3)]
+    P = (*_csr(system.K), *_csr(system.C), *_csr(G), system.shaft_of_row.astype(np.int64),
+         *blk, np.array(a_idx, np.int64), np.array(a_w, float), np.array(a_ptr, np.int64),
+         np.flatnonzero(system.torsion).astype(np.int64), bool(frozen),
+         bool(system.reactions), sel,
+         *_pack_forces(system, sel, modal=False, bearing_ref=False),
+         Minv_a, *Minv_u)
+    r = 2 * (ns + len(ud))
+    W = (np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(len(sel)), np.zeros(len(sel)),
+         np.zeros(len(sel)), np.zeros(ns), np.zeros((max(r, 1), n)), np.zeros((r, r)),
+         np.zeros(r), np.zeros(r, np.int64))
+    K1 = tuple(np.zeros(n) for _ in range(10))
+    return _Prepared("physical", integ.dt, n, P, W, K1, out, None, {"n_dof": n})
+
+
+def _prepare_modal(system: TransientSystem, integ: ModalRK4, out: NDArray) -> _Prepared:
+    M, K, C = system.linear_matrices()
+    w2, V = la.eigh(K, M)
+    om = np.sqrt(np.clip(w2, 0.0, None))
+    wcut = 2 * np.pi * integ.cutoff if integ.cutoff is not None else (
+        integ.cutoff_factor * excitation_frequency(system))
+    keep = om <= wcut
+    if not keep.any():
+        raise ModelError("no mode below the modal cut-off", value=f"{wcut / 2 / np.pi:.4g} Hz")
+    Phi = V[:, keep]
+    lam = w2[keep].copy()
+    lam[om[keep] < 1e-6 * max(om.max(), 1.0)] = 0.0  # rigid-body modes exactly
+    m = Phi.shape[1]
+    dt = integ.dt if integ.dt is not None else integ.accuracy / float(om[keep].max())
+    if float(om[keep].max()) * dt >= RK4_STABILITY * 0.995:
+        raise SolverError(f"modal RK4 step dt = {dt:.4g} s is unstable for the highest kept "
+                          f"mode ({om[keep].max() / 2 / np.pi:.5g} Hz); lower dt or the cut-off")
+    sel = _force_dofs(system)
+    Cr = Phi.T @ C @ Phi
+    Gr = np.array([Phi.T @ g.toarray() @ Phi for g in system.G]).reshape(-1, m, m)
+    alpha = np.array([Phi.T @ a for a in system.a_weights])  # Ω_s = a_sᵀ Φ η̇
+    ns = len(system.a_weights)
+    nu = len(system.unbalance_dofs)
+    r = 2 * (ns + nu)
+    P = (lam, np.ascontiguousarray(Cr), np.ascontiguousarray(Gr), np.ascontiguousarray(alpha),
+         np.ascontiguousarray(Phi[sel]), bool(system.reactions),
+         *_pack_forces(system, sel, modal=True, bearing_ref=True))
+    W = (np.zeros(len(sel)), np.zeros(len(sel)), np.zeros(len(sel)), np.zeros(ns),
+         np.zeros((m, 2 * max(r, 1))), np.zeros((r, r)), np.zeros(r), np.zeros(r, np.int64),
+         np.zeros((ns, m)))
+    K1 = tuple(np.zeros(m) for _ in range(10))
+    info = {"n_modes": m, "cutoff_hz": wcut / 2 / np.pi,
+            "highest_mode_hz": float(om[keep].max() / 2 / np.pi), "Phi": Phi, "M": M}
+    return _Prepared("modal", dt, m, P, W, K1, out, np.ascontiguousarray(Phi[out]), info)
+
+
+def _fingerprint(train: Train, kind: str, dt: float, extra: str) -> str:
+    h = hashlib.sha256()
+    h.update(train.model_dump_json().encode())
+    h.update(f"{kind}|{dt!r}|{extra}".encode())
+    return h.hexdigest()
+
+
+def _write_npz_atomic(path: Path, **arrays) -> None:
+    path = Path(path)
+    tmp = path.with_name(path.name + ".tmp")
+    with open(tmp, "wb") as fh:
+        np.savez(fh, **arrays)
+    os.replace(tmp, path)
+
+
+def transient(
+    model: Train | Assembly,
+    *,
+    t_end: float,
+    integrator: RK4 | ModalRK4 | None = None,
+    save: Save | None = None,
+    frozen_speed: bool = False,
+    reactions: bool = True,
+    initial_q: NDArray | None = None,
+    initial_qdot: NDArray | None = None,
+    stiffness_tables: dict[int, tuple[NDArray, NDArray]] | None = None,
+    transmission_error: dict[int, NDArray] | None = None,
+    blowup: float = 0.05,
+    progress: bool = False,
+    checkpoint: Checkpoint | None = None,
+):
+    """Nonlinear transient of a train from t = 0 to ``t_end`` (s).
+
+    Parameters
+    ----------
+    model : Train or its Assembly
+    t_end : s
+    integrator : :class:`RK4` (reference, default ``RK4(dt=8e-6)``) or :class:`ModalRK4`
+    save : what to record (:class:`Save`)
+    frozen_speed : keep every θz at nominal rigid rotation (constant speed, SPEC's linear case)
+    reactions : include the reaction torques of the gyroscopic and unbalance θ̈ terms (the
+        Lagrangian, energy-consistent form); False gives the dissertation's form
+    initial_q, initial_qdot : (n_dof,) global perturbations added to zero displacement and the
+        nominal speeds (m, rad, m/s, rad/s)
+    stiffness_tables, transmission_error : per mesh index, see :mod:`.mesh`
+    blowup : m, a lateral displacement (or 1 rad of torsional deviation) beyond which the run
+        is declared divergent
+    progress : print progress to stderr
+    checkpoint : :class:`Checkpoint` for long runs (resume when the file matches)
+
+    Returns a :class:`~.results.TransientResult`.
+    """
+    from .results import build_result
+
+    if not (t_end > 0):
+        raise ModelError("t_end must be positive", field="t_end", value=t_end, expected="> 0 s")
+    integ = integrator if integrator is not None else RK4(dt=8e-6)
+    if isinstance(integ, RK4) and not integ.dt > 0:
+        raise ModelError("the time step must be positive", field="dt", value=integ.dt)
+    save = save or Save()
+    system = build_system(model, frozen_speed=frozen_speed, reactions=reactions,
+                          initial_q=initial_q, stiffness_tables=stiffness_tables,
+                          transmission_error=transmission_error)
+    out = _output_dofs(system, save.full_state)
+    if isinstance(integ, RK4):
+        prep = _prepare_physical(system, integ, out, frozen_speed)
+    elif isinstance(integ, ModalRK4):
+        if frozen_speed:
+            raise ModelError("frozen speed is available with RK4 only", field="frozen_speed")
+        prep = _prepare_modal(system, integ, out)
+    else:
+        raise TypeError(f"unknown integrator {integ!r}; expected RK4(...) or ModalRK4(...)")
+    dt = prep.dt
+    n_steps = int(np.ceil(t_end / dt - 1e-9))
+    fexc = excitation_frequency(system)
+    save_dt = save.dt if save.dt is not None else (
+        2 * np.pi / (4 * fexc) if system.meshes else 2 * np.pi / (64 * fexc / 10))
+    save_every = max(1, int(round(save_dt / dt)))
+    n_rec = n_steps // save_every + 1
+
+    # initial state
+    q0, v0 = system.initial_state()
+    if initial_q is not None:
+        q0 += np.asarray(initial_q, float)[system.active]
+    if initial_qdot is not None:
+        v0 += np.asarray(initial_qdot, float)[system.active]
+    if prep.kind == "physical":
+        q, v = q0, v0
+    else:
+        Phi, M = prep.info["Phi"], prep.info["M"]
+        q = Phi.T @ (M @ q0)
+        v = Phi.T @ (M @ v0)
+    nout = len(out)
+    ns = len(system.a_weights)
+    rec_q = np.zeros((n_rec, nout))
+    rec_v = np.zeros((n_rec, nout))
+    rec_a = np.zeros((n_rec, nout))
+    rec_om = np.zeros((n_rec, ns))
+    rec_t = np.zeros(n_rec)
+    # divergence scale per output DOF: lateral → 1/blowup, torsional deviation → 1 rad
+    kind = system.assembly.dof_kind()[system.active[out]]
+    scale = np.where(kind == 2, 0.0, 1.0 / blowup)
+
+    step0 = 0
+    fp = _fingerprint(system.train, prep.kind, dt, f"{t_end}|{save_every}|{frozen_speed}|"
+                      f"{reactions}|{integ!r}")
+    if checkpoint is not None and Path(checkpoint.path).exists():
+        with np.load(checkpoint.path, allow_pickle=False) as ck:
+            if str(ck["fingerprint"]) == fp:
+                step0 = int(ck["step"])
+                q, v = ck["q"].copy(), ck["v"].copy()
+                nr = step0 // save_every
+                rec_q[:nr], rec_v[:nr], rec_a[:nr] = ck["rec_q"], ck["rec_v"], ck["rec_a"]
+                rec_om[:nr], rec_t[:nr] = ck["rec_om"], ck["rec_t"]
+                if progress:
+                    print(f"resuming from {checkpoint.path} at t = {step0 * dt:.4g} s",
+                          file=sys.stderr)
+    chunk = save_every * max(1, int(0.05 / (dt * save_every)))  # ~0.05 s of simulated time
+    wall0 = _time.perf_counter()
+    last_ck = wall0
+    last_pr = wall0
+    step = step0
+    runner = kn.rk4_physical if prep.kind == "physical" else kn.rk4_modal
+    out_arg = out if prep.kind == "physical" else prep.Phi_out
+    while step < n_steps:
+        nst = min(chunk, n_steps - step)
+        status, done = runner(step * dt, dt, nst, q, v, save_every, out_arg, rec_q, rec_v,
+                              rec_a, rec_om, rec_t, step // save_every, scale, prep.P, prep.W,
+                              prep.K1)
+        if status != kn.STATUS_OK:
+            t_bad = (step + done) * dt
+            what = "non-finite values" if status == kn.STATUS_NONFINITE else (
+                f"a lateral displacement above {blowup} m")
+            raise SolverError(
+                f"the transient diverged at t = {t_bad:.6g} s ({what}); likely causes: a step "
+                f"too large for the integrator (dt = {dt:.3g} s), or an unstable mode of the "
+                "train (negative damping, e.g. cross-coupling or a mesh parametric resonance); "
+                "check modal() at the running speed and try a smaller dt"
+            )
+        step += nst
+        now = _time.perf_counter()
+        if progress and (now - last_pr > 2.0 or step == n_steps):
+            frac = step / n_steps
+            el = now - wall0
+            eta = el / max(frac - step0 / n_steps, 1e-12) * (1 - frac)
+            print(f"t = {step * dt:.4g}/{t_end:.4g} s ({100 * frac:.0f} %), {el:.1f} s elapsed, "
+                  f"~{eta:.1f} s left", file=sys.stderr)
+            last_pr = now
+        if checkpoint is not None and (now - last_ck > checkpoint.every) and step < n_steps:
+            nr = step // save_every
+            _write_npz_atomic(Path(checkpoint.path), fingerprint=np.array(fp), step=step, q=q,
+                              v=v, rec_q=rec_q[:nr], rec_v=rec_v[:nr], rec_a=rec_a[:nr],
+                              rec_om=rec_om[:nr], rec_t=rec_t[:nr])
+            last_ck = now
+    wall = _time.perf_counter() - wall0
+    if checkpoint is not None and Path(checkpoint.path).exists():
+        Path(checkpoint.path).unlink()
+    nr = (n_steps - 1) // save_every + 1
+    stats = {"method": prep.kind if prep.kind == "physical" else "modal", "dt": dt,
+             "steps": n_steps, "rhs_evaluations": 4 * (n_steps - step0),
+             "wall_time_s": wall, "save_every": save_every, **{
+                 k: v for k, v in prep.info.items() if k not in ("Phi", "M")}}
+    final = (q.copy(), v.copy())
+    if prep.kind == "modal":
+        Phi = prep.info["Phi"]
+        final = (Phi @ q, Phi @ v)
+    return build_result(system, out, rec_t[:nr], rec_q[:nr], rec_v[:nr], rec_a[:nr],
+                        rec_om[:nr], stats=stats, final_state=final,
+                        name=integ.name, frozen=frozen_speed)

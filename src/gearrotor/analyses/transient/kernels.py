@@ -1,0 +1,558 @@
+"""Compiled (numba) kernels of the transient: forces, accelerations, RK4 loops.
+
+No objects, only arrays; every work array is allocated by the caller once per run, the step loops
+allocate nothing. Index conventions: ``sel`` indices address the vector of DOFs that carry
+nonlinear forces (gathered from q or from Φ_sel η); ``−1`` marks an inactive DOF.
+
+Parameter packs (all float64 / int64):
+
+* meshes: ``m_sel (nm,12)``, ``m_w (nm,12)``, ``m_par (nm,7)`` = kg, ka, b, c, teeth, kg_lin
+  (stiffness already in the linear part, subtracted), c_lin; ``m_ab (nm,S,2)``, ``m_ns (nm,)``;
+  tables ``m_tptr (nm+1)``, ``m_tphi``, ``m_tk``; transmission error ``m_te (nm,Se,2)``,
+  ``m_nte (nm,)``;
+* unbalances: ``u_sel (nu,3)`` (x, y, θz), ``u_me``, ``u_ph``;
+* torques: ``t_sel``, ``t_par (nt,3)`` = value, exponent, reference speed; table ``t_ptr``,
+  ``t_time``, ``t_vals``;
+* speed-dependent bearings: ``b_sel (nb,4)``, ``b_shaft``, table ``b_ptr``, ``b_speed``,
+  ``b_coef (·,8)``, reference coefficients ``b_ref (nb,8)`` already in the linear part.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+__all__ = [
+    "mesh_eval",
+    "nl_forces",
+    "rk4_physical",
+    "rk4_modal",
+    "outputs_kernel",
+    "STATUS_OK",
+    "STATUS_NONFINITE",
+    "STATUS_BLOWUP",
+]
+
+STATUS_OK = 0
+STATUS_NONFINITE = 1
+STATUS_BLOWUP = 2
+
+_CACHE = True
+
+
+@njit(cache=_CACHE)
+def _interp(x, xp, fp, lo, hi):
+    """Linear interpolation in xp[lo:hi] (held at the ends)."""
+    if x <= xp[lo]:
+        return fp[lo]
+    if x >= xp[hi - 1]:
+        return fp[hi - 1]
+    a, b = lo, hi - 1
+    while b - a > 1:
+        mid = (a + b) // 2
+        if xp[mid] <= x:
+            a = mid
+        else:
+            b = mid
+    f = (x - xp[a]) / (xp[b] - xp[a])
+    return fp[a] + f * (fp[b] - fp[a])
+
+
+@njit(cache=_CACHE)
+def mesh_eval(k, qs, vs, m_sel, m_w, m_par, m_ab, m_ns, m_tptr, m_tphi, m_tk, m_te, m_nte):
+    """Mesh k: returns (F, stiffness, δ, δ̇, state, φ_m); F in N along the line of action."""
+    delta = 0.0
+    ddelta = 0.0
+    for j in range(12):
+        i = m_sel[k, j]
+        if i >= 0:
+            delta += m_w[k, j] * qs[i]
+            ddelta += m_w[k, j] * vs[i]
+    teeth = m_par[k, 4]
+    it = m_sel[k, 5]
+    phi = teeth * qs[it] if it >= 0 else 0.0
+    dphi = teeth * vs[it] if it >= 0 else 0.0
+    # transmission error
+    for s in range(m_nte[k]):
+        sp = (s + 1) * phi
+        c, sn = np.cos(sp), np.sin(sp)
+        delta -= m_te[k, s, 0] * c + m_te[k, s, 1] * sn
+        ddelta -= (s + 1) * dphi * (-m_te[k, s, 0] * sn + m_te[k, s, 1] * c)
+    lo, hi = m_tptr[k], m_tptr[k + 1]
+    if hi > lo:
+        ph = phi - 2.0 * np.pi * np.floor(phi / (2.0 * np.pi))
+        stiff = _interp(ph, m_tphi, m_tk, lo, hi)
+    else:
+        stiff = m_par[k, 0]
+        ka2 = 2.0 * m_par[k, 1]
+        ns = m_ns[k]
+        if ns > 0:
+            s1, c1 = np.sin(phi), np.cos(phi)
+            sn, cn = s1, c1
+            for s in range(ns):
+                stiff += ka2 * (m_ab[k, s, 0] * sn + m_ab[k, s, 1] * cn)
+                sn, cn = sn * c1 + cn * s1, cn * c1 - sn * s1
+    b = m_par[k, 2]
+    if delta > b:
+        state = 1
+        F = stiff * (delta - b) + m_par[k, 3] * ddelta
+    elif delta < -b:
+        state = -1
+        F = stiff * (delta + b) + m_par[k, 3] * ddelta
+    else:
+        state = 0
+        F = 0.0
+    return F, stiff, delta, ddelta, state, phi
+
+
+@njit(cache=_CACHE)
+def nl_forces(t, qs, vs, Om, fs,
+              m_sel, m_w, m_par, m_ab, m_ns, m_tptr, m_tphi, m_tk, m_te, m_nte,
+              u_sel, u_me, u_ph,
+              t_sel, t_par, t_ptr, t_time, t_vals,
+              b_sel, b_shaft, b_ptr, b_speed, b_coef, b_ref):
+    """Generalised forces on the ``sel`` DOFs (overwrites fs): meshes (minus their linear part
+    kg_lin δ + c_lin δ̇), unbalance centrifugal part m e θ̇² r_u, external torques,
+    speed-dependent bearings (minus their reference coefficients)."""
+    for i in range(fs.shape[0]):
+        fs[i] = 0.0
+    for k in range(m_sel.shape[0]):
+        F, stiff, delta, ddelta, state, phi = mesh_eval(
+            k, qs, vs, m_sel, m_w, m_par, m_ab, m_ns, m_tptr, m_tphi, m_tk, m_te, m_nte)
+        # the linear part kept in the modal basis uses the geometric δ (no TE)
+        dl = 0.0
+        vl = 0.0
+        for j in range(12):
+            i = m_sel[k, j]
+            if i >= 0:
+                dl += m_w[k, j] * qs[i]
+                vl += m_w[k, j] * vs[i]
+        F -= m_par[k, 5] * dl + m_par[k, 6] * vl
+        for j in range(12):
+            i = m_sel[k, j]
+            if i >= 0:
+                fs[i] -= F * m_w[k, j]
+    for u in range(u_sel.shape[0]):
+        it = u_sel[u, 2]
+        th = qs[it] + u_ph[u]
+        w2 = u_me[u] * vs[it] * vs[it]
+        fs[u_sel[u, 0]] += w2 * np.cos(th)
+        fs[u_sel[u, 1]] += w2 * np.sin(th)
+    for j in range(t_sel.shape[0]):
+        lo, hi = t_ptr[j], t_ptr[j + 1]
+        val = t_par[j, 0] if hi == lo else _interp(t, t_time, t_vals, lo, hi)
+        if t_par[j, 1] != 0.0:
+            val *= (abs(vs[t_sel[j]]) / t_par[j, 2]) ** t_par[j, 1]
+        fs[t_sel[j]] += val
+    for j in range(b_sel.shape[0]):
+        lo, hi = b_ptr[j], b_ptr[j + 1]
+        w = abs(Om[b_shaft[j]])
+        kxx = _interp(w, b_speed, b_coef[:, 0], lo, hi) - b_ref[j, 0]
+        kxy = _interp(w, b_speed, b_coef[:, 1], lo, hi) - b_ref[j, 1]
+        kyx = _interp(w, b_speed, b_coef[:, 2], lo, hi) - b_ref[j, 2]
+        kyy = _interp(w, b_speed, b_coef[:, 3], lo, hi) - b_ref[j, 3]
+        cxx = _interp(w, b_speed, b_coef[:, 4], lo, hi) - b_ref[j, 4]
+        cxy = _interp(w, b_speed, b_coef[:, 5], lo, hi) - b_ref[j, 5]
+        cyx = _interp(w, b_speed, b_coef[:, 6], lo, hi) - b_ref[j, 6]
+        cyy = _interp(w, b_speed, b_coef[:, 7], lo, hi) - b_ref[j, 7]
+        x, y = qs[b_sel[j, 0]], qs[b_sel[j, 1]]
+        vx, vy = vs[b_sel[j, 0]], vs[b_sel[j, 1]]
+        if b_sel[j, 2] >= 0:
+            x -= qs[b_sel[j, 2]]
+            y -= qs[b_sel[j, 3]]
+            vx -= vs[b_sel[j, 2]]
+            vy -= vs[b_sel[j, 3]]
+        fx = -(kxx * x + kxy * y + cxx * vx + cxy * vy)
+        fy = -(kyx * x + kyy * y + cyx * vx + cyy * vy)
+        fs[b_sel[j, 0]] += fx
+        fs[b_sel[j, 1]] += fy
+        if b_sel[j, 2] >= 0:
+            fs[b_sel[j, 2]] -= fx
+            fs[b_sel[j, 3]] -= fy
+
+
+@njit(cache=_CACHE)
+def _lu_solve(A, b, piv):
+    """Solve A x = b in place (b ← x) by Gaussian elimination with partial pivoting; A is
+    overwritten. Returns False when A is singular."""
+    n = A.shape[0]
+    for k in range(n):
+        p = k
+        big = abs(A[k, k])
+        for i in range(k + 1, n):
+            if abs(A[i, k]) > big:
+                big = abs(A[i, k])
+                p = i
+        if big == 0.0:
+            return False
+        piv[k] = p
+        if p != k:
+            for j in range(n):
+                A[k, j], A[p, j] = A[p, j], A[k, j]
+            b[k], b[p] = b[p], b[k]
+        for i in range(k + 1, n):
+            f = A[i, k] / A[k, k]
+            if f != 0.0:
+                for j in range(k + 1, n):
+                    A[i, j] -= f * A[k, j]
+                b[i] -= f * b[k]
+    for k in range(n - 1, -1, -1):
+        s = b[k]
+        for j in range(k + 1, n):
+            s -= A[k, j] * b[j]
+        b[k] = s / A[k, k]
+    return True
+
+
+# ------------------------------------------------------------------------------------------
+# physical coordinates
+# ------------------------------------------------------------------------------------------
+@njit(cache=_CACHE)
+def _csr_mv(indptr, indices, data, x, out, scale_rows, Om, row_shaft, accumulate_sign):
+    """out += sign · A x (rows optionally scaled by the speed of the row's shaft)."""
+    n = indptr.shape[0] - 1
+    for i in range(n):
+        s = 0.0
+        for p in range(indptr[i], indptr[i + 1]):
+            s += data[p] * x[indices[p]]
+        if scale_rows:
+            sh = row_shaft[i]
+            s = s * Om[sh] if sh >= 0 else 0.0
+        out[i] += accumulate_sign * s
+
+
+@njit(cache=_CACHE)
+def _minv(blk_ptr, blk_idx, inv_ptr, inv_data, x, out):
+    """out = M⁻¹ x with M⁻¹ stored as dense inverse blocks."""
+    for b in range(blk_ptr.shape[0] - 1):
+        lo, hi = blk_ptr[b], blk_ptr[b + 1]
+        nb = hi - lo
+        base = inv_ptr[b]
+        for i in range(nb):
+            s = 0.0
+            for j in range(nb):
+                s += inv_data[base + i * nb + j] * x[blk_idx[lo + j]]
+            out[blk_idx[lo + i]] = s
+
+
+@njit(cache=_CACHE)
+def _accel_physical(t, q, v, a, P, W):
+    """Accelerations of the physical model (a ← q̈). P: parameter tuple, W: work tuple."""
+    (Kp, Ki, Kd, Cp, Ci, Cd, Gp, Gi, Gd, row_shaft, blk_ptr, blk_idx, inv_ptr, inv_data,
+     a_idx, a_w, a_ptr, torsion_idx, frozen, reactions, sel,
+     m_sel, m_w, m_par, m_ab, m_ns, m_tptr, m_tphi, m_tk, m_te, m_nte,
+     u_sel, u_me, u_ph, t_sel, t_par, t_ptr, t_time, t_vals,
+     b_sel, b_shaft, b_ptr, b_speed, b_coef, b_ref,
+     Minv_a, Minv_ux, Minv_uy, Minv_ut) = P
+    (F, gq, zq, qs, vs, fs, Om, Z, S, rhs, piv) = W
+    n = q.shape[0]
+    ns = a_ptr.shape[0] - 1
+    for s in range(ns):
+        o = 0.0
+        for p in range(a_ptr[s], a_ptr[s + 1]):
+            o += a_w[p] * v[a_idx[p]]
+        Om[s] = o
+    for i in range(n):
+        F[i] = 0.0
+    _csr_mv(Kp, Ki, Kd, q, F, False, Om, row_shaft, -1.0)
+    _csr_mv(Cp, Ci, Cd, v, F, False, Om, row_shaft, -1.0)
+    _csr_mv(Gp, Gi, Gd, v, F, True, Om, row_shaft, -1.0)
+    for i in range(sel.shape[0]):
+        qs[i] = q[sel[i]]
+        vs[i] = v[sel[i]]
+    nl_forces(t, qs, vs, Om, fs, m_sel, m_w, m_par, m_ab, m_ns, m_tptr, m_tphi, m_tk, m_te,
+              m_nte, u_sel, u_me, u_ph, t_sel, t_par, t_ptr, t_time, t_vals,
+              b_sel, b_shaft, b_ptr, b_speed, b_coef, b_ref)
+    for i in range(sel.shape[0]):
+        F[sel[i]] += fs[i]
+    _minv(blk_ptr, blk_idx, inv_ptr, inv_data, F, a)
+    if frozen:
+        for i in range(torsion_idx.shape[0]):
+            a[torsion_idx[i]] = 0.0
+        return
+    # ---- exact solve of the low-rank implicit terms (Woodbury) ----------------------------
+    for i in range(n):
+        gq[i] = 0.0
+    _csr_mv(Gp, Gi, Gd, q, gq, False, Om, row_shaft, 0.5)  # g = ½ G q (all shafts)
+    _minv(blk_ptr, blk_idx, inv_ptr, inv_data, gq, zq)
+    nu = u_sel.shape[0]
+    per_s = 2 if reactions else 1
+    r = per_s * (ns + nu)
+    # rows of Zt = (M⁻¹ P)ᵀ
+    for s in range(ns):
+        c = per_s * s
+        for i in range(n):
+            Z[c, i] = zq[i] if row_shaft[i] == s else 0.0
+        if reactions:
+            for i in range(n):
+                Z[c + 1, i] = Minv_a[s, i]
+    for u in range(nu):
+        c = per_s * (ns + u)
+        th = q[u_sel[u, 2]] + u_ph[u]
+        sn, cs = np.sin(th), np.cos(th)
+        me = u_me[u]
+        for i in range(n):
+            Z[c, i] = me * (-sn * Minv_ux[u, i] + cs * Minv_uy[u, i])
+        if reactions:
+            for i in range(n):
+                Z[c + 1, i] = me * Minv_ut[u, i]
+    for row in range(r):
+        rhs[row] = _qdot(row, a, q, ns, per_s, a_ptr, a_idx, a_w, row_shaft, gq, u_sel, u_ph)
+        for col in range(r):
+            S[row, col] = (1.0 if row == col else 0.0) + _qdot(
+                row, Z[col], q, ns, per_s, a_ptr, a_idx, a_w, row_shaft, gq, u_sel, u_ph)
+    _lu_solve(S, rhs, piv)
+    for c in range(r):
+        f = rhs[c]
+        for i in range(n):
+            a[i] -= Z[c, i] * f
+
+
+@njit(cache=_CACHE)
+def _qdot(row, x, q, ns, per_s, a_ptr, a_idx, a_w, row_shaft, gq, u_sel, u_ph):
+    """Q[:, row]ᵀ x for the low-rank factor Q of the implicit terms (physical model)."""
+    acc = 0.0
+    if row < ns * per_s:
+        s = row // per_s
+        if row % per_s == 0:  # Q = a_s
+            for p in range(a_ptr[s], a_ptr[s + 1]):
+                acc += a_w[p] * x[a_idx[p]]
+        else:  # Q = g_s
+            for i in range(x.shape[0]):
+                if row_shaft[i] == s:
+                    acc += gq[i] * x[i]
+        return acc
+    u = (row - ns * per_s) // per_s
+    if (row - ns * per_s) % per_s == 0:  # Q = c_u
+        return x[u_sel[u, 2]]
+    th = q[u_sel[u, 2]] + u_ph[u]  # Q = s_u
+    return -np.sin(th) * x[u_sel[u, 0]] + np.cos(th) * x[u_sel[u, 1]]
+
+
+@njit(cache=_CACHE)
+def rk4_physical(t0, dt, n_steps, q, v, save_every, out_idx, rec_q, rec_v, rec_a, rec_om,
+                 rec_t, rec_start, blowup, P, W, K1):
+    """Classical RK4 on (q, q̇) for ``n_steps`` steps from t0 (q, v updated in place).
+
+    Every ``save_every`` steps (starting with the first) the state at the step start is recorded
+    at row ``rec_start + j``. Returns (status, steps done)."""
+    n = q.shape[0]
+    (k1q, k1v, k2q, k2v, k3q, k3v, k4q, k4v, qt, vt) = K1
+    Om = W[6]
+    j = rec_start
+    for step in range(n_steps):
+        t = t0 + step * dt
+        _accel_physical(t, q, v, k1v, P, W)
+        if step % save_every == 0:
+            for i in range(out_idx.shape[0]):
+                rec_q[j, i] = q[out_idx[i]]
+                rec_v[j, i] = v[out_idx[i]]
+                rec_a[j, i] = k1v[out_idx[i]]
+            for s in range(Om.shape[0]):
+                rec_om[j, s] = Om[s]
+            rec_t[j] = t
+            j += 1
+            bad = False
+            big = 0.0
+            for i in range(n):
+                if not (np.isfinite(q[i]) and np.isfinite(v[i])):
+                    bad = True
+            for i in range(out_idx.shape[0]):
+                x = abs(rec_q[j - 1, i]) * blowup[i]
+                if x > big:
+                    big = x
+            if bad:
+                return STATUS_NONFINITE, step
+            if big > 1.0:
+                return STATUS_BLOWUP, step
+        for i in range(n):
+            k1q[i] = v[i]
+            qt[i] = q[i] + 0.5 * dt * k1q[i]
+            vt[i] = v[i] + 0.5 * dt * k1v[i]
+        _accel_physical(t + 0.5 * dt, qt, vt, k2v, P, W)
+        for i in range(n):
+            k2q[i] = vt[i]
+            qt[i] = q[i] + 0.5 * dt * k2q[i]
+            vt[i] = v[i] + 0.5 * dt * k2v[i]
+        _accel_physical(t + 0.5 * dt, qt, vt, k3v, P, W)
+        for i in range(n):
+            k3q[i] = vt[i]
+            qt[i] = q[i] + dt * k3q[i]
+            vt[i] = v[i] + dt * k3v[i]
+        _accel_physical(t + dt, qt, vt, k4v, P, W)
+        for i in range(n):
+            k4q[i] = vt[i]
+            q[i] += dt / 6.0 * (k1q[i] + 2.0 * k2q[i] + 2.0 * k3q[i] + k4q[i])
+            v[i] += dt / 6.0 * (k1v[i] + 2.0 * k2v[i] + 2.0 * k3v[i] + k4v[i])
+    return STATUS_OK, n_steps
+
+
+# ------------------------------------------------------------------------------------------
+# modal coordinates
+# ------------------------------------------------------------------------------------------
+@njit(cache=_CACHE)
+def _accel_modal(t, e, de, a, P, W):
+    """Modal accelerations (a ← η̈) with M_r = I."""
+    (lam, Cr, Gr, alpha, Phi_sel, reactions,
+     m_sel, m_w, m_par, m_ab, m_ns, m_tptr, m_tphi, m_tk, m_te, m_nte,
+     u_sel, u_me, u_ph, t_sel, t_par, t_ptr, t_time, t_vals,
+     b_sel, b_shaft, b_ptr, b_speed, b_coef, b_ref) = P
+    (qs, vs, fs, Om, Z, S, rhs, piv, gq) = W
+    m = e.shape[0]
+    ns = alpha.shape[0]
+    nsel = Phi_sel.shape[0]
+    for s in range(ns):
+        o = 0.0
+        for i in range(m):
+            o += alpha[s, i] * de[i]
+        Om[s] = o
+    for i in range(nsel):
+        x = 0.0
+        y = 0.0
+        for j in range(m):
+            x += Phi_sel[i, j] * e[j]
+            y += Phi_sel[i, j] * de[j]
+        qs[i] = x
+        vs[i] = y
+    nl_forces(t, qs, vs, Om, fs, m_sel, m_w, m_par, m_ab, m_ns, m_tptr, m_tphi, m_tk, m_te,
+              m_nte, u_sel, u_me, u_ph, t_sel, t_par, t_ptr, t_time, t_vals,
+              b_sel, b_shaft, b_ptr, b_speed, b_coef, b_ref)
+    for i in range(m):
+        acc = -lam[i] * e[i]
+        for j in range(m):
+            cg = Cr[i, j]
+            for s in range(ns):
+                cg += Om[s] * Gr[s, i, j]
+            acc -= cg * de[j]
+        for p in range(nsel):
+            acc += Phi_sel[p, i] * fs[p]
+        a[i] = acc
+    # Woodbury on I + P Qᵀ
+    nu = u_sel.shape[0]
+    per_s = 2 if reactions else 1
+    r = per_s * (ns + nu)
+    for s in range(ns):
+        for i in range(m):
+            g = 0.0
+            for j in range(m):
+                g += Gr[s, i, j] * e[j]
+            gq[s, i] = 0.5 * g
+    # Z columns (P) and Q columns stored in Z[:, r:2r]
+    for s in range(ns):
+        c = per_s * s
+        for i in range(m):
+            Z[i, c] = gq[s, i]
+            Z[i, r + c] = alpha[s, i]
+            if reactions:
+                Z[i, c + 1] = alpha[s, i]
+                Z[i, r + c + 1] = gq[s, i]
+    for u in range(nu):
+        c = per_s * (ns + u)
+        th = qs[u_sel[u, 2]] + u_ph[u]
+        sn, cs = np.sin(th), np.cos(th)
+        me = u_me[u]
+        ix, iy, it = u_sel[u, 0], u_sel[u, 1], u_sel[u, 2]
+        for i in range(m):
+            su = -sn * Phi_sel[ix, i] + cs * Phi_sel[iy, i]
+            Z[i, c] = me * su
+            Z[i, r + c] = Phi_sel[it, i]
+            if reactions:
+                Z[i, c + 1] = me * Phi_sel[it, i]
+                Z[i, r + c + 1] = su
+    for row in range(r):
+        acc = 0.0
+        for i in range(m):
+            acc += Z[i, r + row] * a[i]
+        rhs[row] = acc
+        for col in range(r):
+            acc = 1.0 if row == col else 0.0
+            for i in range(m):
+                acc += Z[i, r + row] * Z[i, col]
+            S[row, col] = acc
+    _lu_solve(S, rhs, piv)
+    for i in range(m):
+        s = 0.0
+        for c in range(r):
+            s += Z[i, c] * rhs[c]
+        a[i] -= s
+
+
+@njit(cache=_CACHE)
+def rk4_modal(t0, dt, n_steps, e, de, save_every, Phi_out, rec_q, rec_v, rec_a, rec_om,
+              rec_t, rec_start, blowup, P, W, K1):
+    """Classical RK4 on the reduced modal system; records physical output DOFs Φ_out η."""
+    m = e.shape[0]
+    (k1q, k1v, k2q, k2v, k3q, k3v, k4q, k4v, qt, vt) = K1
+    Om = W[3]
+    j = rec_start
+    nout = Phi_out.shape[0]
+    for step in range(n_steps):
+        t = t0 + step * dt
+        _accel_modal(t, e, de, k1v, P, W)
+        if step % save_every == 0:
+            big = 0.0
+            bad = False
+            for i in range(nout):
+                x = 0.0
+                y = 0.0
+                z = 0.0
+                for c in range(m):
+                    x += Phi_out[i, c] * e[c]
+                    y += Phi_out[i, c] * de[c]
+                    z += Phi_out[i, c] * k1v[c]
+                rec_q[j, i] = x
+                rec_v[j, i] = y
+                rec_a[j, i] = z
+                if not (np.isfinite(x) and np.isfinite(y)):
+                    bad = True
+                if abs(x) * blowup[i] > big:
+                    big = abs(x) * blowup[i]
+            for s in range(Om.shape[0]):
+                rec_om[j, s] = Om[s]
+            rec_t[j] = t
+            j += 1
+            if bad:
+                return STATUS_NONFINITE, step
+            if big > 1.0:
+                return STATUS_BLOWUP, step
+        for i in range(m):
+            k1q[i] = de[i]
+            qt[i] = e[i] + 0.5 * dt * k1q[i]
+            vt[i] = de[i] + 0.5 * dt * k1v[i]
+        _accel_modal(t + 0.5 * dt, qt, vt, k2v, P, W)
+        for i in range(m):
+            k2q[i] = vt[i]
+            qt[i] = e[i] + 0.5 * dt * k2q[i]
+            vt[i] = de[i] + 0.5 * dt * k2v[i]
+        _accel_modal(t + 0.5 * dt, qt, vt, k3v, P, W)
+        for i in range(m):
+            k3q[i] = vt[i]
+            qt[i] = e[i] + dt * k3q[i]
+            vt[i] = de[i] + dt * k3v[i]
+        _accel_modal(t + dt, qt, vt, k4v, P, W)
+        for i in range(m):
+            k4q[i] = vt[i]
+            e[i] += dt / 6.0 * (k1q[i] + 2.0 * k2q[i] + 2.0 * k3q[i] + k4q[i])
+            de[i] += dt / 6.0 * (k1v[i] + 2.0 * k2v[i] + 2.0 * k3v[i] + k4v[i])
+    return STATUS_OK, n_steps
+
+
+# ------------------------------------------------------------------------------------------
+# outputs from recorded states
+# ------------------------------------------------------------------------------------------
+@njit(cache=_CACHE)
+def outputs_kernel(rec_q, rec_v, m_sel, m_w, m_par, m_ab, m_ns, m_tptr, m_tphi, m_tk, m_te,
+                   m_nte, mesh_out):
+    """Per record and mesh: F (N), k (N/m), δ_e (m), δ̇_e, state, φ_m into mesh_out (nt,nm,6).
+    ``m_sel`` indexes the recorded output DOFs here."""
+    for j in range(rec_q.shape[0]):
+        for k in range(m_sel.shape[0]):
+            F, stiff, delta, ddelta, state, phi = mesh_eval(
+                k, rec_q[j], rec_v[j], m_sel, m_w, m_par, m_ab, m_ns, m_tptr, m_tphi, m_tk,
+                m_te, m_nte)
+            mesh_out[j, k, 0] = F
+            mesh_out[j, k, 1] = stiff
+            mesh_out[j, k, 2] = delta
+            mesh_out[j, k, 3] = ddelta
+            mesh_out[j, k, 4] = state
+            mesh_out[j, k, 5] = phi

@@ -1,0 +1,388 @@
+"""Result of a transient run: time histories, derived channels, spectra, NetCDF.
+
+All arrays are SI (s, m, rad, rad/s, N, N·m, W); names with ``_rpm``/``_cpm``/``_um`` convert.
+Amplitudes are zero-to-peak. Whirl-promoting power of a component at a node is
+``P = Fx ẋ + Fy ẏ`` with F the force the component applies to the rotor node (W): positive
+feeds whirl energy, negative drains it.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ...errors import ModelError
+from . import kernels as kn
+from .equations import TransientSystem
+
+__all__ = ["TransientResult", "SolverStats", "spectrum", "amplitude_at", "load_result",
+           "build_result"]
+
+RPM = 30.0 / np.pi  # rad/s → rpm
+
+
+@dataclass(frozen=True)
+class SolverStats:
+    """Work and settings of a run: method, step (s), steps, right-hand-side evaluations, wall
+    time (s), recording interval (steps), and for the modal method the number of modes and the
+    cut-off (Hz)."""
+
+    method: str
+    dt: float
+    steps: int
+    rhs_evaluations: int
+    wall_time_s: float
+    save_every: int
+    n_dof: int | None = None
+    n_modes: int | None = None
+    cutoff_hz: float | None = None
+    highest_mode_hz: float | None = None
+
+
+@dataclass(frozen=True)
+class TransientResult:
+    """Frozen result of :func:`~.integrators.transient` (``status == "ok"`` when it finished).
+
+    Shapes: nt time samples; ``q``/``qdot``/``qddot`` (nt, n_rec) at the global DOFs
+    ``recorded_dofs`` (labels ``dof_labels``).
+    """
+
+    status: str
+    time: NDArray
+    shaft_names: tuple[str, ...]
+    shaft_speed: NDArray  # (nt, ns) rad/s
+    node_labels: tuple[str, ...]  # gear nodes, then probe/unbalance nodes
+    node_x: NDArray  # (nt, nn) m
+    node_y: NDArray
+    node_shaft: NDArray  # (nn,) shaft index
+    probe_names: tuple[str, ...]
+    probes: NDArray  # (nt, np) m, along each probe's angle
+    mesh_names: tuple[str, ...]
+    mesh_force: NDArray  # (nt, nm) N along the line of action
+    mesh_torque_gear: NDArray  # (nt, nm) N·m on gear i about +z
+    mesh_torque_mate: NDArray  # (nt, nm) N·m on gear j about +z
+    mesh_stiffness: NDArray  # (nt, nm) N/m
+    dte: NDArray  # (nt, nm) m, dynamic transmission error δ − e along the line of action
+    contact: NDArray  # (nt, nm) int8: +1 drive side, 0 separated, −1 back side
+    bearing_names: tuple[str, ...]
+    bearing_force: NDArray  # (nt, nb, 2) N on the journal
+    whirl_names: tuple[str, ...]
+    whirl_power: NDArray  # (nt, nc) W
+    recorded_dofs: NDArray
+    dof_labels: tuple[str, ...]
+    q: NDArray = field(repr=False)
+    qdot: NDArray = field(repr=False)
+    qddot: NDArray = field(repr=False)
+    final_q: NDArray = field(repr=False)  # (n_active,) at t_end
+    final_qdot: NDArray = field(repr=False)
+    active_dofs: NDArray = field(repr=False)
+    stats: SolverStats = field(repr=False)
+    model_json: str = field(repr=False)
+    frozen_speed: bool = False
+
+    # ---- conveniences ----------------------------------------------------------------------
+    @property
+    def shaft_speed_rpm(self) -> NDArray:
+        return self.shaft_speed * RPM
+
+    @property
+    def contact_loss_fraction(self) -> NDArray:
+        """(nm,) fraction of samples with the teeth separated."""
+        return np.mean(self.contact == 0, axis=0)
+
+    def channel(self, dof: int) -> NDArray:
+        """Recorded displacement history of a global DOF."""
+        k = np.flatnonzero(self.recorded_dofs == dof)
+        if not len(k):
+            raise KeyError(f"global DOF {dof} was not recorded")
+        return self.q[:, k[0]]
+
+    def amplitude_1x(self, window: float = 0.5) -> dict[str, dict[str, float]]:
+        """1x (own shaft speed) zero-to-peak amplitudes (m) of node x, y over the last
+        ``window`` seconds, by least squares at the mean speed of the node's shaft."""
+        sl = self.time >= self.time[-1] - window
+        out = {}
+        for k, lab in enumerate(self.node_labels):
+            om = float(np.mean(np.abs(self.shaft_speed[sl, self.node_shaft[k]])))
+            out[lab] = {"x": amplitude_at(self.time[sl], self.node_x[sl, k], om),
+                        "y": amplitude_at(self.time[sl], self.node_y[sl, k], om),
+                        "x2": amplitude_at(self.time[sl], self.node_x[sl, k], 2 * om),
+                        "y2": amplitude_at(self.time[sl], self.node_y[sl, k], 2 * om)}
+        return out
+
+    def summary(self) -> dict:
+        """JSON-ready summary: wall time, 1x amplitudes (µm) over the last 0.5 s per gear node,
+        speed range per shaft (rpm), mesh force range and contact-loss fraction."""
+        amp = self.amplitude_1x(min(0.5, float(self.time[-1] - self.time[0])))
+        s = {"status": self.status, "method": self.stats.method, "dt_s": self.stats.dt,
+             "steps": self.stats.steps, "wall_time_s": self.stats.wall_time_s,
+             "t_end_s": float(self.time[-1]), "nodes": {}, "shafts": {}, "meshes": {}}
+        if self.stats.n_modes is not None:
+            s["n_modes"] = self.stats.n_modes
+        for lab, a in amp.items():
+            s["nodes"][lab] = {"x_1x_um": a["x"] * 1e6, "y_1x_um": a["y"] * 1e6,
+                               "x_2x_um": a["x2"] * 1e6, "y_2x_um": a["y2"] * 1e6}
+        for k, name in enumerate(self.shaft_names):
+            rpm = self.shaft_speed_rpm[:, k]
+            s["shafts"][name] = {"speed_min_rpm": float(rpm.min()),
+                                 "speed_max_rpm": float(rpm.max()),
+                                 "speed_mean_rpm": float(rpm.mean())}
+        for k, name in enumerate(self.mesh_names):
+            s["meshes"][name] = {"force_min_N": float(self.mesh_force[:, k].min()),
+                                 "force_max_N": float(self.mesh_force[:, k].max()),
+                                 "contact_loss_fraction": float(self.contact_loss_fraction[k])}
+        return s
+
+    def table(self) -> str:
+        """Human-readable summary table."""
+        s = self.summary()
+        lines = [f"transient: {s['method']}, dt = {s['dt_s']:.3g} s, {s['steps']} steps, "
+                 f"{s['wall_time_s']:.2f} s wall"]
+        lines.append(f"{'node':<16}{'x 1x µm':>10}{'y 1x µm':>10}{'x 2x µm':>10}{'y 2x µm':>10}")
+        for lab, a in s["nodes"].items():
+            lines.append(f"{lab:<16}{a['x_1x_um']:>10.3f}{a['y_1x_um']:>10.3f}"
+                         f"{a['x_2x_um']:>10.3f}{a['y_2x_um']:>10.3f}")
+        lines.append(f"{'shaft':<16}{'min rpm':>12}{'max rpm':>12}{'mean rpm':>12}")
+        for name, a in s["shafts"].items():
+            lines.append(f"{name:<16}{a['speed_min_rpm']:>12.2f}{a['speed_max_rpm']:>12.2f}"
+                         f"{a['speed_mean_rpm']:>12.2f}")
+        for name, a in s["meshes"].items():
+            lines.append(f"mesh {name}: force {a['force_min_N']:.1f} .. {a['force_max_N']:.1f} "
+                         f"N, contact loss {100 * a['contact_loss_fraction']:.2f} %")
+        return "\n".join(lines)
+
+    def spectrum(self, signal: NDArray, *, window: str = "hann", segments: int = 1,
+                 overlap: float = 0.5, start: float | None = None) -> tuple[NDArray, NDArray]:
+        """Amplitude spectrum (cpm, zero-to-peak) of a recorded signal, see :func:`spectrum`."""
+        sl = slice(None) if start is None else self.time >= start
+        return spectrum(np.asarray(signal)[sl], float(np.median(np.diff(self.time))),
+                        window=window, segments=segments, overlap=overlap)
+
+    # ---- xarray / NetCDF -----------------------------------------------------------------
+    def to_xarray(self):
+        """An ``xarray.Dataset`` with units attributes and the model embedded (JSON)."""
+        import xarray as xr
+
+        t = ("time", self.time, {"units": "s"})
+        ds = xr.Dataset(
+            {
+                "shaft_speed": (("time", "shaft"), self.shaft_speed,
+                                {"units": "rad/s", "long_name": "shaft spin speed"}),
+                "x": (("time", "node"), self.node_x, {"units": "m"}),
+                "y": (("time", "node"), self.node_y, {"units": "m"}),
+                "node_shaft": (("node",), self.node_shaft.astype(np.int64)),
+                "probe": (("time", "probe"), self.probes, {"units": "m"}),
+                "mesh_force": (("time", "mesh"), self.mesh_force,
+                               {"units": "N", "long_name": "normal tooth force"}),
+                "mesh_torque_gear": (("time", "mesh"), self.mesh_torque_gear, {"units": "N m"}),
+                "mesh_torque_mate": (("time", "mesh"), self.mesh_torque_mate, {"units": "N m"}),
+                "mesh_stiffness": (("time", "mesh"), self.mesh_stiffness, {"units": "N/m"}),
+                "dte": (("time", "mesh"), self.dte, {
+                    "units": "m", "long_name": "dynamic transmission error"}),
+                "contact": (("time", "mesh"), self.contact.astype(np.int8), {
+                    "units": "1", "long_name": "+1 drive side, 0 separated, -1 back side"}),
+                "bearing_force": (("time", "bearing", "direction"), self.bearing_force,
+                                  {"units": "N"}),
+                "whirl_power": (("time", "component"), self.whirl_power, {
+                    "units": "W", "long_name": "whirl-promoting power Fx*vx + Fy*vy"}),
+                "q": (("time", "dof"), self.q, {"units": "m or rad"}),
+                "qdot": (("time", "dof"), self.qdot, {"units": "m/s or rad/s"}),
+            },
+            coords={"time": t, "shaft": list(self.shaft_names), "node": list(self.node_labels),
+                    "probe": list(self.probe_names), "mesh": list(self.mesh_names),
+                    "bearing": list(self.bearing_names), "direction": ["x", "y"],
+                    "component": list(self.whirl_names), "dof": list(self.dof_labels),
+                    "global_dof": ("dof", self.recorded_dofs.astype(np.int64))},
+            attrs={"title": "gearrotor transient", "status": self.status,
+                   "model_json": self.model_json,
+                   "solver_stats": json.dumps({k: v for k, v in asdict(self.stats).items()}),
+                   "frozen_speed": int(self.frozen_speed)},
+        )
+        return ds
+
+    def save(self, path: str | Path) -> Path:
+        """Write NetCDF (h5netcdf engine) atomically: temp file, then ``os.replace``."""
+        path = Path(path)
+        tmp = path.with_name(path.name + ".tmp")
+        self.to_xarray().to_netcdf(tmp, engine="h5netcdf")
+        os.replace(tmp, path)
+        return path
+
+
+def load_result(path: str | Path):
+    """Open a saved transient result as an ``xarray.Dataset`` (loaded into memory)."""
+    import xarray as xr
+
+    path = Path(path)
+    if not path.exists():
+        raise ModelError("result file not found", file=str(path))
+    with xr.open_dataset(path, engine="h5netcdf") as ds:
+        return ds.load()
+
+
+# ---- signal processing ---------------------------------------------------------------------
+def spectrum(x: NDArray, dt: float, *, window: str = "hann", segments: int = 1,
+             overlap: float = 0.5) -> tuple[NDArray, NDArray]:
+    """Averaged amplitude spectrum: (frequency in cpm, zero-to-peak amplitude).
+
+    The signal (mean removed) is split into ``segments`` windows overlapping by ``overlap``;
+    each is windowed (``"hann"``, ``"flattop"`` for amplitude accuracy, or ``"rect"``) and the
+    magnitudes are averaged; scaling ``2|X|/Σw`` makes a sinusoid at a bin read its amplitude.
+    """
+    x = np.asarray(x, float)
+    x = x - x.mean()
+    n = len(x)
+    if segments < 1 or n < 8:
+        raise ValueError("spectrum needs at least 8 samples and segments >= 1")
+    L = int(n / (1 + (segments - 1) * (1 - overlap)))
+    step = max(1, int(L * (1 - overlap)))
+    if window == "hann":
+        w = np.hanning(L)
+    elif window == "flattop":
+        k = np.arange(L) / (L - 1) * 2 * np.pi
+        w = (0.21557895 - 0.41663158 * np.cos(k) + 0.277263158 * np.cos(2 * k)
+             - 0.083578947 * np.cos(3 * k) + 0.006947368 * np.cos(4 * k))
+    elif window == "rect":
+        w = np.ones(L)
+    else:
+        raise ValueError(f"unknown window {window!r}; expected 'hann', 'flattop' or 'rect'")
+    acc = np.zeros(L // 2 + 1)
+    count = 0
+    for s in range(0, n - L + 1, step):
+        seg = x[s:s + L]
+        acc += np.abs(np.fft.rfft((seg - seg.mean()) * w))
+        count += 1
+        if count == segments:
+            break
+    amp = 2 * acc / count / w.sum()
+    f = np.fft.rfftfreq(L, dt) * 60.0
+    return f, amp
+
+
+def amplitude_at(t: NDArray, x: NDArray, omega: float) -> float:
+    """Zero-to-peak amplitude of the component at ω (rad/s) by least squares (with offset)."""
+    A = np.column_stack([np.cos(omega * t), np.sin(omega * t), np.ones_like(t)])
+    c, *_ = np.linalg.lstsq(A, x, rcond=None)
+    return float(np.hypot(c[0], c[1]))
+
+
+# ---- assembly of the result from recorded states ---------------------------------------------
+def build_result(system: TransientSystem, out: NDArray, t, rq, rv, ra, rom, *, stats: dict,
+                 final_state, name: str, frozen: bool) -> TransientResult:
+    from .integrators import _pack_forces
+
+    asm, train = system.assembly, system.train
+    gl = system.active[out]
+    col = {int(g): k for k, g in enumerate(gl)}
+    nt = len(t)
+
+    def hist(arr, g):
+        k = col.get(int(g))
+        return arr[:, k] if k is not None else np.zeros(nt)
+
+    # nodes: gear nodes, then probe and unbalance nodes
+    nodes = []
+    for m in asm.meshes:
+        for side, s in ((m.dofs[0], m.shafts[0]), (m.dofs[6], m.shafts[1])):
+            nodes.append((int(side), s))
+    for group, prefix in ((train.probes, "probes"), (train.unbalances, "unbalances")):
+        for k, it in enumerate(group):
+            si, node = train.node_index(it, f"{prefix}[{k}]")
+            nodes.append((int(asm.node_offset[si][node]), si))
+    seen, node_list = set(), []
+    for g, s in nodes:
+        if g not in seen:
+            seen.add(g)
+            node_list.append((g, s))
+
+    def node_label(g):
+        return asm.dof_labels[g].rsplit(".", 1)[0]
+
+    node_x = np.column_stack([hist(rq, g) for g, _ in node_list]) if node_list else np.zeros((nt, 0))
+    node_y = np.column_stack([hist(rq, g + 1) for g, _ in node_list]) if node_list else np.zeros((nt, 0))
+    probes = []
+    for k, p in enumerate(train.probes):
+        si, node = train.node_index(p, f"probes[{k}]")
+        g = asm.node_offset[si][node]
+        probes.append(hist(rq, g) * np.cos(p.angle) + hist(rq, g + 1) * np.sin(p.angle))
+
+    # meshes
+    pk = _pack_forces(system, out, modal=False, bearing_ref=False)
+    nm = len(system.meshes)
+    mo = np.zeros((nt, nm, 6))
+    if nm:
+        kn.outputs_kernel(rq, rv, *pk[:10], mo)
+    F = mo[:, :, 0]
+    w = np.array([law.w for law in system.meshes]).reshape(nm, 12)
+    whirl_names, whirl = [], []
+    # unbalances
+    for k, u in enumerate(train.unbalances):
+        si, node = train.node_index(u, f"unbalances[{k}]")
+        g = asm.node_offset[si][node]
+        th = hist(rq, g + 5) + u.phase
+        thd, thdd = hist(rv, g + 5), hist(ra, g + 5)
+        fx = u.amount * (thd**2 * np.cos(th) + thdd * np.sin(th))
+        fy = u.amount * (thd**2 * np.sin(th) - thdd * np.cos(th))
+        whirl_names.append(f"unbalance[{k}]@{node_label(g)}")
+        whirl.append(fx * hist(rv, g) + fy * hist(rv, g + 1))
+    # bearings
+    bforce = np.zeros((nt, len(asm.bearings), 2))
+    for j, b in enumerate(asm.bearings):
+        el = b.element
+        if el.speed_dependent:
+            sp_ = np.abs(rom[:, b.shaft])
+            c = np.column_stack([np.interp(sp_, el.table.speed, el.table.values[:, i])
+                                 for i in range(8)])
+        else:
+            c = np.tile(el.coefficients(), (nt, 1))
+        x, y = hist(rq, b.dofs[0]), hist(rq, b.dofs[1])
+        vx, vy = hist(rv, b.dofs[0]), hist(rv, b.dofs[1])
+        if b.support_dofs is not None:
+            x = x - hist(rq, b.support_dofs[0])
+            y = y - hist(rq, b.support_dofs[1])
+            vx = vx - hist(rv, b.support_dofs[0])
+            vy = vy - hist(rv, b.support_dofs[1])
+        fx = -(c[:, 0] * x + c[:, 1] * y + c[:, 4] * vx + c[:, 5] * vy)
+        fy = -(c[:, 2] * x + c[:, 3] * y + c[:, 6] * vx + c[:, 7] * vy)
+        bforce[:, j, 0], bforce[:, j, 1] = fx, fy
+        whirl_names.append(f"bearing:{b.name}")
+        whirl.append(fx * hist(rv, b.dofs[0]) + fy * hist(rv, b.dofs[1]))
+    for k, m in enumerate(asm.meshes):
+        for off, side in ((0, "gear"), (6, "mate")):
+            g = m.dofs[off]
+            whirl_names.append(f"mesh:{m.name}:{side}")
+            whirl.append(-F[:, k] * (w[k, off] * hist(rv, g) + w[k, off + 1] * hist(rv, g + 1)))
+    for k, c in enumerate(train.couplings):
+        si, ni = train.node_index(c.node_i, f"couplings[{k}].node_i")
+        sj, nj = train.node_index(c.node_j, f"couplings[{k}].node_j")
+        gi, gj = asm.node_offset[si][ni], asm.node_offset[sj][nj]
+        dvx = hist(rv, gi) - hist(rv, gj)
+        dvy = hist(rv, gi + 1) - hist(rv, gj + 1)
+        fx = -(c.kx * (hist(rq, gi) - hist(rq, gj)) + c.cx * dvx)
+        fy = -(c.ky * (hist(rq, gi + 1) - hist(rq, gj + 1)) + c.cy * dvy)
+        whirl_names.append(f"coupling:{c.name or f'couplings[{k}]'}")
+        whirl.append(fx * dvx + fy * dvy)
+
+    st = SolverStats(**{k: stats.get(k) for k in SolverStats.__dataclass_fields__})
+    return TransientResult(
+        status="ok", time=np.asarray(t), shaft_names=tuple(s.name for s in train.shafts),
+        shaft_speed=np.asarray(rom), node_labels=tuple(node_label(g) for g, _ in node_list),
+        node_x=node_x, node_y=node_y, node_shaft=np.array([s for _, s in node_list], int),
+        probe_names=tuple(p.name for p in train.probes),
+        probes=np.column_stack(probes) if probes else np.zeros((nt, 0)),
+        mesh_names=tuple(m.name for m in asm.meshes), mesh_force=F,
+        mesh_torque_gear=-F * w[:, 5][None, :], mesh_torque_mate=-F * w[:, 11][None, :],
+        mesh_stiffness=mo[:, :, 1], dte=mo[:, :, 2], contact=mo[:, :, 4].astype(np.int8),
+        bearing_names=tuple(b.name for b in asm.bearings), bearing_force=bforce,
+        whirl_names=tuple(whirl_names),
+        whirl_power=np.column_stack(whirl) if whirl else np.zeros((nt, 0)),
+        recorded_dofs=gl.astype(np.int64), dof_labels=tuple(asm.dof_labels[g] for g in gl),
+        q=rq, qdot=rv, qddot=ra, final_q=final_state[0], final_qdot=final_state[1],
+        active_dofs=system.active, stats=st, model_json=train.model_dump_json(),
+        frozen_speed=frozen,
+    )

@@ -1,0 +1,192 @@
+"""``gearrotor bearing BEARING.toml [--load FX,FY] [--speed RPM] [--format table|json]
+[--plot DIR]``: equilibrium and the 8 dynamic coefficients of a bearing file.
+
+:func:`bearing_command` is the whole command; the package CLI registers it. It prints to
+stdout and raises :class:`~gearrotor.errors.ModelError` (bad input) or
+:class:`~gearrotor.errors.SolverError` (no equilibrium) for the CLI to report.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import time
+from pathlib import Path
+
+from ..errors import ModelError
+from ..units import to_si
+from .coefficients import Coefficients, coefficients
+from .io import load_bearing
+
+__all__ = ["bearing_command", "parse_load", "parse_speed", "format_table", "to_json"]
+
+
+def parse_load(text: str) -> tuple[float, float]:
+    """``"FX,FY"`` in N (plain numbers) or with units (``"2 kN,-3.5 kN"``)."""
+    parts = [p.strip() for p in text.split(",")]
+    if len(parts) != 2:
+        raise ModelError("--load takes two comma-separated values", field="--load", value=text,
+                         expected="FX,FY in N, e.g. 2,-826 or '2 kN,-3 kN'")
+    try:
+        return to_si(_num(parts[0]), "force"), to_si(_num(parts[1]), "force")
+    except ValueError as exc:
+        raise ModelError(str(exc), field="--load", value=text,
+                         expected="FX,FY in N, e.g. 2,-826") from None
+
+
+def parse_speed(text: str) -> float:
+    """``--speed``: a plain number is rpm (signed); a string with units is converted. → rad/s."""
+    try:
+        return float(text) * math.pi / 30.0
+    except ValueError:
+        pass
+    try:
+        return to_si(text, "angular_speed")
+    except ValueError as exc:
+        raise ModelError(str(exc), field="--speed", value=text,
+                         expected="a speed in rpm (e.g. 10800) or with units") from None
+
+
+def _num(s: str) -> float | str:
+    try:
+        return float(s)
+    except ValueError:
+        return s
+
+
+def _row(k: int, name: str, co: Coefficients) -> dict:
+    eq = co.equilibrium
+    d = {
+        "case": k + 1,
+        "name": name,
+        "fx_N": eq.load[0],
+        "fy_N": eq.load[1],
+        "speed_rpm": eq.speed_rpm,
+        "eccentricity_ratio": eq.eccentricity_ratio,
+        "attitude_angle_deg": math.degrees(eq.attitude_angle),
+        "x_m": eq.x,
+        "y_m": eq.y,
+        "min_film_m": eq.min_film,
+        "peak_pressure_Pa": eq.peak_pressure,
+        "friction_power_W": eq.friction_power,
+        "side_flow_m3_per_s": eq.side_flow,
+        "sommerfeld": eq.sommerfeld,
+        "newton_iterations": eq.iterations,
+    }
+    for n in ("kxx", "kxy", "kyx", "kyy"):
+        d[f"{n}_N_per_m"] = getattr(co, n)
+    for n in ("cxx", "cxy", "cyx", "cyy"):
+        d[f"{n}_N_s_per_m"] = getattr(co, n)
+    return d
+
+
+def format_table(rows: list[dict], header: str = "") -> str:
+    """Two fixed-width tables: equilibrium, then coefficients."""
+    lines = [header] if header else []
+    lines.append(
+        f"{'case':>4} {'Fx N':>9} {'Fy N':>9} {'rpm':>7} {'ecc':>6} {'att deg':>8} "
+        f"{'hmin um':>8} {'pmax MPa':>8} {'P kW':>7} {'Q l/min':>8} {'S':>8}"
+    )
+    for r in rows:
+        lines.append(
+            f"{r['case']:>4} {r['fx_N']:>9.1f} {r['fy_N']:>9.1f} {r['speed_rpm']:>7.0f} "
+            f"{r['eccentricity_ratio']:>6.3f} {r['attitude_angle_deg']:>8.2f} "
+            f"{r['min_film_m'] * 1e6:>8.2f} {r['peak_pressure_Pa'] / 1e6:>8.3f} "
+            f"{r['friction_power_W'] / 1e3:>7.3f} {r['side_flow_m3_per_s'] * 6e4:>8.3f} "
+            f"{r['sommerfeld']:>8.4g}"
+        )
+    lines.append("")
+    names = ["kxx", "kxy", "kyx", "kyy", "cxx", "cxy", "cyx", "cyy"]
+    lines.append(f"{'case':>4} " + " ".join(f"{n + (' N/m' if n[0] == 'k' else ' Ns/m'):>11}"
+                                            for n in names))
+    for r in rows:
+        vals = [r[f"{n}_N_per_m"] for n in names[:4]] + [r[f"{n}_N_s_per_m"] for n in names[4:]]
+        lines.append(f"{r['case']:>4} " + " ".join(f"{v:>11.4e}" for v in vals))
+    return "\n".join(lines)
+
+
+def to_json(rows: list[dict], meta: dict) -> str:
+    """JSON document ``{"bearing": meta, "cases": rows}`` (SI, units in the key names)."""
+    return json.dumps({"bearing": meta, "cases": rows}, indent=2)
+
+
+def bearing_command(path: Path, load: str | None = None, speed: str | None = None,
+                    fmt: str = "table", plot: Path | None = None) -> list[Coefficients]:
+    """Run a bearing file: equilibrium and coefficients for one load or all load cases.
+
+    Parameters
+    ----------
+    path
+        Bearing TOML file.
+    load
+        ``"FX,FY"`` (N) overriding the file's load cases; None runs every case of the file.
+    speed
+        Speed in rpm (or with units) overriding the file's speed.
+    fmt
+        ``"table"`` or ``"json"``.
+    plot
+        Directory for PNG plots (pressure map per case, eccentricity locus, coefficients vs
+        load); created if needed.
+
+    Returns
+    -------
+    The :class:`Coefficients` of every case (also printed).
+    """
+    if fmt not in ("table", "json"):
+        raise ModelError("unknown output format", field="--format", value=fmt,
+                         expected="table or json")
+    case = load_bearing(path)
+    w = parse_speed(speed) if speed is not None else case.speed
+    if w is None:
+        raise ModelError("no speed given", field="bearing.speed", value=None,
+                         expected="speed in the file or --speed RPM", file=str(path))
+    if load is not None:
+        loads, names = [parse_load(load)], ["--load"]
+    else:
+        loads, names = list(case.loads), list(case.load_names)
+        if not loads:
+            raise ModelError("no load cases", field="bearing.loads", value=None,
+                             expected="[[bearing.loads]] in the file or --load FX,FY",
+                             file=str(path))
+    t0 = time.perf_counter()
+    results = [coefficients(case.bearing, ld, w, options=case.options) for ld in loads]
+    wall = time.perf_counter() - t0
+    rows = [_row(k, n, co) for k, (n, co) in enumerate(zip(names, results, strict=True))]
+    b = case.bearing
+    meta = {
+        "file": str(path), "name": b.name, "type": type(b).__name__,
+        "diameter_m": b.diameter, "length_m": b.length, "clearance_m": b.clearance,
+        "viscosity_Pa_s": b.viscosity, "speed_rpm": w * 30 / math.pi,
+        "grid": {"n_theta": case.options.grid.n_theta, "n_z": case.options.grid.n_z},
+        "cavitation": case.options.cavitation, "wall_time_s": wall,
+    }
+    if fmt == "json":
+        print(to_json(rows, meta))
+    else:
+        print(format_table(rows, header=(
+            f"{b.name} ({path}): D = {b.diameter * 1e3:.2f} mm, L = {b.length * 1e3:.1f} mm, "
+            f"c = {b.clearance * 1e6:.1f} um, mu = {b.viscosity:.4g} Pa*s, "
+            f"{w * 30 / math.pi:.0f} rpm; grid {case.options.grid.n_theta}x"
+            f"{case.options.grid.n_z}/pad; {wall:.2f} s")))
+    if plot is not None:
+        _plots(case.bearing, results, Path(plot))
+    return results
+
+
+def _plots(bearing, results: list[Coefficients], outdir: Path) -> list[Path]:
+    from .plots import plot_coefficients, plot_locus, plot_pressure
+
+    outdir.mkdir(parents=True, exist_ok=True)
+    out = []
+    for k, co in enumerate(results):
+        p = outdir / f"pressure_case{k + 1:02d}.png"
+        plot_pressure(co.equilibrium, bearing, p)
+        out.append(p)
+    p = outdir / "locus.png"
+    plot_locus([co.equilibrium for co in results], bearing, p)
+    out.append(p)
+    if len(results) > 1:
+        p = outdir / "coefficients_vs_load.png"
+        plot_coefficients(results, path=p, title=f"{bearing.name}")
+        out.append(p)
+    return out

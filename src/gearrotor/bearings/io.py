@@ -1,0 +1,316 @@
+"""Bearing input files (TOML).
+
+Values may carry units as strings parsed by pint ("140 mm", "0.0152 Pa*s", "10800 rpm",
+"97 deg", "5.5 mil"); plain numbers are SI (m, Pa·s, rad/s, rad, N). Unknown keys are rejected.
+Every error names the file, the field, the value and what was expected
+(:class:`~gearrotor.errors.ModelError`). See ``docs/bearings.md`` for the format; examples are
+in ``examples/bearings/``.
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Annotated, Any, Literal
+
+from pydantic import AfterValidator, BaseModel, BeforeValidator, ConfigDict, Field, ValidationError
+
+from ..errors import ModelError
+from ..units import to_si
+from .film import SolverOptions
+from .geometry import (
+    Bearing,
+    Pad,
+    Pocket,
+    axial_groove,
+    elliptical,
+    multilobe,
+    offset_halves,
+    plain,
+    tilting_pad,
+)
+from .reynolds import Grid
+
+__all__ = ["BearingCase", "load_bearing", "parse_bearing"]
+
+
+def _q(kind: str):
+    return Annotated[float, BeforeValidator(lambda v: to_si(v, kind))]
+
+
+Length = _q("length")
+Angle = _q("angle")
+Viscosity = _q("viscosity")
+Speed = _q("angular_speed")
+Force = _q("force")
+Stiffness = _q("stiffness")
+Mass = _q("mass")
+Inertia = _q("inertia")
+Fraction = _q("dimensionless")
+
+
+class _Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+
+def _arc_check(v: float) -> float:
+    if not 0.0 < v <= 2 * math.pi + 1e-9:
+        raise ValueError(
+            f"an angle between 0 and 360 deg (plain numbers are radians; write e.g. "
+            f"'{math.degrees(v) if v < 10 else v:.4g} deg')"
+        )
+    return v
+
+
+Arc = Annotated[float, BeforeValidator(lambda v: to_si(v, "angle")), AfterValidator(_arc_check)]
+
+
+class _GridIn(_Strict):
+    n_theta: int = Field(36, ge=4, description="intervals per pad arc")
+    n_z: int = Field(8, ge=2, description="intervals from the edge to the mid-plane")
+
+
+class _LoadIn(_Strict):
+    fx: Force
+    fy: Force
+    name: str = ""
+
+
+class _PocketIn(_Strict):
+    pads: list[int] = Field(min_length=1, description="1-based pad numbers")
+    start: Angle = 0.0
+    arc: Arc
+    width: Length
+    depth: Length
+
+
+class _PadIn(_Strict):
+    start: Angle
+    arc: Arc
+    preload: Fraction = 0.0
+    offset: Fraction = 0.5
+
+
+class _Common(_Strict):
+    name: str = ""
+    diameter: Length
+    length: Length
+    clearance: Length
+    viscosity: Viscosity
+    speed: Speed | None = None
+    cavitation: Literal["swift_stieber", "half_sommerfeld", "none"] = "swift_stieber"
+    grid: _GridIn = _GridIn()
+    loads: list[_LoadIn] = []
+    notes: str = ""
+
+
+class _PlainIn(_Common):
+    type: Literal["plain"]
+
+
+class _AxialGrooveIn(_Common):
+    type: Literal["axial_groove"]
+    grooves: int = Field(2, ge=1)
+    groove_arc: Angle = math.radians(20.0)
+    first_groove: Angle = 0.0
+    pockets: list[_PocketIn] = []
+
+
+class _OffsetHalvesIn(_Common):
+    type: Literal["offset_halves"]
+    preload: Fraction = 0.5
+    groove_arc: Angle = math.radians(20.0)
+    pockets: list[_PocketIn] = []
+
+
+class _EllipticalIn(_Common):
+    type: Literal["elliptical"]
+    preload: Fraction = 0.5
+    groove_arc: Angle = math.radians(20.0)
+    pockets: list[_PocketIn] = []
+
+
+class _MultilobeIn(_Common):
+    type: Literal["multilobe"]
+    pivots: list[Angle] = Field(min_length=1)
+    arc: Arc
+    preload: Fraction = 0.0
+    offset: Fraction = 0.5
+    pockets: list[_PocketIn] = []
+
+
+class _PadsIn(_Common):
+    type: Literal["pads"]
+    pads: list[_PadIn] = Field(min_length=1)
+    pockets: list[_PocketIn] = []
+
+
+class _TiltingIn(_Common):
+    type: Literal["tilting_pad"]
+    pivots: list[Angle] = Field(min_length=1)
+    arc: Arc
+    preload: Fraction = 0.0
+    offset: Fraction = 0.5
+    pad_inertia: Inertia = 0.0
+    pad_mass: Mass = 0.0
+    pad_thickness: Length = 0.0
+    pivot_stiffness: Stiffness | None = None
+
+
+_Input = Annotated[
+    _PlainIn | _AxialGrooveIn | _OffsetHalvesIn | _EllipticalIn | _MultilobeIn | _PadsIn
+    | _TiltingIn,
+    Field(discriminator="type"),
+]
+
+
+class _File(_Strict):
+    bearing: _Input
+
+
+@dataclass(frozen=True)
+class BearingCase:
+    """A bearing read from a file with its operating data.
+
+    Attributes
+    ----------
+    bearing
+        The geometry.
+    speed
+        Speed (rad/s, signed) or None when the file gives none.
+    loads
+        Load cases (Fx, Fy) in N.
+    load_names
+        Names of the load cases ("" when not given).
+    options
+        Solver options (grid, cavitation) from the file.
+    source
+        The file it came from.
+    notes
+        Free text from the file.
+    """
+
+    bearing: Bearing
+    speed: float | None
+    loads: tuple[tuple[float, float], ...]
+    load_names: tuple[str, ...] = ()
+    options: SolverOptions = field(default_factory=SolverOptions)
+    source: str = ""
+    notes: str = ""
+
+
+def _with_pockets(b, pockets: list[_PocketIn], n_pads: int, pad_arcs: list[float]):
+    out: dict[int, Pocket] = {}
+    for k, p in enumerate(pockets):
+        for num in p.pads:
+            if not 1 <= num <= n_pads:
+                raise ModelError("pocket on a pad that does not exist",
+                                 field=f"bearing.pockets[{k}].pads", value=num,
+                                 expected=f"pad numbers 1..{n_pads}")
+            if num - 1 in out:
+                raise ModelError("two pockets on one pad", field=f"bearing.pockets[{k}].pads",
+                                 value=num, expected="at most one pocket per pad")
+            out[num - 1] = Pocket(p.start, p.arc, p.width, p.depth)
+    return out
+
+
+def _build(inp: Any) -> Bearing:
+    common = dict(diameter=inp.diameter, length=inp.length, clearance=inp.clearance,
+                  viscosity=inp.viscosity)
+    name = inp.name
+    t = inp.type
+    if t == "plain":
+        return plain(**common, name=name or "plain")
+    if t == "tilting_pad":
+        return tilting_pad(**common, pivots=inp.pivots, arc=inp.arc, preload=inp.preload,
+                           offset=inp.offset, inertia=inp.pad_inertia, mass=inp.pad_mass,
+                           thickness=inp.pad_thickness, pivot_stiffness=inp.pivot_stiffness,
+                           name=name or "tilting pad")
+    if t == "axial_groove":
+        base = axial_groove(**common, n_grooves=inp.grooves, groove_arc=inp.groove_arc,
+                            first_groove=inp.first_groove, name=name or "axial groove")
+    elif t == "offset_halves":
+        base = offset_halves(**common, preload=inp.preload, groove_arc=inp.groove_arc,
+                             name=name or "offset halves")
+    elif t == "elliptical":
+        base = elliptical(**common, preload=inp.preload, groove_arc=inp.groove_arc,
+                          name=name or "elliptical")
+    elif t == "multilobe":
+        base = multilobe(**common, pivots=inp.pivots, arc=inp.arc, preload=inp.preload,
+                         offset=inp.offset, name=name or "multilobe")
+    else:  # pads
+        from .geometry import FixedBearing
+
+        base = FixedBearing(**common, pads=tuple(Pad(p.start, p.arc, p.preload, p.offset)
+                                                 for p in inp.pads), name=name or "pads")
+    pockets = _with_pockets(base, inp.pockets, len(base.pads), [p.arc for p in base.pads])
+    if not pockets:
+        return base
+    from dataclasses import replace
+
+    pads = tuple(replace(p, pocket=pockets.get(k)) if k in pockets else p
+                 for k, p in enumerate(base.pads))
+    return replace(base, pads=pads)
+
+
+def _loc(loc: tuple) -> str:
+    out = ""
+    for part in loc:
+        if isinstance(part, int):
+            out += f"[{part}]"
+        elif part in ("plain", "axial_groove", "offset_halves", "elliptical", "multilobe",
+                      "pads", "tilting_pad", "function-after", "function-before"):
+            continue
+        else:
+            out += ("." if out else "") + str(part)
+    return out
+
+
+def parse_bearing(doc: dict, source: str = "") -> BearingCase:
+    """Validate a parsed TOML document (``{"bearing": {...}}``) into a :class:`BearingCase`."""
+    try:
+        data = _File.model_validate(doc)
+    except ValidationError as exc:
+        errors = exc.errors()
+        first = errors[0]
+        more = f" (and {len(errors) - 1} more error(s))" if len(errors) > 1 else ""
+        msg = first["msg"].removeprefix("Value error, ")
+        kind = first["type"]
+        expected = {
+            "extra_forbidden": "no such key: check the spelling (see docs/bearings.md)",
+            "missing": "this field to be given",
+            "union_tag_invalid": "type = plain | axial_groove | offset_halves | elliptical | "
+                                 "multilobe | pads | tilting_pad",
+        }.get(kind, msg)
+        raise ModelError(f"invalid bearing input{more}: {msg}", field=_loc(first["loc"]),
+                         value=first.get("input"), expected=expected, file=source or None
+                         ) from None
+    inp = data.bearing
+    try:
+        bearing = _build(inp)
+        options = SolverOptions(grid=Grid(inp.grid.n_theta, inp.grid.n_z),
+                                cavitation=inp.cavitation)
+    except ModelError as err:
+        if err.field and not err.field.startswith("bearing."):
+            err = ModelError(err.message, field=f"bearing.{err.field}", value=err.value,
+                             expected=err.expected)
+        raise (err.with_file(source) if source else err) from None
+    loads = tuple((ld.fx, ld.fy) for ld in inp.loads)
+    names = tuple(ld.name for ld in inp.loads)
+    return BearingCase(bearing, inp.speed, loads, names, options, source, inp.notes)
+
+
+def load_bearing(path: str | Path) -> BearingCase:
+    """Read a bearing TOML file (see module docstring and ``docs/bearings.md``)."""
+    path = Path(path)
+    try:
+        with path.open("rb") as fh:
+            doc = tomllib.load(fh)
+    except FileNotFoundError:
+        raise ModelError("bearing file not found", field=None, value=str(path),
+                         expected="an existing TOML file") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise ModelError(f"not valid TOML: {exc}", file=str(path)) from None
+    return parse_bearing(doc, str(path))

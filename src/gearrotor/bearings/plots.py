@@ -1,0 +1,146 @@
+"""Bearing plots (matplotlib): pressure maps, eccentricity locus, coefficients vs load/speed.
+
+Every function returns the :class:`matplotlib.figure.Figure` and, when ``path`` is given, saves
+it there (PNG/SVG by suffix). The Agg backend is used for files; nothing is changed at import.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from .coefficients import Coefficients
+from .equilibrium import Equilibrium
+from .geometry import Bearing, TiltingPadBearing
+
+__all__ = ["plot_pressure", "plot_locus", "plot_coefficients"]
+
+
+def _figure(**kw):
+    from matplotlib.figure import Figure
+
+    return Figure(**kw)
+
+
+def _save(fig, path: str | Path | None):
+    if path is not None:
+        from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+        FigureCanvasAgg(fig)
+        fig.savefig(path, dpi=120)
+    return fig
+
+
+def plot_pressure(eq: Equilibrium, bearing: Bearing, path: str | Path | None = None):
+    """Pressure map (MPa) of every pad over angle (deg) and axial position (mm).
+
+    One panel per pad (the full length, mirrored from the symmetric half solved), plus an
+    unrolled mid-plane pressure and film thickness over the circumference.
+    """
+    films = eq.film.pads
+    n = len(films)
+    fig = _figure(figsize=(max(8.0, 2.6 * n), 6.4), layout="constrained")
+    gs = fig.add_gridspec(2, n, height_ratios=[1.2, 1.0])
+    pmax = max(float(f.pressure.max()) for f in films) / 1e6 or 1.0
+    levels = np.linspace(0.0, pmax, 21)
+    im = None
+    for k, film in enumerate(films):
+        ax = fig.add_subplot(gs[0, k])
+        z = np.concatenate([film.z, bearing.length - film.z[-2::-1]]) * 1e3
+        p = np.concatenate([film.pressure, film.pressure[:, -2::-1]], axis=1) / 1e6
+        th = np.degrees(film.theta)
+        im = ax.contourf(th, z, p.T, levels=levels, cmap="viridis", extend="neither")
+        ax.set_title(f"pad {k + 1}: {th[0]:.0f}°–{th[-1]:.0f}°", fontsize=9)
+        ax.set_xlabel("θ (deg)")
+        if k == 0:
+            ax.set_ylabel("z (mm)")
+    if im is not None:
+        fig.colorbar(im, ax=fig.axes, label="pressure (MPa)", shrink=0.9)
+    ax = fig.add_subplot(gs[1, :])
+    ax2 = ax.twinx()
+    for k, film in enumerate(films):
+        th = np.degrees(film.theta)
+        line = ax.plot(th, film.pressure[:, -1] / 1e6, lw=1.8, label=f"pad {k + 1}")[0]
+        ax2.plot(th, film.film[:, -1] * 1e6, lw=1.0, ls="--", color=line.get_color())
+    ax.set_xlabel("θ (deg, from +x, counter-clockwise)")
+    ax.set_ylabel("mid-plane pressure (MPa), solid")
+    ax2.set_ylabel("mid-plane film (µm), dashed")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8, loc="upper right")
+    w = math.hypot(*eq.load)
+    fig.suptitle(
+        f"{bearing.name}\nW = ({eq.load[0]:.0f}, {eq.load[1]:.0f}) N, |W| = {w:.0f} N, "
+        f"{eq.speed_rpm:.0f} rpm, ε = {eq.eccentricity_ratio:.3f}, "
+        f"h_min = {eq.min_film * 1e6:.1f} µm, p_max = {eq.peak_pressure / 1e6:.2f} MPa",
+        fontsize=10,
+    )
+    return _save(fig, path)
+
+
+def _clearance_outline(bearing: Bearing) -> list[np.ndarray]:
+    """Journal-centre positions (/c) touching each pad at zero tilt (pad arcs)."""
+    out = []
+    for pad in bearing.pads:
+        m = pad.preload
+        cp = 1.0 / (1.0 - m)
+        tp = pad.pivot if isinstance(bearing, TiltingPadBearing) else pad.reference_angle
+        d = cp - 1.0
+        th = np.linspace(pad.start, pad.start + pad.arc, 60)
+        out.append(np.stack([-d * np.cos(tp) + cp * np.cos(th), -d * np.sin(tp) + cp * np.sin(th)]))
+    return out
+
+
+def plot_locus(results: Sequence[Equilibrium], bearing: Bearing,
+               path: str | Path | None = None):
+    """Journal-centre locus (x/c, y/c) over the load cases, with load arrows and pad outlines."""
+    fig = _figure(figsize=(6.4, 6.0), layout="constrained")
+    ax = fig.add_subplot()
+    for k, arc in enumerate(_clearance_outline(bearing)):
+        ax.plot(arc[0], arc[1], color="0.5", lw=1.2, label="pad surface (journal contact)"
+                if k == 0 else None)
+    t = np.linspace(0, 2 * math.pi, 200)
+    ax.plot(np.cos(t), np.sin(t), color="0.8", lw=0.8, ls=":", label="ε = 1")
+    c = bearing.clearance
+    x = np.array([r.x for r in results]) / c
+    y = np.array([r.y for r in results]) / c
+    ax.plot(x, y, "o-", color="C3", ms=4, label="journal centre")
+    wmax = max((math.hypot(*r.load) for r in results), default=1.0) or 1.0
+    for r, xi, yi in zip(results, x, y, strict=True):
+        ax.annotate("", xy=(xi + 0.25 * r.load[0] / wmax, yi + 0.25 * r.load[1] / wmax),
+                    xytext=(xi, yi), arrowprops=dict(arrowstyle="->", color="C0", lw=0.8))
+    ax.set_aspect("equal")
+    ax.set_xlabel("x / c")
+    ax.set_ylabel("y / c")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8, loc="lower left")
+    rpm = results[0].speed_rpm if results else float("nan")
+    ax.set_title(f"{bearing.name}: eccentricity locus at {rpm:.0f} rpm\n"
+                 "(arrows: load direction, length ∝ |W|)", fontsize=10)
+    return _save(fig, path)
+
+
+def plot_coefficients(results: Sequence[Coefficients], x: ArrayLike | None = None,
+                      xlabel: str = "load |W| (N)", path: str | Path | None = None,
+                      title: str = ""):
+    """Stiffness (N/m) and damping (N·s/m) coefficients against load (default) or speed."""
+    xs = np.asarray([r.load_magnitude for r in results] if x is None else x, dtype=float)
+    fig = _figure(figsize=(10.0, 4.4), layout="constrained")
+    for col, (mat, unit) in enumerate((("K", "N/m"), ("C", "N·s/m"))):
+        ax = fig.add_subplot(1, 2, col + 1)
+        for i, a in enumerate("xy"):
+            for j, b in enumerate("xy"):
+                vals = np.array([getattr(r, mat)[i, j] for r in results])
+                ax.plot(xs, vals, "o-" if i == j else "s--", ms=3,
+                        label=f"{mat.lower()}{a}{b}")
+        ax.axhline(0.0, color="0.6", lw=0.6)
+        ax.set_xlabel(xlabel)
+        ax.set_ylabel(f"{'stiffness' if mat == 'K' else 'damping'} ({unit})")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8)
+    if title:
+        fig.suptitle(title, fontsize=10)
+    return _save(fig, path)

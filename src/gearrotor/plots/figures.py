@@ -1,0 +1,178 @@
+"""Static figures of the linear analyses: mode shapes, Campbell diagram, Bode plots, orbits."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["plot_mode_shapes", "plot_campbell", "plot_bode", "plot_orbits"]
+
+RPM = 30 / np.pi
+
+
+def _plt():
+    import matplotlib
+
+    matplotlib.use("Agg", force=False)
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def _save(fig, path):
+    if path is not None:
+        path = Path(path)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        tmp = path.with_name(path.stem + ".tmp" + path.suffix)
+        fig.savefig(tmp, dpi=130, bbox_inches="tight")
+        tmp.replace(path)
+    return fig
+
+
+def plot_mode_shapes(result, modes=None, path=None, max_modes: int = 8):
+    """Mode shapes along every shaft: lateral orbit semi-major axis (solid) and torsional
+    surface displacement θz·r (dashed), normalised as in the result (max physical = 1).
+
+    ``modes``: indices to plot (default: the first ``max_modes`` that are not over-damped).
+    """
+    plt = _plt()
+    asm = result.assembly
+    layout = asm.train.layout()
+    if modes is None:
+        modes = [i for i in range(len(result)) if not result.overdamped[i]][:max_modes]
+    modes = list(modes)
+    ns = len(layout.shafts)
+    fig, axes = plt.subplots(len(modes), ns, figsize=(4.2 * ns + 1, 2.1 * len(modes) + 0.6),
+                             squeeze=False, sharex="col")
+    for row, m in enumerate(modes):
+        phi = result.mode_shapes[m]
+        for col, sl in enumerate(layout.shafts):
+            ax = axes[row, col]
+            offs = asm.node_offset[col]
+            X, Y = phi[offs], phi[offs + 1]
+            major = 0.5 * (np.abs(X + 1j * Y) + np.abs(X - 1j * Y))
+            tors = np.abs(phi[offs + 5]) * sl.outer_radius
+            axial = np.abs(phi[offs + 2])
+            z = sl.z
+            ax.plot(z, major, "C0-", lw=1.8, label="lateral")
+            ax.plot(z, tors, "C3--", lw=1.5, label="torsional θz·r")
+            if np.max(axial) > 0.05:
+                ax.plot(z, axial, "C2:", lw=1.5, label="axial")
+            for b in asm.train.bearings:
+                if b.shaft == sl.name:
+                    _, node = asm.train.node_index(b, "bearings")
+                    ax.plot(z[node], 0, "k^", ms=7)
+            for mi in asm.meshes:
+                for side in (0, 1):
+                    if mi.shafts[side] == col:
+                        node = int(np.flatnonzero(offs == mi.dofs[6 * side])[0])
+                        ax.axvline(z[node], color="0.6", lw=0.8)
+            ax.set_ylim(-0.05, 1.1)
+            ax.grid(alpha=0.3)
+            if row == 0:
+                ax.set_title(sl.name)
+            if col == 0:
+                ws = "/".join(result.whirl_per_shaft[m])
+                ax.set_ylabel(f"{result.frequency_rpm[m]:.0f} rpm\nδ={result.log_dec[m]:.3g} "
+                              f"{ws} {result.mode_type[m]}", fontsize=8)
+            if row == len(modes) - 1:
+                ax.set_xlabel("z (m)")
+    axes[0, -1].legend(loc="upper right", fontsize=7)
+    fig.suptitle(f"{asm.train.name}: mode shapes at {result.speed * RPM:.0f} rpm "
+                 "(▲ bearing, | gear)", fontsize=10, y=1.0)
+    fig.tight_layout()
+    return _save(fig, path)
+
+
+def plot_campbell(result, path=None, max_frequency=None):
+    """Campbell diagram: tracked damped frequencies (colour = log dec; ○ forward, × backward
+    whirl), excitation lines and their crossings."""
+    plt = _plt()
+    fig, ax = plt.subplots(figsize=(8, 5.5))
+    s = result.speeds * RPM
+    f = result.damped_frequency * RPM
+    ld = np.clip(result.log_dec, -0.5, 3.0)
+    sc = None
+    for j in range(f.shape[1]):
+        ax.plot(s, f[:, j], color="0.75", lw=0.8, zorder=1)
+        fw = result.whirl[:, j] == "F"
+        sc = ax.scatter(s[fw], f[fw, j], c=ld[fw, j], cmap="viridis_r", vmin=-0.5, vmax=3.0,
+                        marker="o", s=12, zorder=2)
+        ax.scatter(s[~fw], f[~fw, j], c=ld[~fw, j], cmap="viridis_r", vmin=-0.5, vmax=3.0,
+                   marker="x", s=14, zorder=2)
+    top = max_frequency * RPM if max_frequency else np.nanmax(f) * 1.05
+    for k, o in enumerate(result.orders):
+        line = result.order_frequency(o) * RPM
+        ax.plot(s, line, ls="--", lw=1, color=f"C{k % 10}", label=o.label)
+    for c in result.crossings:
+        ax.plot(c.speed * RPM, c.frequency * RPM, "rs", ms=5, mfc="none")
+    ax.set_ylim(0, top)
+    ax.set_xlim(s[0], s[-1])
+    ax.set_xlabel("reference shaft speed (rpm)")
+    ax.set_ylabel("damped natural frequency (cpm)")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7, loc="upper left")
+    if sc is not None:
+        fig.colorbar(sc, ax=ax, label="log decrement (○ forward, × backward)")
+    ax.set_title("Campbell diagram (□ crossings)")
+    fig.tight_layout()
+    return _save(fig, path)
+
+
+def plot_bode(result, path=None, probes=None):
+    """Bode plot (amplitude 0-pk in µm and phase lag) at every probe, with the critical speeds,
+    half-power bands and the operating range."""
+    plt = _plt()
+    probes = result.probes if probes is None else probes
+    fig, (a1, a2) = plt.subplots(2, 1, figsize=(8, 6.5), sharex=True,
+                                 gridspec_kw={"height_ratios": [2, 1]})
+    s = result.speeds * RPM
+    for k, p in enumerate(probes):
+        a1.plot(s, p.amplitude * 1e6, color=f"C{k}", label=p.name)
+        a2.plot(s, np.unwrap(np.deg2rad(p.phase)) * 180 / np.pi, color=f"C{k}")
+        for c in p.criticals:
+            a1.plot(c.speed * RPM, c.amplitude * 1e6, "v", color=f"C{k}")
+            if c.amplification_factor is not None:
+                a1.annotate(f"AF {c.amplification_factor:.1f}",
+                            (c.speed * RPM, c.amplitude * 1e6), fontsize=7,
+                            textcoords="offset points", xytext=(4, 4))
+    lo, hi = result.operating_range
+    a1.axvspan(lo * RPM * 0.999, hi * RPM * 1.001, color="C2", alpha=0.2, label="operating")
+    a1.set_ylabel("amplitude 0-pk (µm)")
+    a1.set_yscale("log")
+    a1.grid(alpha=0.3, which="both")
+    a1.legend(fontsize=8)
+    a2.set_ylabel("phase lag (deg)")
+    a2.set_xlabel("reference shaft speed (rpm)")
+    a2.grid(alpha=0.3)
+    a1.set_title("Unbalance response")
+    fig.tight_layout()
+    return _save(fig, path)
+
+
+def plot_orbits(result, speed_index: int, path=None):
+    """Orbits of the probes' nodes at one speed of an unbalance sweep (µm)."""
+    plt = _plt()
+    fig, ax = plt.subplots(figsize=(5.5, 5.5))
+    t = np.linspace(0, 2 * np.pi, 200)
+    asm = result.assembly
+    nodes: list[tuple[int, int]] = []
+    for k, p in enumerate(asm.train.probes):
+        sn = asm.train.node_index(p, f"probes[{k}]")
+        if sn not in nodes:
+            nodes.append(sn)
+    for si, node in nodes:
+        X, Y = result.node_response(si, node)
+        x = np.real(X[speed_index] * np.exp(1j * t)) * 1e6
+        y = np.real(Y[speed_index] * np.exp(1j * t)) * 1e6
+        ax.plot(x, y, label=f"{result.shaft_names[si]} node {node}")
+        ax.plot(x[0], y[0], "o", color=ax.lines[-1].get_color())
+    ax.set_aspect("equal")
+    ax.set_xlabel("x (µm)")
+    ax.set_ylabel("y (µm)")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    ax.set_title(f"Orbits at {result.speeds[speed_index] * RPM:.0f} rpm (● keyphasor)")
+    fig.tight_layout()
+    return _save(fig, path)
