@@ -22,12 +22,14 @@ def single_shaft(
         "name": "test",
         "speed": speed,
         "materials": {"steel": {"E": E, "density": density, "poisson": poisson}},
-        "shafts": [{
-            "name": "s",
-            "material": "steel",
-            "sections": [{"length": length, "outer_diameter": diameter, "elements": elements}],
-            "disks": list(disks),
-        }],
+        "shafts": [
+            {
+                "name": "s",
+                "material": "steel",
+                "sections": [{"length": length, "outer_diameter": diameter, "elements": elements}],
+                "disks": list(disks),
+            }
+        ],
         "bearings": [dict(b, shaft="s") for b in bearings],
     }
     data.update(extra)

@@ -18,9 +18,16 @@ def geometry(ri, rj, alpha, beta, phi):
 
 
 @settings(max_examples=60, deadline=None)
-@given(ri=radii, rj=radii, alpha=st.floats(0.1, 0.6), beta=st.floats(-0.6, 0.6), phi=angles,
-       theta=st.lists(st.floats(-1, 1), min_size=3, max_size=3),
-       t=st.lists(st.floats(-1, 1), min_size=3, max_size=3), z=st.floats(-2, 2))
+@given(
+    ri=radii,
+    rj=radii,
+    alpha=st.floats(0.1, 0.6),
+    beta=st.floats(-0.6, 0.6),
+    phi=angles,
+    theta=st.lists(st.floats(-1, 1), min_size=3, max_size=3),
+    t=st.lists(st.floats(-1, 1), min_size=3, max_size=3),
+    z=st.floats(-2, 2),
+)
 def test_rigid_body_motions_do_not_strain_the_mesh(ri, rj, alpha, beta, phi, theta, t, z):
     g = geometry(ri, rj, alpha, beta, phi)
     w = g.w()
@@ -94,20 +101,35 @@ def test_torsional_frequency_of_two_rigid_gears_on_a_mesh_spring():
     stiff = 1e14
     shafts, bearings = [], []
     for name in ("p", "g"):
-        shafts.append({"name": name, "material": "m",
-                       "sections": [{"length": 0.01, "outer_diameter": 0.05, "elements": 1}],
-                       "disks": [{"node": 0, "mass": 1.0, "polar": J1 if name == "p" else J2,
-                                  "transverse": 0.5}]})
+        shafts.append(
+            {
+                "name": name,
+                "material": "m",
+                "sections": [{"length": 0.01, "outer_diameter": 0.05, "elements": 1}],
+                "disks": [
+                    {"node": 0, "mass": 1.0, "polar": J1 if name == "p" else J2, "transverse": 0.5}
+                ],
+            }
+        )
         for node in (0, 1):
             bearings.append({"shaft": name, "node": node, "k": stiff})
-    t = Train.model_validate({
-        "materials": {"m": {"E": 2e11, "density": 7800, "poisson": 0.3}},
-        "shafts": shafts, "bearings": bearings, "speed": 0.0,
-        "thrust_bearings": [{"shaft": s, "node": 0, "kzz": stiff} for s in ("p", "g")],
-        "meshes": [{"gear": {"shaft": "p", "node": 0, "teeth": 20, "radius": r1},
+    t = Train.model_validate(
+        {
+            "materials": {"m": {"E": 2e11, "density": 7800, "poisson": 0.3}},
+            "shafts": shafts,
+            "bearings": bearings,
+            "speed": 0.0,
+            "thrust_bearings": [{"shaft": s, "node": 0, "kzz": stiff} for s in ("p", "g")],
+            "meshes": [
+                {
+                    "gear": {"shaft": "p", "node": 0, "teeth": 20, "radius": r1},
                     "mate": {"shaft": "g", "node": 0, "teeth": 50, "radius": r2},
-                    "pressure_angle": a, "stiffness": k}],
-    })
+                    "pressure_angle": a,
+                    "stiffness": k,
+                }
+            ],
+        }
+    )
     res = modal(t)
     rho, Jp = 7800, np.pi * 0.05**4 / 32 * 0.01  # the short shaft adds ρ Jp L of polar inertia
     j1, j2 = J1 + rho * Jp, J2 + rho * Jp

@@ -52,8 +52,7 @@ def test_gear_node_not_on_shaft(base):
 
 
 def test_node_by_position(base):
-    base["meshes"][0]["gear"] = {"shaft": "shaft1", "at": "0.51 m", "teeth": 30,
-                                 "radius": "0.11 m"}
+    base["meshes"][0]["gear"] = {"shaft": "shaft1", "at": "0.51 m", "teeth": 30, "radius": "0.11 m"}
     t = model_from_dict(base)
     assert t.node_index(t.meshes[0].gear, "g") == (0, 10)
     base["meshes"][0]["gear"]["at"] = "0.5 m"
@@ -89,22 +88,42 @@ def test_mesh_geometry_checks(base):
 
 def test_singular_mass_matrix_is_an_input_error():
     """A massless shaft with mass only at some nodes cannot be put in first-order form."""
-    t = Train.model_validate({
-        "materials": {"m": {"E": 2e11, "density": 7800, "poisson": 0.3}},
-        "shafts": [{"name": "s", "material": "m",
-                    "sections": [{"length": 1.0, "outer_diameter": 0.05, "elements": 2,
-                                  "mass_outer_diameter": 0.01, "mass_inner_diameter": 0.01}],
-                    "disks": [{"node": 1, "mass": 10, "polar": 0.1, "transverse": 0.05}]}],
-        "bearings": [{"shaft": "s", "node": 0, "k": 1e7}, {"shaft": "s", "node": 2, "k": 1e7}],
-    })
+    t = Train.model_validate(
+        {
+            "materials": {"m": {"E": 2e11, "density": 7800, "poisson": 0.3}},
+            "shafts": [
+                {
+                    "name": "s",
+                    "material": "m",
+                    "sections": [
+                        {
+                            "length": 1.0,
+                            "outer_diameter": 0.05,
+                            "elements": 2,
+                            "mass_outer_diameter": 0.01,
+                            "mass_inner_diameter": 0.01,
+                        }
+                    ],
+                    "disks": [{"node": 1, "mass": 10, "polar": 0.1, "transverse": 0.05}],
+                }
+            ],
+            "bearings": [{"shaft": "s", "node": 0, "k": 1e7}, {"shaft": "s", "node": 2, "k": 1e7}],
+        }
+    )
     with pytest.raises(ModelError, match="singular model"):
         modal(t)
 
 
 def test_overrides(examples):
-    t = load_model(examples / "unity_gearbox.toml",
-                   {"meshes[0].stiffness": "6e7 N/m", "speed": "3000 rpm",
-                    "shafts.0.speed": "3000 rpm", "shafts.1.speed": "-3000 rpm"})
+    t = load_model(
+        examples / "unity_gearbox.toml",
+        {
+            "meshes[0].stiffness": "6e7 N/m",
+            "speed": "3000 rpm",
+            "shafts.0.speed": "3000 rpm",
+            "shafts.1.speed": "-3000 rpm",
+        },
+    )
     assert t.meshes[0].stiffness == 6e7
     assert t.speed == pytest.approx(3000 * np.pi / 30)
     with pytest.raises(ModelError, match="override path does not exist"):
@@ -121,29 +140,48 @@ def test_toml_syntax_error(tmp_path):
 
 
 def _cli(*args):
-    return subprocess.run([sys.executable, "-m", "gearrotor", *args], capture_output=True,
-                          text=True, timeout=120)
+    return subprocess.run(
+        [sys.executable, "-m", "gearrotor", *args], capture_output=True, text=True, timeout=120
+    )
 
 
 def test_cli_modal_json(examples):
-    r = _cli("modal", str(examples / "unity_gearbox.toml"), "--speed", "6500",
-             "--max-frequency", "80000", "--format", "json")
+    r = _cli(
+        "modal",
+        str(examples / "unity_gearbox.toml"),
+        "--speed",
+        "6500",
+        "--max-frequency",
+        "80000",
+        "--format",
+        "json",
+    )
     assert r.returncode == 0, r.stderr
     d = json.loads(r.stdout)
     modes = d["modes"]
     f = [m["frequency_rpm"] for m in modes]
     assert f == sorted(f) and all(x > 0 for x in f) and max(f) <= 80000
     for m in modes:
-        for key in ("index", "frequency_rpm", "frequency_hz", "log_dec", "damping_ratio",
-                    "whirl", "type"):
+        for key in (
+            "index",
+            "frequency_rpm",
+            "frequency_hz",
+            "log_dec",
+            "damping_ratio",
+            "whirl",
+            "type",
+        ):
             assert key in m
         assert m["frequency_hz"] == pytest.approx(m["frequency_rpm"] / 60)
     assert sum(m["overdamped"] for m in modes) == 7
 
 
 def test_cli_bad_input_is_one_clear_line(tmp_path, examples):
-    text = (examples / "unity_gearbox.toml").read_text().replace('node = 10, teeth = 30',
-                                                                  'node = 99, teeth = 30', 1)
+    text = (
+        (examples / "unity_gearbox.toml")
+        .read_text()
+        .replace("node = 10, teeth = 30", "node = 99, teeth = 30", 1)
+    )
     p = tmp_path / "m.toml"
     p.write_text(text)
     r = _cli("modal", str(p), "--speed", "6500")

@@ -8,7 +8,6 @@ import scipy.linalg as la
 from gearrotor.analyses import modal, unbalance_response
 from gearrotor.analyses.modal import state_matrices
 from gearrotor.elements import DiskElement, ShaftElement, shear_coefficient
-
 from helpers import single_shaft
 
 E, NU = 211e9, 0.3
@@ -19,9 +18,15 @@ def test_jeffcott_critical_speed_with_flexible_bearings():
     """Mid-span disk m on a (nearly) massless shaft with bearings kb at both ends:
     ω² = k_eq/m, 1/k_eq = L³/(48EI) + L/(4κGA) + 1/(2kb)."""
     L, d, m, kb = 0.8, 0.03, 25.0, 2e6
-    t = single_shaft(length=L, diameter=d, elements=8, E=E, density=1.0,
-                     bearings=[{"node": 0, "k": kb}, {"node": 8, "k": kb}],
-                     disks=[{"node": 4, "mass": m, "polar": 0.1, "transverse": 0.05}])
+    t = single_shaft(
+        length=L,
+        diameter=d,
+        elements=8,
+        E=E,
+        density=1.0,
+        bearings=[{"node": 0, "k": kb}, {"node": 8, "k": kb}],
+        disks=[{"node": 4, "mass": m, "polar": 0.1, "transverse": 0.05}],
+    )
     res = modal(t, speed=0.0)
     A, I = np.pi * d**2 / 4, np.pi * d**4 / 64
     kappa = shear_coefficient(0, d, NU)
@@ -70,12 +75,20 @@ def test_damped_sdof_harmonic_response():
     """Rigid shaft on isotropic bearings (k, c) with a mid-span unbalance: a damped SDOF in
     each plane, X = m_u e ω² / (K − M ω² + i C ω) along a circular forward orbit."""
     kb, cb, md = 1e6, 300.0, 40.0
-    t = single_shaft(length=0.6, diameter=0.05, elements=4, E=1e17, density=1.0,
-                     bearings=[{"node": 0, "k": kb, "c": cb}, {"node": 4, "k": kb, "c": cb}],
-                     disks=[{"node": 2, "mass": md, "polar": 0.4, "transverse": 0.2}],
-                     unbalances=[{"shaft": "s", "node": 2, "amount": 1e-4, "phase": 0.3}],
-                     probes=[{"name": "px", "shaft": "s", "node": 2, "angle": 0.0},
-                             {"name": "py", "shaft": "s", "node": 2, "angle": np.pi / 2}])
+    t = single_shaft(
+        length=0.6,
+        diameter=0.05,
+        elements=4,
+        E=1e17,
+        density=1.0,
+        bearings=[{"node": 0, "k": kb, "c": cb}, {"node": 4, "k": kb, "c": cb}],
+        disks=[{"node": 2, "mass": md, "polar": 0.4, "transverse": 0.2}],
+        unbalances=[{"shaft": "s", "node": 2, "amount": 1e-4, "phase": 0.3}],
+        probes=[
+            {"name": "px", "shaft": "s", "node": 2, "angle": 0.0},
+            {"name": "py", "shaft": "s", "node": 2, "angle": np.pi / 2},
+        ],
+    )
     mass = md + 1.0 * np.pi * 0.05**2 / 4 * 0.6
     speeds = np.linspace(10, 500, 200)
     res = unbalance_response(t, speeds=speeds)

@@ -6,7 +6,6 @@ import scipy.linalg as la
 
 from gearrotor.analyses import modal
 from gearrotor.elements import ShaftElement, shear_coefficient
-
 from helpers import single_shaft
 
 E, RHO, NU = 211e9, 7850.0, 0.3
@@ -39,12 +38,18 @@ def test_stiffness_equals_closed_form_timoshenko():
     """Przemieniecki's closed-form Timoshenko beam stiffness (exact for this interpolation)."""
     e = element(L=0.08)
     L, phi, EI = e.length, e.phi, E * e.inertia
-    kc = EI / ((1 + phi) * L**3) * np.array([
-        [12, 6 * L, -12, 6 * L],
-        [6 * L, (4 + phi) * L**2, -6 * L, (2 - phi) * L**2],
-        [-12, -6 * L, 12, -6 * L],
-        [6 * L, (2 - phi) * L**2, -6 * L, (4 + phi) * L**2],
-    ])
+    kc = (
+        EI
+        / ((1 + phi) * L**3)
+        * np.array(
+            [
+                [12, 6 * L, -12, 6 * L],
+                [6 * L, (4 + phi) * L**2, -6 * L, (2 - phi) * L**2],
+                [-12, -6 * L, 12, -6 * L],
+                [6 * L, (2 - phi) * L**2, -6 * L, (4 + phi) * L**2],
+            ]
+        )
+    )
     K = e.K()
     ix = [0, 4, 6, 10]  # x, θy (θy = +dx/dz)
     np.testing.assert_allclose(K[np.ix_(ix, ix)], kc, rtol=1e-12, atol=1e-6)
@@ -89,8 +94,14 @@ def test_pinned_pinned_and_mesh_convergence_order():
     A, I = np.pi * d**2 / 4, np.pi * d**4 / 64
 
     def first(n_el):
-        t = single_shaft(length=L, diameter=d, elements=n_el, E=E, density=RHO,
-                         bearings=[{"node": 0, "k": 1e16}, {"node": n_el, "k": 1e16}])
+        t = single_shaft(
+            length=L,
+            diameter=d,
+            elements=n_el,
+            E=E,
+            density=RHO,
+            bearings=[{"node": 0, "k": 1e16}, {"node": n_el, "k": 1e16}],
+        )
         res = modal(t, speed=0.0)
         lat = np.sort(res.damped_frequency[np.array(res.mode_type) == "L"])
         return lat[4]  # 3rd bending mode (pairs)
@@ -114,8 +125,14 @@ def test_timoshenko_shear_effect_thick_beam():
     L, d = 0.5, 0.1
     A, I = np.pi * d**2 / 4, np.pi * d**4 / 64
     n_el = 40
-    t = single_shaft(length=L, diameter=d, elements=n_el, E=E, density=RHO,
-                     bearings=[{"node": 0, "k": 1e18}, {"node": n_el, "k": 1e18}])
+    t = single_shaft(
+        length=L,
+        diameter=d,
+        elements=n_el,
+        E=E,
+        density=RHO,
+        bearings=[{"node": 0, "k": 1e18}, {"node": n_el, "k": 1e18}],
+    )
     res = modal(t, speed=0.0)
     lat = np.sort(res.damped_frequency[np.array(res.mode_type) == "L"])[::2]
     kappa = shear_coefficient(0, d, NU)

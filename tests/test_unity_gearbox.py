@@ -9,8 +9,14 @@ from gearrotor.io import load_model
 RPM = np.pi / 30
 
 # SPEC 6.1, single shaft at 6500 rpm: (ωd rpm, log dec, whirl); elastic modes only
-SPEC_ELASTIC = [(6243, 0.76, "B"), (6261, 0.77, "F"), (27478, 1.32, "B"), (27571, 1.33, "F"),
-                (64614, 1.13, "B"), (64862, 1.15, "F")]
+SPEC_ELASTIC = [
+    (6243, 0.76, "B"),
+    (6261, 0.77, "F"),
+    (27478, 1.32, "B"),
+    (27571, 1.33, "F"),
+    (64614, 1.13, "B"),
+    (64862, 1.15, "F"),
+]
 
 
 @pytest.fixture(scope="module")
@@ -73,7 +79,9 @@ def test_dense_and_sparse_eigensolvers_agree(examples):
     d = modal(train, max_frequency=fmax, method="dense")
     s = modal(train, max_frequency=fmax, method="sparse")
     assert len(d) == len(s)
-    np.testing.assert_allclose(s.eigenvalues, d.eigenvalues, rtol=1e-8)
+    # near-critically damped pairs are ill-conditioned (ζ ≈ 0.99998): 1e-6
+    np.testing.assert_allclose(s.eigenvalues, d.eigenvalues, rtol=1e-6)
+    assert s.n_rigid_body == d.n_rigid_body == 6
 
 
 def test_campbell_tracks_modes_and_finds_crossings(examples):

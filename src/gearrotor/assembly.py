@@ -136,7 +136,9 @@ class Assembly:
     def shaft_speeds(self, speed: float) -> NDArray:
         return self.speed_ratio * speed
 
-    def matrices(self, speed: float) -> tuple[sp.csr_array, sp.csr_array, sp.csr_array, sp.csr_array]:
+    def matrices(
+        self, speed: float
+    ) -> tuple[sp.csr_array, sp.csr_array, sp.csr_array, sp.csr_array]:
         """(M, C, G, K) at reference-shaft speed ``speed`` (rad/s); G already scaled by speeds."""
         speeds = self.shaft_speeds(speed)
         G = sp.csr_array((self.n_dof, self.n_dof))
@@ -161,10 +163,15 @@ def _shaft_elements(train: Train, i: int) -> list[ShaftElement]:
         mat = train.materials[sec.material or s.material]
         h = sec.length / sec.elements
         el = ShaftElement(
-            length=h, outer_diameter=sec.outer_diameter, inner_diameter=sec.inner_diameter,
-            E=mat.E, shear_modulus=mat.G, density=mat.density,
+            length=h,
+            outer_diameter=sec.outer_diameter,
+            inner_diameter=sec.inner_diameter,
+            E=mat.E,
+            shear_modulus=mat.G,
+            density=mat.density,
             mass_outer_diameter=sec.mass_outer_diameter,
-            mass_inner_diameter=sec.mass_inner_diameter, shear_method=train.shear_method,
+            mass_inner_diameter=sec.mass_inner_diameter,
+            shear_method=train.shear_method,
         )
         out.extend([el] * sec.elements)
     return out
@@ -178,8 +185,11 @@ def _disk_element(train: Train, shaft_i: int, k: int) -> DiskElement:
     mat = train.material(d.material or s.material, f"shafts[{shaft_i}].disks[{k}].material")
     D, di, w = d.outer_diameter, d.inner_diameter, d.width
     if di >= D:
-        raise ModelError("disk inner diameter must be smaller than its outer diameter",
-                         field=f"shafts[{shaft_i}].disks[{k}].inner_diameter", value=di)
+        raise ModelError(
+            "disk inner diameter must be smaller than its outer diameter",
+            field=f"shafts[{shaft_i}].disks[{k}].inner_diameter",
+            value=di,
+        )
     m = mat.density * np.pi / 4 * (D**2 - di**2) * w
     return DiskElement(m, m / 8 * (D**2 + di**2), m / 16 * (D**2 + di**2) + m * w**2 / 12)
 
@@ -202,8 +212,9 @@ def mesh_stiffness(train: Train, k: int) -> float:
     c = m.stiffness.contact_ratio
     if m.stiffness.method == "buckingham":
         return buckingham_stiffness(c, m.face_width, Ei, Ej)
-    return iso6336_stiffness(m.gear.teeth, m.mate.teeth, m.face_width, c, m.helix_angle,
-                             m.pressure_angle, Ei, Ej)
+    return iso6336_stiffness(
+        m.gear.teeth, m.mate.teeth, m.face_width, c, m.helix_angle, m.pressure_angle, Ei, Ej
+    )
 
 
 def assemble(train: Train) -> Assembly:
@@ -277,8 +288,9 @@ def assemble(train: Train) -> Assembly:
     for k, c in enumerate(train.couplings):
         _, di = node_dofs(c.node_i, f"couplings[{k}].node_i", range(6))
         _, dj = node_dofs(c.node_j, f"couplings[{k}].node_j", range(6))
-        el = CouplingElement((c.kx, c.ky, c.kz, c.ktx, c.kty, c.ktz),
-                             (c.cx, c.cy, c.cz, c.ctx, c.cty, c.ctz))
+        el = CouplingElement(
+            (c.kx, c.ky, c.kz, c.ktx, c.kty, c.ktz), (c.cx, c.cy, c.cz, c.ctx, c.cty, c.ctz)
+        )
         K.add(np.concatenate([di, dj]), el.K())
         C.add(np.concatenate([di, dj]), el.C())
     meshes = []
@@ -291,12 +303,31 @@ def assemble(train: Train) -> Assembly:
         dofs = np.concatenate([di, dj])
         K.add(dofs, geo.K(kg))
         C.add(dofs, geo.C(m.damping))
-        meshes.append(MeshInfo(m.name or f"meshes[{k}]", dofs, geo, geo.w(), kg, m.damping,
-                               (si, sj), (m.gear.teeth, m.mate.teeth), k))
+        meshes.append(
+            MeshInfo(
+                m.name or f"meshes[{k}]",
+                dofs,
+                geo,
+                geo.w(),
+                kg,
+                m.damping,
+                (si, sj),
+                (m.gear.teeth, m.mate.teeth),
+                k,
+            )
+        )
 
     return Assembly(
-        train=train, n_dof=n, node_offset=tuple(offsets), M=M.csr(n), K0=K.csr(n), C0=C.csr(n),
-        G_shaft=tuple(G), speed_ratio=np.array([s.speed_ratio for s in layout.shafts]),
-        meshes=tuple(meshes), bearings=tuple(bearings), dof_labels=tuple(labels),
+        train=train,
+        n_dof=n,
+        node_offset=tuple(offsets),
+        M=M.csr(n),
+        K0=K.csr(n),
+        C0=C.csr(n),
+        G_shaft=tuple(G),
+        speed_ratio=np.array([s.speed_ratio for s in layout.shafts]),
+        meshes=tuple(meshes),
+        bearings=tuple(bearings),
+        dof_labels=tuple(labels),
         support_offset=tuple(support_offset),
     )

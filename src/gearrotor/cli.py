@@ -32,8 +32,10 @@ RPM = np.pi / 30  # rpm -> rad/s
 
 SetOpt = Annotated[
     list[str] | None,
-    typer.Option("--set", help="Override a model value: PATH=VALUE, e.g. "
-                 "'meshes[0].stiffness=3e7 N/m' (repeatable)."),
+    typer.Option(
+        "--set",
+        help="Override a model value: PATH=VALUE, e.g. 'meshes[0].stiffness=3e7 N/m' (repeatable).",
+    ),
 ]
 FormatOpt = Annotated[str, typer.Option("--format", help="table or json")]
 
@@ -42,8 +44,11 @@ def _overrides(items: list[str] | None) -> dict[str, str]:
     out = {}
     for it in items or []:
         if "=" not in it:
-            raise ModelError("--set needs PATH=VALUE", value=it,
-                             expected="e.g. 'meshes[0].variation.ka_ratio=0.2'")
+            raise ModelError(
+                "--set needs PATH=VALUE",
+                value=it,
+                expected="e.g. 'meshes[0].variation.ka_ratio=0.2'",
+            )
         k, v = it.split("=", 1)
         out[k.strip()] = v.strip()
     return out
@@ -68,14 +73,19 @@ def handle_errors(fn):
 
 def _check_format(fmt: str) -> None:
     if fmt not in ("table", "json"):
-        raise ModelError("unknown output format", field="--format", value=fmt,
-                         expected="'table' or 'json'")
+        raise ModelError(
+            "unknown output format", field="--format", value=fmt, expected="'table' or 'json'"
+        )
 
 
 def _speeds(lo: float, hi: float, n: int, field: str) -> np.ndarray:
     if n < 2 or hi <= lo:
-        raise ModelError("invalid speed range", field=field, value=f"{lo}..{hi} rpm, {n} points",
-                         expected="max > min and at least 2 points")
+        raise ModelError(
+            "invalid speed range",
+            field=field,
+            value=f"{lo}..{hi} rpm, {n} points",
+            expected="max > min and at least 2 points",
+        )
     return np.linspace(lo, hi, n) * RPM
 
 
@@ -83,15 +93,18 @@ def _speeds(lo: float, hi: float, n: int, field: str) -> np.ndarray:
 @handle_errors
 def modal(
     model: Annotated[Path, typer.Argument(help="TOML model file")],
-    speed: Annotated[float | None, typer.Option(help="reference shaft speed, rpm "
-                                                "(default: the model's)")] = None,
-    max_frequency: Annotated[float | None, typer.Option(help="highest damped frequency, "
-                                                        "rpm")] = None,
+    speed: Annotated[
+        float | None, typer.Option(help="reference shaft speed, rpm (default: the model's)")
+    ] = None,
+    max_frequency: Annotated[
+        float | None, typer.Option(help="highest damped frequency, rpm")
+    ] = None,
     n_modes: Annotated[int | None, typer.Option(help="at most this many modes")] = None,
     method: Annotated[str, typer.Option(help="auto, dense or sparse")] = "auto",
     format: FormatOpt = "table",
-    plot: Annotated[Path | None, typer.Option(help="write mode-shape plots to this "
-                                              "directory")] = None,
+    plot: Annotated[
+        Path | None, typer.Option(help="write mode-shape plots to this directory")
+    ] = None,
     set_: SetOpt = None,
 ) -> None:
     """Damped eigenvalues at a speed: frequency, log dec, whirl per shaft, mode type."""
@@ -99,14 +112,20 @@ def modal(
 
     _check_format(format)
     train = load_model(model, _overrides(set_))
-    res = run_modal(train, speed=None if speed is None else speed * RPM,
-                    max_frequency=None if max_frequency is None else max_frequency * RPM,
-                    n_modes=n_modes, method=method)
+    res = run_modal(
+        train,
+        speed=None if speed is None else speed * RPM,
+        max_frequency=None if max_frequency is None else max_frequency * RPM,
+        n_modes=n_modes,
+        method=method,
+    )
     if format == "json":
         typer.echo(json.dumps(res.to_dict(), indent=1))
     else:
-        typer.echo(f"{train.name}: damped modes at {res.speed / RPM:.1f} rpm "
-                   f"({res.assembly.n_dof} DOF, {res.method} eigensolver)")
+        typer.echo(
+            f"{train.name}: damped modes at {res.speed / RPM:.1f} rpm "
+            f"({res.assembly.n_dof} DOF, {res.method} eigensolver)"
+        )
         typer.echo(res.table())
     if plot is not None:
         from .plots import plot_mode_shapes
@@ -114,7 +133,7 @@ def modal(
         plot.mkdir(parents=True, exist_ok=True)
         elastic = [i for i in range(len(res)) if not res.overdamped[i]]
         for k in range(0, min(len(elastic), 16), 8):
-            plot_mode_shapes(res, modes=elastic[k:k + 8], path=plot / f"modes_{k // 8 + 1}.png")
+            plot_mode_shapes(res, modes=elastic[k : k + 8], path=plot / f"modes_{k // 8 + 1}.png")
         (plot / "modal.json").write_text(json.dumps(res.to_dict(), indent=1))
         typer.echo(f"plots written to {plot}/", err=format == "json")
 
@@ -126,10 +145,11 @@ def campbell(
     min_speed: Annotated[float, typer.Option(help="rpm")] = 0.0,
     max_speed: Annotated[float | None, typer.Option(help="rpm (default 1.25 × nominal)")] = None,
     n_speeds: Annotated[int, typer.Option(help="number of speeds")] = 60,
-    max_frequency: Annotated[float | None, typer.Option(help="rpm (default 3 × max "
-                                                        "speed)")] = None,
-    orders: Annotated[str | None, typer.Option(help="extra excitation orders of the "
-                                               "reference shaft, e.g. '10,42'")] = None,
+    max_frequency: Annotated[float | None, typer.Option(help="rpm (default 3 × max speed)")] = None,
+    orders: Annotated[
+        str | None,
+        typer.Option(help="extra excitation orders of the reference shaft, e.g. '10,42'"),
+    ] = None,
     format: FormatOpt = "table",
     plot: Annotated[Path | None, typer.Option(help="write the Campbell diagram PNG")] = None,
     set_: SetOpt = None,
@@ -147,14 +167,20 @@ def campbell(
         try:
             extra = tuple(float(x) for x in orders.split(","))
         except ValueError:
-            raise ModelError("cannot read the orders", field="--orders", value=orders,
-                             expected="comma-separated numbers, e.g. '10,42'") from None
+            raise ModelError(
+                "cannot read the orders",
+                field="--orders",
+                value=orders,
+                expected="comma-separated numbers, e.g. '10,42'",
+            ) from None
     res = run_campbell(train, speeds=speeds, max_frequency=fmax, extra_orders=extra)
     if format == "json":
         typer.echo(json.dumps(res.to_dict(), indent=1))
     else:
-        typer.echo(f"{train.name}: Campbell {min_speed:.0f}..{hi:.0f} rpm, "
-                   f"{res.damped_frequency.shape[1]} modes tracked; crossings:")
+        typer.echo(
+            f"{train.name}: Campbell {min_speed:.0f}..{hi:.0f} rpm, "
+            f"{res.damped_frequency.shape[1]} modes tracked; crossings:"
+        )
         typer.echo(res.table())
     if plot is not None:
         from .plots import plot_campbell
@@ -170,13 +196,20 @@ def unbalance(
     min_speed: Annotated[float, typer.Option(help="rpm")] = 100.0,
     max_speed: Annotated[float | None, typer.Option(help="rpm (default 1.5 × nominal)")] = None,
     n_speeds: Annotated[int, typer.Option(help="number of speeds")] = 400,
-    operating_range: Annotated[str | None, typer.Option(
-        help="MIN,MAX operating speeds of the reference shaft, rpm (default: nominal)")] = None,
-    api: Annotated[bool, typer.Option(help="replace the amounts by API 617 unbalance "
-                                      "(4 × 6350 W/N g·mm per plane)")] = False,
+    operating_range: Annotated[
+        str | None,
+        typer.Option(
+            help="MIN,MAX operating speeds of the reference shaft, rpm (default: nominal)"
+        ),
+    ] = None,
+    api: Annotated[
+        bool,
+        typer.Option(help="replace the amounts by API 617 unbalance (4 × 6350 W/N g·mm per plane)"),
+    ] = False,
     format: FormatOpt = "table",
-    plot: Annotated[Path | None, typer.Option(help="write Bode and orbit plots to this "
-                                              "directory")] = None,
+    plot: Annotated[
+        Path | None, typer.Option(help="write Bode and orbit plots to this directory")
+    ] = None,
     set_: SetOpt = None,
 ) -> None:
     """Steady-state unbalance response: Bode, peaks, critical speeds, API 684 AF and margins."""
@@ -193,35 +226,46 @@ def unbalance(
         try:
             lo_op, hi_op = (float(x) * RPM for x in operating_range.split(","))
         except ValueError:
-            raise ModelError("cannot read the operating range", field="--operating-range",
-                             value=operating_range, expected="MIN,MAX in rpm") from None
+            raise ModelError(
+                "cannot read the operating range",
+                field="--operating-range",
+                value=operating_range,
+                expected="MIN,MAX in rpm",
+            ) from None
         op = (lo_op, hi_op)
     asm = assemble(train)
     unb = list(train.unbalances)
     if api:
         masses = shaft_masses(asm)
-        mcs = (op[1] if op else abs(train.speed))
+        mcs = op[1] if op else abs(train.speed)
         counts = {}
         for u in unb:
             counts[u.shaft] = counts.get(u.shaft, 0) + 1
         new = []
         for u in unb:
             si = train.shaft_index(u.shaft, "unbalances.shaft")
-            amount = api617_unbalance(masses[si] / counts[u.shaft],
-                                      abs(asm.speed_ratio[si]) * mcs)
+            amount = api617_unbalance(masses[si] / counts[u.shaft], abs(asm.speed_ratio[si]) * mcs)
             new.append(u.model_copy(update={"amount": amount}))
         unb = new
     res = unbalance_response(asm, speeds=speeds, unbalances=unb, operating_range=op)
     if format == "json":
         d = res.to_dict()
-        d["unbalances"] = [{"shaft": u.shaft, "amount_g_mm": u.amount * 1e6,
-                            "phase_deg": float(np.rad2deg(u.phase))} for u in unb]
+        d["unbalances"] = [
+            {
+                "shaft": u.shaft,
+                "amount_g_mm": u.amount * 1e6,
+                "phase_deg": float(np.rad2deg(u.phase)),
+            }
+            for u in unb
+        ]
         typer.echo(json.dumps(d, indent=1))
     else:
         typer.echo(f"{train.name}: unbalance response {min_speed:.0f}..{hi:.0f} rpm")
         for u in unb:
-            typer.echo(f"  unbalance {u.amount * 1e6:.1f} g·mm at {u.shaft} "
-                       f"phase {np.rad2deg(u.phase):.0f}°")
+            typer.echo(
+                f"  unbalance {u.amount * 1e6:.1f} g·mm at {u.shaft} "
+                f"phase {np.rad2deg(u.phase):.0f}°"
+            )
         typer.echo(res.table())
     if plot is not None:
         from .plots import plot_bode, plot_orbits

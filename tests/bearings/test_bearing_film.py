@@ -29,8 +29,9 @@ U = OMEGA * R
 
 def _load(bearing, eps, grid, cavitation="swift_stieber"):
     """Load magnitude (N) and attitude angle (deg) with the journal at (εc, 0)."""
-    f = film_state(bearing, OMEGA, eps * C, 0.0,
-                   options=SolverOptions(grid=grid, cavitation=cavitation))
+    f = film_state(
+        bearing, OMEGA, eps * C, 0.0, options=SolverOptions(grid=grid, cavitation=cavitation)
+    )
     w = -f.forces[:2]
     return math.hypot(*w), -math.degrees(math.atan2(w[1], w[0]))
 
@@ -40,8 +41,9 @@ def _observed_orders(values):
     return np.log2(d[:-1] / d[1:])
 
 
-@pytest.mark.parametrize("cavitation, order_range", [("none", (1.85, 2.15)),
-                                                    ("swift_stieber", (1.3, 2.6))])
+@pytest.mark.parametrize(
+    "cavitation, order_range", [("none", (1.85, 2.15)), ("swift_stieber", (1.3, 2.6))]
+)
 def test_grid_convergence_observed_order(cavitation, order_range):
     """Load of a 360° film fed at the maximum film (ε = 0.6, L/D = 1) on grids refined ×2."""
     b = FixedBearing(D, D, C, MU, (Pad(math.pi, 2 * math.pi),))
@@ -73,8 +75,15 @@ def test_short_bearing_deviation_shrinks_with_length():
     for ld in (0.25, 0.125, 0.0625):
         L = ld * D
         w, _ = _load(plain(D, L, C, MU), eps, Grid(48, 8))
-        w_ocv = (MU * U * L**3 / (4 * C**2) * eps / (1 - eps**2) ** 2
-                 * math.sqrt(math.pi**2 * (1 - eps**2) + 16 * eps**2))
+        w_ocv = (
+            MU
+            * U
+            * L**3
+            / (4 * C**2)
+            * eps
+            / (1 - eps**2) ** 2
+            * math.sqrt(math.pi**2 * (1 - eps**2) + 16 * eps**2)
+        )
         devs.append(abs(w / w_ocv - 1))
     # measured 7.8 %, 2.6 %, 1.1 %
     assert devs[0] > devs[1] > devs[2]
@@ -98,8 +107,13 @@ def test_long_bearing_closed_form_is_exact_for_the_analytic_pressure():
     pref = 6 * MU * U * R / C**2
 
     def p(t):  # θ from the maximum film, h = c(1 + ε cos θ)
-        return pref * eps * math.sin(t) * (2 + eps * math.cos(t)) / (
-            (2 + eps**2) * (1 + eps * math.cos(t)) ** 2)
+        return (
+            pref
+            * eps
+            * math.sin(t)
+            * (2 + eps * math.cos(t))
+            / ((2 + eps**2) * (1 + eps * math.cos(t)) ** 2)
+        )
 
     full = quad(lambda t: p(t) * math.sin(t), 0, 2 * math.pi)[0] * R * L
     assert full == pytest.approx(_long_closed_form(eps, L, "none")[0], rel=1e-9)
@@ -137,8 +151,15 @@ def test_cavitation_models_order_and_positivity():
     f = film_state(b, OMEGA, 0.6 * C, 0.0, options=SolverOptions(grid=Grid(36, 8)))
     assert f.pads[0].pressure.min() >= 0.0
     w_ss = np.hypot(*f.forces[:2])
-    w_hs = np.hypot(*film_state(b, OMEGA, 0.6 * C, 0.0, options=SolverOptions(
-        grid=Grid(36, 8), cavitation="half_sommerfeld")).forces[:2])
+    w_hs = np.hypot(
+        *film_state(
+            b,
+            OMEGA,
+            0.6 * C,
+            0.0,
+            options=SolverOptions(grid=Grid(36, 8), cavitation="half_sommerfeld"),
+        ).forces[:2]
+    )
     assert abs(w_ss / w_hs - 1) < 0.15
 
 

@@ -66,30 +66,46 @@ class CampbellResult:
         return {
             "speeds_rpm": (self.speeds * rpm).tolist(),
             "modes": [
-                {"index": j, "frequency_rpm": (self.damped_frequency[:, j] * rpm).tolist(),
-                 "log_dec": self.log_dec[:, j].tolist(), "whirl": self.whirl[:, j].tolist(),
-                 "type": self.mode_type[:, j].tolist()}
+                {
+                    "index": j,
+                    "frequency_rpm": (self.damped_frequency[:, j] * rpm).tolist(),
+                    "log_dec": self.log_dec[:, j].tolist(),
+                    "whirl": self.whirl[:, j].tolist(),
+                    "type": self.mode_type[:, j].tolist(),
+                }
                 for j in range(self.damped_frequency.shape[1])
             ],
-            "orders": [{"label": o.label, "shaft": self.shaft_names[o.shaft],
-                        "multiple": o.multiple} for o in self.orders],
+            "orders": [
+                {"label": o.label, "shaft": self.shaft_names[o.shaft], "multiple": o.multiple}
+                for o in self.orders
+            ],
             "crossings": [
-                {"mode": c.mode, "order": c.order, "speed_rpm": c.speed * rpm,
-                 "frequency_rpm": c.frequency * rpm, "log_dec": c.log_dec, "whirl": c.whirl,
-                 "type": c.mode_type}
+                {
+                    "mode": c.mode,
+                    "order": c.order,
+                    "speed_rpm": c.speed * rpm,
+                    "frequency_rpm": c.frequency * rpm,
+                    "log_dec": c.log_dec,
+                    "whirl": c.whirl,
+                    "type": c.mode_type,
+                }
                 for c in self.crossings
             ],
         }
 
     def table(self) -> str:
         rpm = 30 / np.pi
-        rows = [f"{'mode':>4} {'order':>14} {'speed rpm':>11} {'freq rpm':>11} {'log dec':>8} "
-                f"{'whirl':>5} {'type':>5}"]
+        rows = [
+            f"{'mode':>4} {'order':>14} {'speed rpm':>11} {'freq rpm':>11} {'log dec':>8} "
+            f"{'whirl':>5} {'type':>5}"
+        ]
         rows.append("-" * len(rows[0]))
         for c in self.crossings:
-            rows.append(f"{c.mode:>4} {c.order:>14} {c.speed * rpm:>11.1f} "
-                        f"{c.frequency * rpm:>11.1f} {c.log_dec:>8.3g} {c.whirl:>5} "
-                        f"{c.mode_type:>5}")
+            rows.append(
+                f"{c.mode:>4} {c.order:>14} {c.speed * rpm:>11.1f} "
+                f"{c.frequency * rpm:>11.1f} {c.log_dec:>8.3g} {c.whirl:>5} "
+                f"{c.mode_type:>5}"
+            )
         return "\n".join(rows)
 
 
@@ -117,8 +133,11 @@ def default_orders(asm: Assembly, extra: tuple[float, ...] = ()) -> tuple[Excita
             label = f"{m:g}x {names[i]}" if multi else f"{m:g}x"
             out.append(ExcitationOrder(label, i, m))
     for m in asm.meshes:
-        out.append(ExcitationOrder(f"{m.name} ({m.teeth[0]}x {names[m.shafts[0]]})", m.shafts[0],
-                                    float(m.teeth[0])))
+        out.append(
+            ExcitationOrder(
+                f"{m.name} ({m.teeth[0]}x {names[m.shafts[0]]})", m.shafts[0], float(m.teeth[0])
+            )
+        )
     for m in extra:
         out.append(ExcitationOrder(f"{m:g}x {names[ref]}" if multi else f"{m:g}x", ref, float(m)))
     return tuple(out)
@@ -156,9 +175,8 @@ def campbell(
     cols: dict[str, list] = {k: [] for k in ("f", "ld", "wh", "ty", "od")}
     k_hint = None
     for w in speeds:
-        r = modal(asm, speed=w, max_frequency=1.5 * max_frequency, method=method,
-                  sparse_k=k_hint)
-        k_hint = r.n_eigenvalues + 4
+        r = modal(asm, speed=w, max_frequency=1.5 * max_frequency, method=method, sparse_k=k_hint)
+        k_hint = r.n_eigenvalues + 8  # those inside 1.5×max_frequency, and a margin
         keep = np.ones(len(r), bool) if include_overdamped else ~r.overdamped
         idx = np.flatnonzero(keep)
         if n_track is None:
@@ -192,9 +210,17 @@ def campbell(
     wh = np.array(cols["wh"], dtype=object)
     ty = np.array(cols["ty"], dtype=object)
     res = CampbellResult(
-        speeds=speeds, damped_frequency=f, log_dec=ld, whirl=wh, mode_type=ty,
-        overdamped=np.array(cols["od"]), orders=orders, crossings=(), speed_ratio=asm.speed_ratio,
-        shaft_names=tuple(s.name for s in asm.train.shafts), modal_results=tuple(results),
+        speeds=speeds,
+        damped_frequency=f,
+        log_dec=ld,
+        whirl=wh,
+        mode_type=ty,
+        overdamped=np.array(cols["od"]),
+        orders=orders,
+        crossings=(),
+        speed_ratio=asm.speed_ratio,
+        shaft_names=tuple(s.name for s in asm.train.shafts),
+        modal_results=tuple(results),
     )
     return _with_crossings(res)
 
@@ -209,11 +235,21 @@ def _with_crossings(res: CampbellResult) -> CampbellResult:
             for k in np.flatnonzero(np.sign(d[:-1]) * np.sign(d[1:]) < 0):
                 t = d[k] / (d[k] - d[k + 1])
                 sp = s[k] + t * (s[k + 1] - s[k])
-                fr = res.damped_frequency[k, j] + t * (res.damped_frequency[k + 1, j]
-                                                       - res.damped_frequency[k, j])
+                fr = res.damped_frequency[k, j] + t * (
+                    res.damped_frequency[k + 1, j] - res.damped_frequency[k, j]
+                )
                 ld = res.log_dec[k, j] + t * (res.log_dec[k + 1, j] - res.log_dec[k, j])
                 kk = k if t < 0.5 else k + 1
-                out.append(Crossing(j, o.label, float(sp), float(fr), float(ld),
-                                    str(res.whirl[kk, j]), str(res.mode_type[kk, j])))
+                out.append(
+                    Crossing(
+                        j,
+                        o.label,
+                        float(sp),
+                        float(fr),
+                        float(ld),
+                        str(res.whirl[kk, j]),
+                        str(res.mode_type[kk, j]),
+                    )
+                )
     out.sort(key=lambda c: (c.speed, c.frequency))
     return CampbellResult(**{**res.__dict__, "crossings": tuple(out)})

@@ -12,7 +12,11 @@ models because it is exact (no missed modes) and fast: 504 states take ~0.1 s.
 
 Classification, all documented in :class:`ModalResult`:
 
-* **rigid-body**: |λ| below ``rigid_tol`` (free torsion of a geared pair, free axial motion);
+* **rigid-body**: a mode that strains nothing: its strain-energy frequency
+  ``√(|φᴴKφ| / φᴴMφ)`` is below ``rigid_tol`` (free torsion of a geared pair, free axial
+  motion). Judging by strain energy rather than by |λ| is robust: a zero eigenvalue of a free
+  mode is a defective (Jordan) pair that round-off splits by ~√ε‖A‖ into two small, possibly
+  complex, eigenvalues, while its eigenvector stays accurate;
 * **over-damped**: a real eigenvalue (listed in ``real_eigenvalues``) or a complex pair with a
   damping ratio ζ ≥ ``overdamped_zeta`` (such a pair decays by e^{-2π ζ/√(1-ζ²)} per period,
   i.e. it never completes one oscillation visibly; listed in the modes with ``overdamped``);
@@ -65,7 +69,7 @@ class ModalResult:
     rigid_body: NDArray  # bool per real eigenvalue
     n_rigid_body: int
     method: str
-    n_eigenvalues: int  # how many eigenvalues the solver returned
+    n_eigenvalues: int  # eigenvalues with |λ| ≤ max_frequency (all returned if none given)
     shaft_names: tuple[str, ...]
     assembly: Assembly = field(repr=False)
 
@@ -96,7 +100,8 @@ class ModalResult:
     @property
     def stable(self) -> bool:
         return not bool(np.any(self.unstable)) and not bool(
-            np.any(self.real_eigenvalues[~self.rigid_body] > 0))
+            np.any(self.real_eigenvalues[~self.rigid_body] > 0)
+        )
 
     @property
     def unstable(self) -> NDArray:
@@ -116,7 +121,9 @@ class ModalResult:
                 "log_dec": float(self.log_dec[i]),
                 "damping_ratio": float(self.damping_ratio[i]),
                 "whirl": self.whirl[i],
-                "whirl_per_shaft": dict(zip(self.shaft_names, self.whirl_per_shaft[i], strict=True)),
+                "whirl_per_shaft": dict(
+                    zip(self.shaft_names, self.whirl_per_shaft[i], strict=True)
+                ),
                 "type": self.mode_type[i],
                 "energy_lateral": float(self.energy_fractions[i, 0]),
                 "energy_axial": float(self.energy_fractions[i, 1]),
@@ -126,15 +133,22 @@ class ModalResult:
             }
             modes.append(d)
         real = [
-            {"eigenvalue": float(v), "rigid_body": bool(r),
-             "decay_time_s": (float(-1 / v) if v < 0 else None)}
+            {
+                "eigenvalue": float(v),
+                "rigid_body": bool(r),
+                "decay_time_s": (float(-1 / v) if v < 0 else None),
+            }
             for v, r in zip(self.real_eigenvalues, self.rigid_body, strict=True)
         ]
         return {
             "speed_rpm": float(self.speed * 30 / np.pi),
-            "shaft_speeds_rpm": dict(zip(self.shaft_names,
-                                         (float(s * 30 / np.pi) for s in self.shaft_speeds),
-                                         strict=True)),
+            "shaft_speeds_rpm": dict(
+                zip(
+                    self.shaft_names,
+                    (float(s * 30 / np.pi) for s in self.shaft_speeds),
+                    strict=True,
+                )
+            ),
             "n_dof": int(self.assembly.n_dof),
             "method": self.method,
             "stable": self.stable,
@@ -145,8 +159,10 @@ class ModalResult:
 
     def table(self) -> str:
         """A plain-text table of the modes."""
-        head = (f"{'#':>3} {'freq rpm':>12} {'freq Hz':>10} {'log dec':>9} {'zeta':>7} "
-                f"{'whirl':>6} {'type':>6}  notes")
+        head = (
+            f"{'#':>3} {'freq rpm':>12} {'freq Hz':>10} {'log dec':>9} {'zeta':>7} "
+            f"{'whirl':>6} {'type':>6}  notes"
+        )
         rows = [head, "-" * len(head)]
         for i in range(len(self)):
             notes = []
@@ -154,7 +170,9 @@ class ModalResult:
                 notes.append("over-damped")
             if self.unstable[i]:
                 notes.append("UNSTABLE")
-            whirl = "/".join(self.whirl_per_shaft[i]) if len(self.shaft_names) > 1 else self.whirl[i]
+            whirl = (
+                "/".join(self.whirl_per_shaft[i]) if len(self.shaft_names) > 1 else self.whirl[i]
+            )
             rows.append(
                 f"{i:>3} {self.frequency_rpm[i]:>12.2f} {self.frequency_hz[i]:>10.3f} "
                 f"{self.log_dec[i]:>9.4g} {self.damping_ratio[i]:>7.4f} {whirl:>6} "
@@ -162,8 +180,10 @@ class ModalResult:
             )
         if len(self.real_eigenvalues):
             nr = int(np.sum(self.rigid_body))
-            rows.append(f"real eigenvalues: {len(self.real_eigenvalues)} "
-                        f"({nr} rigid-body, {len(self.real_eigenvalues) - nr} over-damped)")
+            rows.append(
+                f"real eigenvalues: {len(self.real_eigenvalues)} "
+                f"({nr} rigid-body, {len(self.real_eigenvalues) - nr} over-damped)"
+            )
         return "\n".join(rows)
 
 
@@ -180,16 +200,23 @@ def _dense(a) -> NDArray:
     return a.toarray() if sp.issparse(a) else np.asarray(a)
 
 
-def _check_mass(M: NDArray, asm: Assembly) -> NDArray:
+def _check_mass(M: NDArray, asm: Assembly):
+    """Cholesky factor of M, or a ModelError naming the massless DOFs."""
     try:
         return la.cho_factor(M, lower=True)
     except la.LinAlgError:
-        bad = [asm.dof_labels[i] for i in np.flatnonzero(np.diag(M) <= 0)][:10]
-        raise ModelError(
-            "singular model: the mass matrix is not positive definite",
-            field="shafts / disks / supports", value=bad or "(no zero diagonal; check densities)",
-            expected="mass or inertia on every degree of freedom",
-        ) from None
+        raise _singular_mass(asm) from None
+
+
+def _singular_mass(asm: Assembly) -> ModelError:
+    diag = asm.M.diagonal()
+    bad = [asm.dof_labels[i] for i in np.flatnonzero(diag <= 1e-12 * diag.max())][:10]
+    return ModelError(
+        "singular model: the mass matrix is not positive definite",
+        field="shafts / disks / supports",
+        value=bad or "(no zero diagonal; check densities)",
+        expected="mass or inertia on every degree of freedom",
+    )
 
 
 def _solve_dense(M, Cg, K, asm) -> tuple[NDArray, NDArray]:
@@ -216,6 +243,8 @@ def _solve_sparse(M, Cg, K, asm, max_frequency, n_modes, k0=None) -> tuple[NDArr
             lam, V = spla.eigs(A, k=k, M=B, sigma=sigma, which="LM")
         except spla.ArpackNoConvergence as exc:
             raise SolverError(f"sparse eigensolver did not converge for {k} modes: {exc}") from None
+        except RuntimeError:  # SuperLU could not factor the shifted matrix: M is singular
+            raise _singular_mass(asm) from None
         if max_frequency is None or k >= 2 * n - 2:
             return lam, V[:n]
         if np.max(np.abs(lam - sigma)) > max_frequency + abs(sigma):
@@ -240,15 +269,19 @@ def _scale_vector(asm: Assembly) -> NDArray:
     return s
 
 
-def _classify(lam, V, asm, speeds, *, rigid_tol, overdamped_zeta, type_threshold,
-              max_frequency):
+def _classify(lam, V, asm, speeds, K, *, rigid_tol, overdamped_zeta, type_threshold, max_frequency):
     lam = np.asarray(lam)
     mag = np.abs(lam)
-    rigid = mag < rigid_tol
+    KV = K @ V
+    strain = np.abs(np.einsum("ij,ij->j", V.conj(), KV))
+    kinetic = np.real(np.einsum("ij,ij->j", V.conj(), asm.M @ V))
+    rigid = np.sqrt(strain / np.maximum(kinetic, 1e-300)) < rigid_tol
     imag_tol = 1e-9 * np.maximum(mag, 1.0)
     is_real = (np.abs(lam.imag) <= imag_tol) | rigid
-    real_vals = np.sort(lam[is_real].real)[::-1]
-    real_rigid = np.abs(real_vals) < rigid_tol
+    real_vals = lam[is_real].real
+    real_rigid = rigid[is_real]
+    order_r = np.argsort(real_vals)[::-1]
+    real_vals, real_rigid = real_vals[order_r], real_rigid[order_r]
     n_rigid = int(np.sum(rigid))
     sel = (~is_real) & (lam.imag > 0)
     if max_frequency is not None:
@@ -304,9 +337,16 @@ def _classify(lam, V, asm, speeds, *, rigid_tol, overdamped_zeta, type_threshold
     zeta = -lam_m.real / np.abs(lam_m)
     overdamped = zeta >= overdamped_zeta
     return dict(
-        eigenvalues=lam_m, mode_shapes=phi, whirl_per_shaft=tuple(whirl_ps), whirl=tuple(whirl),
-        energy_fractions=frac, mode_type=tuple(types), overdamped=overdamped,
-        real_eigenvalues=real_vals, rigid_body=real_rigid, n_rigid_body=n_rigid,
+        eigenvalues=lam_m,
+        mode_shapes=phi,
+        whirl_per_shaft=tuple(whirl_ps),
+        whirl=tuple(whirl),
+        energy_fractions=frac,
+        mode_type=tuple(types),
+        overdamped=overdamped,
+        real_eigenvalues=real_vals,
+        rigid_body=real_rigid,
+        n_rigid_body=n_rigid,
     )
 
 
@@ -331,8 +371,9 @@ def modal(
     max_frequency : rad/s, keep modes with damped frequency up to this value
     n_modes : keep at most this many (lowest) modes
     method : ``"auto"``, ``"dense"`` or ``"sparse"``
-    rigid_tol : rad/s, |λ| below which an eigenvalue is a rigid-body mode (default: 1e-5 of the
-        largest elastic frequency scale, at least 1e-3 rad/s)
+    rigid_tol : rad/s, strain-energy frequency below which a mode is a rigid-body mode
+        (default 1e-2 rad/s, 0.1 rpm: far below any bearing or elastic mode, far above the
+        round-off of a free mode, ~1e-5 rad/s)
     overdamped_zeta : damping ratio from which a complex pair is flagged over-damped
     type_threshold : kinetic-energy fraction from which a DOF group names the mode type
     sparse_k : initial number of eigenvalues the sparse solver asks for (it doubles the number
@@ -347,25 +388,37 @@ def modal(
     if method == "dense":
         lam, V = _solve_dense(M.toarray(), Cg.toarray(), K.toarray(), asm)
     elif method == "sparse":
-        _check_mass(M.toarray(), asm) if asm.n_dof <= DENSE_LIMIT else None
-        lam, V = _solve_sparse(M.tocsc(), Cg.tocsc(), K.tocsc(), asm, max_frequency, n_modes,
-                               sparse_k)
+        lam, V = _solve_sparse(
+            M.tocsc(), Cg.tocsc(), K.tocsc(), asm, max_frequency, n_modes, sparse_k
+        )
     else:
         raise ValueError(f"unknown method {method!r}; expected 'auto', 'dense' or 'sparse'")
     if not np.all(np.isfinite(lam)):
         raise SolverError("the eigensolver returned non-finite eigenvalues")
     if rigid_tol is None:
-        finite = np.abs(lam[np.abs(lam) > 0])
-        rigid_tol = max(1e-3, 1e-7 * float(np.median(finite)) if finite.size else 1e-3)
-    res = _classify(lam, V, asm, asm.shaft_speeds(w), rigid_tol=rigid_tol,
-                    overdamped_zeta=overdamped_zeta, type_threshold=type_threshold,
-                    max_frequency=max_frequency)
+        rigid_tol = 1e-2
+    res = _classify(
+        lam,
+        V,
+        asm,
+        asm.shaft_speeds(w),
+        K,
+        rigid_tol=rigid_tol,
+        overdamped_zeta=overdamped_zeta,
+        type_threshold=type_threshold,
+        max_frequency=max_frequency,
+    )
     if n_modes is not None:
         for key in ("eigenvalues", "mode_shapes", "energy_fractions", "overdamped"):
             res[key] = res[key][:n_modes]
         for key in ("whirl_per_shaft", "whirl", "mode_type"):
             res[key] = res[key][:n_modes]
     return ModalResult(
-        speed=w, shaft_speeds=asm.shaft_speeds(w), method=method, n_eigenvalues=len(lam),
-        shaft_names=tuple(s.name for s in asm.train.shafts), assembly=asm, **res,
+        speed=w,
+        shaft_speeds=asm.shaft_speeds(w),
+        method=method,
+        n_eigenvalues=int(np.sum(np.abs(lam) <= max_frequency)) if max_frequency else len(lam),
+        shaft_names=tuple(s.name for s in asm.train.shafts),
+        assembly=asm,
+        **res,
     )

@@ -42,7 +42,9 @@ __all__ = [
 ]
 
 
-def api617_unbalance(journal_mass: float, max_continuous_speed: float, factor: float = 4.0) -> float:
+def api617_unbalance(
+    journal_mass: float, max_continuous_speed: float, factor: float = 4.0
+) -> float:
     """API 617 residual unbalance for the response analysis, kg·m.
 
     ``U = factor × 6350 W/N`` g·mm with W the journal static load (kg) and N the maximum
@@ -125,43 +127,57 @@ class UnbalanceResult:
         probes = []
         for p, lim in zip(self.probes, self.vibration_limit, strict=True):
             k = int(np.argmax(p.amplitude))
-            probes.append({
-                "name": p.name,
-                "shaft": self.shaft_names[p.shaft],
-                "peak_amplitude_um": float(p.amplitude[k] * um),
-                "peak_amplitude_pp_um": float(2 * p.amplitude[k] * um),
-                "peak_speed_rpm": float(self.speeds[k] * rpm),
-                "api617_limit_pp_um": float(lim * um),
-                "amplitude_um": (p.amplitude * um).tolist(),
-                "phase_deg": p.phase.tolist(),
-                "critical_speeds": [
-                    {"speed_rpm": c.speed * rpm, "probe_shaft_speed_rpm": c.probe_speed * rpm,
-                     "amplitude_um": c.amplitude * um,
-                     "amplification_factor": c.amplification_factor,
-                     "separation_margin_pct": c.separation_margin,
-                     "required_margin_pct": c.required_margin, "ok": c.ok}
-                    for c in p.criticals
-                ],
-            })
-        return {"speeds_rpm": (self.speeds * rpm).tolist(), "probes": probes,
-                "operating_range_rpm": [self.operating_range[0] * rpm,
-                                        self.operating_range[1] * rpm]}
+            probes.append(
+                {
+                    "name": p.name,
+                    "shaft": self.shaft_names[p.shaft],
+                    "peak_amplitude_um": float(p.amplitude[k] * um),
+                    "peak_amplitude_pp_um": float(2 * p.amplitude[k] * um),
+                    "peak_speed_rpm": float(self.speeds[k] * rpm),
+                    "api617_limit_pp_um": float(lim * um),
+                    "amplitude_um": (p.amplitude * um).tolist(),
+                    "phase_deg": p.phase.tolist(),
+                    "critical_speeds": [
+                        {
+                            "speed_rpm": c.speed * rpm,
+                            "probe_shaft_speed_rpm": c.probe_speed * rpm,
+                            "amplitude_um": c.amplitude * um,
+                            "amplification_factor": c.amplification_factor,
+                            "separation_margin_pct": c.separation_margin,
+                            "required_margin_pct": c.required_margin,
+                            "ok": c.ok,
+                        }
+                        for c in p.criticals
+                    ],
+                }
+            )
+        return {
+            "speeds_rpm": (self.speeds * rpm).tolist(),
+            "probes": probes,
+            "operating_range_rpm": [self.operating_range[0] * rpm, self.operating_range[1] * rpm],
+        }
 
     def table(self) -> str:
         rpm, um = 30 / np.pi, 1e6
         rows = [f"{'probe':>12} {'peak um 0-pk':>13} {'at rpm':>9} {'limit um pk-pk':>15}"]
-        crit = [f"{'probe':>12} {'critical rpm':>13} {'amp um':>9} {'AF':>7} {'SM %':>7} "
-                f"{'req %':>7} {'ok':>4}"]
+        crit = [
+            f"{'probe':>12} {'critical rpm':>13} {'amp um':>9} {'AF':>7} {'SM %':>7} "
+            f"{'req %':>7} {'ok':>4}"
+        ]
         for p, lim in zip(self.probes, self.vibration_limit, strict=True):
             k = int(np.argmax(p.amplitude))
-            rows.append(f"{p.name:>12} {p.amplitude[k] * um:>13.3f} {self.speeds[k] * rpm:>9.0f} "
-                        f"{lim * um:>15.2f}")
+            rows.append(
+                f"{p.name:>12} {p.amplitude[k] * um:>13.3f} {self.speeds[k] * rpm:>9.0f} "
+                f"{lim * um:>15.2f}"
+            )
             for c in p.criticals:
                 af = "-" if c.amplification_factor is None else f"{c.amplification_factor:.2f}"
                 sm = "-" if c.separation_margin is None else f"{c.separation_margin:.1f}"
                 rq = "-" if c.required_margin is None else f"{c.required_margin:.1f}"
-                crit.append(f"{p.name:>12} {c.speed * rpm:>13.0f} {c.amplitude * um:>9.3f} "
-                            f"{af:>7} {sm:>7} {rq:>7} {str(c.ok):>4}")
+                crit.append(
+                    f"{p.name:>12} {c.speed * rpm:>13.0f} {c.amplitude * um:>9.3f} "
+                    f"{af:>7} {sm:>7} {rq:>7} {str(c.ok):>4}"
+                )
         return "\n".join(rows) + "\n\n" + "\n".join(crit)
 
 
@@ -208,8 +224,11 @@ def unbalance_response(
     unbalances = train.unbalances if unbalances is None else unbalances
     probes = train.probes if probes is None else probes
     if not unbalances:
-        raise ModelError("no unbalance to respond to", field="unbalances",
-                         expected="at least one [[unbalances]] entry")
+        raise ModelError(
+            "no unbalance to respond to",
+            field="unbalances",
+            expected="at least one [[unbalances]] entry",
+        )
     speeds = np.asarray(speeds, float)
     ratio = np.abs(asm.speed_ratio)
     keys = sorted({round(r, 12) for r in ratio})
@@ -252,9 +271,15 @@ def unbalance_response(
         pres.append(ProbeResponse(p.name, si, p.angle, r, major, minor, crits))
         limits.append(api617_vibration_limit(ratio[si] * op[1]) if op[1] else np.nan)
     return UnbalanceResult(
-        speeds=speeds, frequencies=freqs, group_of_shaft=groups, response=resp,
-        probes=tuple(pres), shaft_names=tuple(s.name for s in train.shafts),
-        operating_range=op, vibration_limit=np.array(limits), assembly=asm,
+        speeds=speeds,
+        frequencies=freqs,
+        group_of_shaft=groups,
+        response=resp,
+        probes=tuple(pres),
+        shaft_names=tuple(s.name for s in train.shafts),
+        operating_range=op,
+        vibration_limit=np.array(limits),
+        assembly=asm,
     )
 
 
@@ -314,12 +339,19 @@ def critical_speeds(
             if af is not None:
                 req = api617_required_margin(af, below)
                 ok = bool(sm >= req)
-        out.append(CriticalSpeed(
-            float(sp_), float(nc), float(peak), af,
-            (None if n1 is None else float(ratio * n1), None if n2 is None else float(ratio * n2)),
-            sm, req, ok,
-        ))
+        out.append(
+            CriticalSpeed(
+                float(sp_),
+                float(nc),
+                float(peak),
+                af,
+                (
+                    None if n1 is None else float(ratio * n1),
+                    None if n2 is None else float(ratio * n2),
+                ),
+                sm,
+                req,
+                ok,
+            )
+        )
     return tuple(out)
-
-
-

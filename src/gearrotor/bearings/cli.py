@@ -25,13 +25,18 @@ def parse_load(text: str) -> tuple[float, float]:
     """``"FX,FY"`` in N (plain numbers) or with units (``"2 kN,-3.5 kN"``)."""
     parts = [p.strip() for p in text.split(",")]
     if len(parts) != 2:
-        raise ModelError("--load takes two comma-separated values", field="--load", value=text,
-                         expected="FX,FY in N, e.g. 2,-826 or '2 kN,-3 kN'")
+        raise ModelError(
+            "--load takes two comma-separated values",
+            field="--load",
+            value=text,
+            expected="FX,FY in N, e.g. 2,-826 or '2 kN,-3 kN'",
+        )
     try:
         return to_si(_num(parts[0]), "force"), to_si(_num(parts[1]), "force")
     except ValueError as exc:
-        raise ModelError(str(exc), field="--load", value=text,
-                         expected="FX,FY in N, e.g. 2,-826") from None
+        raise ModelError(
+            str(exc), field="--load", value=text, expected="FX,FY in N, e.g. 2,-826"
+        ) from None
 
 
 def parse_speed(text: str) -> float:
@@ -43,8 +48,12 @@ def parse_speed(text: str) -> float:
     try:
         return to_si(text, "angular_speed")
     except ValueError as exc:
-        raise ModelError(str(exc), field="--speed", value=text,
-                         expected="a speed in rpm (e.g. 10800) or with units") from None
+        raise ModelError(
+            str(exc),
+            field="--speed",
+            value=text,
+            expected="a speed in rpm (e.g. 10800) or with units",
+        ) from None
 
 
 def _num(s: str) -> float | str:
@@ -97,8 +106,9 @@ def format_table(rows: list[dict], header: str = "") -> str:
         )
     lines.append("")
     names = ["kxx", "kxy", "kyx", "kyy", "cxx", "cxy", "cyx", "cyy"]
-    lines.append(f"{'case':>4} " + " ".join(f"{n + (' N/m' if n[0] == 'k' else ' Ns/m'):>11}"
-                                            for n in names))
+    lines.append(
+        f"{'case':>4} " + " ".join(f"{n + (' N/m' if n[0] == 'k' else ' Ns/m'):>11}" for n in names)
+    )
     for r in rows:
         vals = [r[f"{n}_N_per_m"] for n in names[:4]] + [r[f"{n}_N_s_per_m"] for n in names[4:]]
         lines.append(f"{r['case']:>4} " + " ".join(f"{v:>11.4e}" for v in vals))
@@ -110,8 +120,13 @@ def to_json(rows: list[dict], meta: dict) -> str:
     return json.dumps({"bearing": meta, "cases": rows}, indent=2)
 
 
-def bearing_command(path: Path, load: str | None = None, speed: str | None = None,
-                    fmt: str = "table", plot: Path | None = None) -> list[Coefficients]:
+def bearing_command(
+    path: Path,
+    load: str | None = None,
+    speed: str | None = None,
+    fmt: str = "table",
+    plot: Path | None = None,
+) -> list[Coefficients]:
     """Run a bearing file: equilibrium and coefficients for one load or all load cases.
 
     Parameters
@@ -133,41 +148,64 @@ def bearing_command(path: Path, load: str | None = None, speed: str | None = Non
     The :class:`Coefficients` of every case (also printed).
     """
     if fmt not in ("table", "json"):
-        raise ModelError("unknown output format", field="--format", value=fmt,
-                         expected="table or json")
+        raise ModelError(
+            "unknown output format", field="--format", value=fmt, expected="table or json"
+        )
     case = load_bearing(path)
     w = parse_speed(speed) if speed is not None else case.speed
     if w is None:
-        raise ModelError("no speed given", field="bearing.speed", value=None,
-                         expected="speed in the file or --speed RPM", file=str(path))
+        raise ModelError(
+            "no speed given",
+            field="bearing.speed",
+            value=None,
+            expected="speed in the file or --speed RPM",
+            file=str(path),
+        )
     if load is not None:
         loads, names = [parse_load(load)], ["--load"]
     else:
         loads, names = list(case.loads), list(case.load_names)
         if not loads:
-            raise ModelError("no load cases", field="bearing.loads", value=None,
-                             expected="[[bearing.loads]] in the file or --load FX,FY",
-                             file=str(path))
+            raise ModelError(
+                "no load cases",
+                field="bearing.loads",
+                value=None,
+                expected="[[bearing.loads]] in the file or --load FX,FY",
+                file=str(path),
+            )
     t0 = time.perf_counter()
     results = [coefficients(case.bearing, ld, w, options=case.options) for ld in loads]
     wall = time.perf_counter() - t0
     rows = [_row(k, n, co) for k, (n, co) in enumerate(zip(names, results, strict=True))]
     b = case.bearing
     meta = {
-        "file": str(path), "name": b.name, "type": type(b).__name__,
-        "diameter_m": b.diameter, "length_m": b.length, "clearance_m": b.clearance,
-        "viscosity_Pa_s": b.viscosity, "speed_rpm": w * 30 / math.pi,
+        "file": str(path),
+        "name": b.name,
+        "type": type(b).__name__,
+        "diameter_m": b.diameter,
+        "length_m": b.length,
+        "clearance_m": b.clearance,
+        "viscosity_Pa_s": b.viscosity,
+        "speed_rpm": w * 30 / math.pi,
         "grid": {"n_theta": case.options.grid.n_theta, "n_z": case.options.grid.n_z},
-        "cavitation": case.options.cavitation, "wall_time_s": wall,
+        "cavitation": case.options.cavitation,
+        "wall_time_s": wall,
     }
     if fmt == "json":
         print(to_json(rows, meta))
     else:
-        print(format_table(rows, header=(
-            f"{b.name} ({path}): D = {b.diameter * 1e3:.2f} mm, L = {b.length * 1e3:.1f} mm, "
-            f"c = {b.clearance * 1e6:.1f} um, mu = {b.viscosity:.4g} Pa*s, "
-            f"{w * 30 / math.pi:.0f} rpm; grid {case.options.grid.n_theta}x"
-            f"{case.options.grid.n_z}/pad; {wall:.2f} s")))
+        print(
+            format_table(
+                rows,
+                header=(
+                    f"{b.name} ({path}): D = {b.diameter * 1e3:.2f} mm, "
+                    f"L = {b.length * 1e3:.1f} mm, "
+                    f"c = {b.clearance * 1e6:.1f} um, mu = {b.viscosity:.4g} Pa*s, "
+                    f"{w * 30 / math.pi:.0f} rpm; grid {case.options.grid.n_theta}x"
+                    f"{case.options.grid.n_z}/pad; {wall:.2f} s"
+                ),
+            )
+        )
     if plot is not None:
         _plots(case.bearing, results, Path(plot))
     return results

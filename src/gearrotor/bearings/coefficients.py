@@ -99,8 +99,12 @@ class Coefficients:
         """(K c/W, C c |ω|/W) with the given reference clearance c (m)."""
         w = self.load_magnitude
         if w == 0:
-            raise ModelError("dimensionless coefficients need a non-zero load", field="load",
-                             value=self.equilibrium.load, expected="|W| > 0")
+            raise ModelError(
+                "dimensionless coefficients need a non-zero load",
+                field="load",
+                value=self.equilibrium.load,
+                expected="|W| > 0",
+            )
         return self.K * clearance / w, self.C * clearance * abs(self.speed) / w
 
     def as_array(self) -> NDArray:
@@ -141,8 +145,13 @@ def _pad_mass(bearing: Bearing) -> NDArray:
     return m
 
 
-def coefficients(bearing: Bearing, load: Sequence[float] | Equilibrium, speed: float | None = None,
-                 *, options: SolverOptions | None = None) -> Coefficients:
+def coefficients(
+    bearing: Bearing,
+    load: Sequence[float] | Equilibrium,
+    speed: float | None = None,
+    *,
+    options: SolverOptions | None = None,
+) -> Coefficients:
     """Equilibrium and dynamic coefficients of a bearing.
 
     Parameters
@@ -161,8 +170,12 @@ def coefficients(bearing: Bearing, load: Sequence[float] | Equilibrium, speed: f
         eq = load
     else:
         if speed is None:
-            raise ModelError("speed is required with a load vector", field="speed",
-                             value=None, expected="a speed in rad/s")
+            raise ModelError(
+                "speed is required with a load vector",
+                field="speed",
+                value=None,
+                expected="a speed in rad/s",
+            )
         eq = equilibrium(bearing, load, speed, options=opts)
     ev = _Evaluator(bearing, eq.speed, opts)
     u = np.concatenate([[eq.x, eq.y], eq.pad_dofs * _lever_scale(bearing)[2:]])
@@ -175,8 +188,13 @@ def coefficients(bearing: Bearing, load: Sequence[float] | Equilibrium, speed: f
     return Coefficients(eq, kr, cr, k_full, c_full, m_full, tuple(dof_names(bearing)))
 
 
-def load_sweep(bearing: Bearing, loads: Iterable[Sequence[float]], speed: float, *,
-               options: SolverOptions | None = None) -> list[Coefficients]:
+def load_sweep(
+    bearing: Bearing,
+    loads: Iterable[Sequence[float]],
+    speed: float,
+    *,
+    options: SolverOptions | None = None,
+) -> list[Coefficients]:
     """Coefficients for several load cases at one speed (rad/s)."""
     return [coefficients(bearing, tuple(w), speed, options=options) for w in loads]
 
@@ -220,8 +238,12 @@ class BearingTable:
         for name in ("speed_rpm", *COEFFICIENT_NAMES):
             arr = np.atleast_1d(np.asarray(getattr(self, name), dtype=float))
             if arr.shape != (n,):
-                raise ModelError("coefficient table columns differ in length", field=name,
-                                 value=arr.shape, expected=f"shape ({n},)")
+                raise ModelError(
+                    "coefficient table columns differ in length",
+                    field=name,
+                    value=arr.shape,
+                    expected=f"shape ({n},)",
+                )
             object.__setattr__(self, name, arr)
 
     def values(self) -> NDArray:
@@ -237,8 +259,13 @@ class BearingTable:
         return CoefficientTable(speed[order], self.values()[order], extrapolate)
 
 
-def coefficients_table(bearing: Bearing, load: Sequence[float], speeds: ArrayLike, *,
-                       options: SolverOptions | None = None) -> BearingTable:
+def coefficients_table(
+    bearing: Bearing,
+    load: Sequence[float],
+    speeds: ArrayLike,
+    *,
+    options: SolverOptions | None = None,
+) -> BearingTable:
     """Coefficients at one load over several speeds.
 
     Parameters
@@ -257,17 +284,27 @@ def coefficients_table(bearing: Bearing, load: Sequence[float], speeds: ArrayLik
     prev: Equilibrium | None = None
     for n in rpm:
         w = n * math.pi / 30.0
-        eq = equilibrium(bearing, load, w, options=options,
-                         start=prev if prev is not None and prev.speed * w > 0 else None)
+        eq = equilibrium(
+            bearing,
+            load,
+            w,
+            options=options,
+            start=prev if prev is not None and prev.speed * w > 0 else None,
+        )
         co = coefficients(bearing, eq, options=options)
         rows.append(co.as_array())
         ecc.append(eq.eccentricity_ratio)
         att.append(eq.attitude_angle)
         prev = eq
     vals = np.array(rows)
-    return BearingTable(rpm, *vals.T, load=(float(load[0]), float(load[1])),
-                        eccentricity_ratio=np.array(ecc), attitude_angle=np.array(att),
-                        name=bearing.name)
+    return BearingTable(
+        rpm,
+        *vals.T,
+        load=(float(load[0]), float(load[1])),
+        eccentricity_ratio=np.array(ecc),
+        attitude_angle=np.array(att),
+        name=bearing.name,
+    )
 
 
 _CSV_UNITS = ["rpm"] + ["N/m"] * 4 + ["N*s/m"] * 4
@@ -283,24 +320,28 @@ def save_table(table: BearingTable, path: str | Path) -> Path:
     cols = ["speed_rpm", *COEFFICIENT_NAMES]
     if path.suffix.lower() == ".csv":
         with path.open("w", newline="") as fh:
-            fh.write(f"# bearing: {table.name}; load Fx,Fy = {table.load[0]!r},"
-                     f"{table.load[1]!r} N\n")
+            fh.write(
+                f"# bearing: {table.name}; load Fx,Fy = {table.load[0]!r},{table.load[1]!r} N\n"
+            )
             w = csv.writer(fh)
             w.writerow(cols)
             fh.write("# " + ",".join(_CSV_UNITS) + "\n")
             for row in zip(*(getattr(table, c) for c in cols), strict=True):
                 w.writerow([repr(float(v)) for v in row])
     elif path.suffix.lower() == ".toml":
-        lines = [f"name = {_toml_str(table.name)}",
-                 f"load = [{table.load[0]!r}, {table.load[1]!r}]  # N",
-                 "# units: speed_rpm rpm; k* N/m; c* N*s/m"]
+        lines = [
+            f"name = {_toml_str(table.name)}",
+            f"load = [{table.load[0]!r}, {table.load[1]!r}]  # N",
+            "# units: speed_rpm rpm; k* N/m; c* N*s/m",
+        ]
         for c in cols:
             vals = ", ".join(repr(float(v)) for v in getattr(table, c))
             lines.append(f"{c} = [{vals}]")
         path.write_text("\n".join(lines) + "\n")
     else:
-        raise ModelError("unknown table format", field="path", value=str(path),
-                         expected="a .csv or .toml file")
+        raise ModelError(
+            "unknown table format", field="path", value=str(path), expected="a .csv or .toml file"
+        )
     return path
 
 
@@ -319,7 +360,7 @@ def load_table(path: str | Path) -> BearingTable:
         with path.open(newline="") as fh:
             for line_no, line in enumerate(fh, start=1):
                 if line.startswith("# bearing:"):
-                    head, _, rest = line[len("# bearing:"):].partition("; load Fx,Fy = ")
+                    head, _, rest = line[len("# bearing:") :].partition("; load Fx,Fy = ")
                     name = head.strip()
                     try:
                         load = tuple(float(v) for v in rest.replace("N", "").split(","))[:2]
@@ -332,30 +373,51 @@ def load_table(path: str | Path) -> BearingTable:
                 if header is None:
                     header = [h.strip() for h in row]
                     if header != cols:
-                        raise ModelError("unexpected CSV columns", field="header", value=header,
-                                         expected=",".join(cols), file=str(path))
+                        raise ModelError(
+                            "unexpected CSV columns",
+                            field="header",
+                            value=header,
+                            expected=",".join(cols),
+                            file=str(path),
+                        )
                     continue
                 try:
                     for c, v in zip(cols, row, strict=True):
                         data[c].append(float(v))
                 except ValueError as exc:
-                    raise ModelError("bad number in table", field=f"line {line_no}",
-                                     value=line.strip(), expected="9 numbers",
-                                     file=str(path)) from exc
+                    raise ModelError(
+                        "bad number in table",
+                        field=f"line {line_no}",
+                        value=line.strip(),
+                        expected="9 numbers",
+                        file=str(path),
+                    ) from exc
         return BearingTable(*(np.array(data[c]) for c in cols), load=load, name=name)
     if path.suffix.lower() == ".toml":
         with path.open("rb") as fh:
             doc = tomllib.load(fh)
         unknown = set(doc) - set(cols) - {"name", "load"}
         if unknown:
-            raise ModelError("unknown keys in table", field=", ".join(sorted(unknown)),
-                             value=sorted(unknown), expected=", ".join(cols), file=str(path))
+            raise ModelError(
+                "unknown keys in table",
+                field=", ".join(sorted(unknown)),
+                value=sorted(unknown),
+                expected=", ".join(cols),
+                file=str(path),
+            )
         missing = [c for c in cols if c not in doc]
         if missing:
-            raise ModelError("missing columns in table", field=", ".join(missing), value=None,
-                             expected=", ".join(cols), file=str(path))
+            raise ModelError(
+                "missing columns in table",
+                field=", ".join(missing),
+                value=None,
+                expected=", ".join(cols),
+                file=str(path),
+            )
         load = tuple(float(v) for v in doc.get("load", (0.0, 0.0)))
-        return BearingTable(*(np.array(doc[c], dtype=float) for c in cols), load=load,
-                            name=str(doc.get("name", "")))
-    raise ModelError("unknown table format", field="path", value=str(path),
-                     expected="a .csv or .toml file")
+        return BearingTable(
+            *(np.array(doc[c], dtype=float) for c in cols), load=load, name=str(doc.get("name", ""))
+        )
+    raise ModelError(
+        "unknown table format", field="path", value=str(path), expected="a .csv or .toml file"
+    )

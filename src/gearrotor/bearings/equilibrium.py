@@ -103,18 +103,24 @@ def _check_inputs(load: Sequence[float], speed: float) -> tuple[float, float]:
     try:
         fx, fy = (float(v) for v in load)
     except (TypeError, ValueError):
-        raise ModelError("load must be a pair (Fx, Fy)", field="load", value=load,
-                         expected="two numbers in N") from None
+        raise ModelError(
+            "load must be a pair (Fx, Fy)", field="load", value=load, expected="two numbers in N"
+        ) from None
     if not (math.isfinite(fx) and math.isfinite(fy)):
         raise ModelError("load must be finite", field="load", value=load, expected="finite N")
     if not (math.isfinite(speed) and speed != 0.0):
-        raise ModelError("a hydrodynamic bearing needs a non-zero speed", field="speed",
-                         value=speed, expected="a non-zero speed in rad/s")
+        raise ModelError(
+            "a hydrodynamic bearing needs a non-zero speed",
+            field="speed",
+            value=speed,
+            expected="a non-zero speed in rad/s",
+        )
     return fx, fy
 
 
-def _newton(ev: _Evaluator, u: NDArray, wg: NDArray, ftol: float,
-            max_iter: int) -> tuple[NDArray, BearingFilm, int]:
+def _newton(
+    ev: _Evaluator, u: NDArray, wg: NDArray, ftol: float, max_iter: int
+) -> tuple[NDArray, BearingFilm, int]:
     """Damped Newton with backtracking; raises SolverError on failure."""
     c = ev.bearing.clearance
     film = ev.evaluate(u)
@@ -156,9 +162,14 @@ def _newton(ev: _Evaluator, u: NDArray, wg: NDArray, ftol: float,
     )
 
 
-def equilibrium(bearing: Bearing, load: Sequence[float], speed: float, *,
-                options: SolverOptions | None = None,
-                start: Equilibrium | None = None) -> Equilibrium:
+def equilibrium(
+    bearing: Bearing,
+    load: Sequence[float],
+    speed: float,
+    *,
+    options: SolverOptions | None = None,
+    start: Equilibrium | None = None,
+) -> Equilibrium:
     """Static equilibrium of the journal (and pads) under ``load``.
 
     Parameters
@@ -201,8 +212,9 @@ def equilibrium(bearing: Bearing, load: Sequence[float], speed: float, *,
     return _result(bearing, speed, (fx, fy), u, film, iterations, ev)
 
 
-def _continuation(ev: _Evaluator, wg: NDArray, ftol: float, max_iter: int,
-                  first: SolverError) -> tuple[NDArray, BearingFilm, int]:
+def _continuation(
+    ev: _Evaluator, wg: NDArray, ftol: float, max_iter: int, first: SolverError
+) -> tuple[NDArray, BearingFilm, int]:
     """Apply the load in adaptive fractions, Newton at each (after direct Newton failed)."""
     u = ev.settle_pads(np.zeros(ev.n))
     lam, step, total = 0.0, 0.25, 0
@@ -210,8 +222,9 @@ def _continuation(ev: _Evaluator, wg: NDArray, ftol: float, max_iter: int,
     while lam < 1.0:
         target = min(1.0, lam + step)
         try:
-            u_new, film_new, it = _newton(ev, u.copy(), wg * target,
-                                          ftol * max(target, 1e-3), max_iter)
+            u_new, film_new, it = _newton(
+                ev, u.copy(), wg * target, ftol * max(target, 1e-3), max_iter
+            )
         except SolverError:
             step *= 0.5
             if step < 1e-3:
@@ -229,8 +242,15 @@ def _continuation(ev: _Evaluator, wg: NDArray, ftol: float, max_iter: int,
     return u, film, total
 
 
-def _result(bearing: Bearing, speed: float, load: tuple[float, float], u: NDArray,
-            film: BearingFilm, iterations: int, ev: _Evaluator) -> Equilibrium:
+def _result(
+    bearing: Bearing,
+    speed: float,
+    load: tuple[float, float],
+    u: NDArray,
+    film: BearingFilm,
+    iterations: int,
+    ev: _Evaluator,
+) -> Equilibrium:
     x, y = float(u[0]), float(u[1])
     e = math.hypot(x, y)
     w = math.hypot(*load)
@@ -240,12 +260,20 @@ def _result(bearing: Bearing, speed: float, load: tuple[float, float], u: NDArra
     else:
         phi = math.nan
     return Equilibrium(
-        speed=float(speed), load=load, x=x, y=y,
+        speed=float(speed),
+        load=load,
+        x=x,
+        y=y,
         pad_dofs=u[2:] / _lever_scale(bearing)[2:],
-        eccentricity_ratio=e / bearing.clearance, attitude_angle=phi,
-        min_film=film.min_film, peak_pressure=film.peak_pressure,
-        friction_power=film.friction_power, side_flow=film.side_flow,
-        sommerfeld=sommerfeld_number(bearing, w, speed), film=film, iterations=iterations,
-        film_solves=ev.work.film_solves, factorizations=ev.work.factorizations,
+        eccentricity_ratio=e / bearing.clearance,
+        attitude_angle=phi,
+        min_film=film.min_film,
+        peak_pressure=film.peak_pressure,
+        friction_power=film.friction_power,
+        side_flow=film.side_flow,
+        sommerfeld=sommerfeld_number(bearing, w, speed),
+        film=film,
+        iterations=iterations,
+        film_solves=ev.work.film_solves,
+        factorizations=ev.work.factorizations,
     )
-

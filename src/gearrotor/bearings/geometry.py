@@ -72,8 +72,12 @@ class Pocket:
         _positive("pocket.width", self.width)
         _positive("pocket.depth", self.depth)
         if self.start < 0:
-            raise ModelError("pocket start must be ≥ 0", field="pocket.start", value=self.start,
-                             expected="an angle from the pad start, ≥ 0")
+            raise ModelError(
+                "pocket start must be ≥ 0",
+                field="pocket.start",
+                value=self.start,
+                expected="an angle from the pad start, ≥ 0",
+            )
 
 
 @dataclass(frozen=True)
@@ -105,18 +109,33 @@ class Pad:
 
     def __post_init__(self) -> None:
         if not 0.0 < self.arc <= TWO_PI + 1e-12:
-            raise ModelError("pad arc out of range", field="pad.arc", value=self.arc,
-                             expected="0 < arc ≤ 360 deg")
+            raise ModelError(
+                "pad arc out of range",
+                field="pad.arc",
+                value=self.arc,
+                expected="0 < arc ≤ 360 deg",
+            )
         if not 0.0 <= self.preload < 1.0:
-            raise ModelError("preload out of range", field="pad.preload", value=self.preload,
-                             expected="0 ≤ preload < 1")
+            raise ModelError(
+                "preload out of range",
+                field="pad.preload",
+                value=self.preload,
+                expected="0 ≤ preload < 1",
+            )
         if self.periodic and abs(self.arc - TWO_PI) > 1e-9:
-            raise ModelError("only a 360° pad can be periodic", field="pad.periodic",
-                             value=self.arc, expected="arc = 360 deg")
+            raise ModelError(
+                "only a 360° pad can be periodic",
+                field="pad.periodic",
+                value=self.arc,
+                expected="arc = 360 deg",
+            )
         if self.pocket is not None and self.pocket.start + self.pocket.arc > self.arc + 1e-12:
-            raise ModelError("pocket extends beyond the pad", field="pad.pocket",
-                             value=f"{math.degrees(self.pocket.start + self.pocket.arc):.4g} deg",
-                             expected=f"start + arc ≤ pad arc ({math.degrees(self.arc):.4g} deg)")
+            raise ModelError(
+                "pocket extends beyond the pad",
+                field="pad.pocket",
+                value=f"{math.degrees(self.pocket.start + self.pocket.arc):.4g} deg",
+                expected=f"start + arc ≤ pad arc ({math.degrees(self.arc):.4g} deg)",
+            )
 
     @property
     def reference_angle(self) -> float:
@@ -157,17 +176,28 @@ class FixedBearing:
         _positive("clearance", self.clearance)
         _positive("viscosity", self.viscosity)
         if self.clearance > 0.05 * self.diameter:
-            raise ModelError("radial clearance is not small compared with the radius",
-                             field="clearance", value=self.clearance,
-                             expected=f"c ≪ R (typically 1e-3 D = {1e-3 * self.diameter:.3g} m)")
+            raise ModelError(
+                "radial clearance is not small compared with the radius",
+                field="clearance",
+                value=self.clearance,
+                expected=f"c ≪ R (typically 1e-3 D = {1e-3 * self.diameter:.3g} m)",
+            )
         if not self.pads:
-            raise ModelError("a bearing needs at least one pad", field="pads", value=[],
-                             expected="one or more pads")
+            raise ModelError(
+                "a bearing needs at least one pad",
+                field="pads",
+                value=[],
+                expected="one or more pads",
+            )
         object.__setattr__(self, "pads", tuple(self.pads))
         for k, pad in enumerate(self.pads):
             if pad.pocket is not None and pad.pocket.width > self.length + 1e-12:
-                raise ModelError("pocket wider than the bearing", field=f"pads[{k}].pocket.width",
-                                 value=pad.pocket.width, expected=f"≤ length ({self.length} m)")
+                raise ModelError(
+                    "pocket wider than the bearing",
+                    field=f"pads[{k}].pocket.width",
+                    value=pad.pocket.width,
+                    expected=f"≤ length ({self.length} m)",
+                )
 
     @property
     def radius(self) -> float:
@@ -210,18 +240,34 @@ class TiltingPad:
 
     def __post_init__(self) -> None:
         if not 0.0 < self.arc < math.pi:
-            raise ModelError("tilting-pad arc out of range", field="pad.arc", value=self.arc,
-                             expected="0 < arc < 180 deg")
+            raise ModelError(
+                "tilting-pad arc out of range",
+                field="pad.arc",
+                value=self.arc,
+                expected="0 < arc < 180 deg",
+            )
         if not 0.0 <= self.preload < 1.0:
-            raise ModelError("preload out of range", field="pad.preload", value=self.preload,
-                             expected="0 ≤ preload < 1")
+            raise ModelError(
+                "preload out of range",
+                field="pad.preload",
+                value=self.preload,
+                expected="0 ≤ preload < 1",
+            )
         for name in ("inertia", "mass", "thickness"):
             if getattr(self, name) < 0:
-                raise ModelError(f"{name} must be ≥ 0", field=f"pad.{name}",
-                                 value=getattr(self, name), expected="a value ≥ 0")
+                raise ModelError(
+                    f"{name} must be ≥ 0",
+                    field=f"pad.{name}",
+                    value=getattr(self, name),
+                    expected="a value ≥ 0",
+                )
         if self.pivot_stiffness is not None and self.pivot_stiffness <= 0:
-            raise ModelError("pivot stiffness must be > 0", field="pad.pivot_stiffness",
-                             value=self.pivot_stiffness, expected="> 0 N/m, or omit for rigid")
+            raise ModelError(
+                "pivot stiffness must be > 0",
+                field="pad.pivot_stiffness",
+                value=self.pivot_stiffness,
+                expected="> 0 N/m, or omit for rigid",
+            )
 
     @property
     def start(self) -> float:
@@ -250,8 +296,12 @@ class TiltingPadBearing:
         _positive("clearance", self.clearance)
         _positive("viscosity", self.viscosity)
         if not self.pads:
-            raise ModelError("a bearing needs at least one pad", field="pads", value=[],
-                             expected="one or more pads")
+            raise ModelError(
+                "a bearing needs at least one pad",
+                field="pads",
+                value=[],
+                expected="one or more pads",
+            )
         object.__setattr__(self, "pads", tuple(self.pads))
 
     @property
@@ -270,37 +320,63 @@ Bearing = FixedBearing | TiltingPadBearing
 
 def _positive(name: str, value: float) -> None:
     if not (isinstance(value, int | float) and math.isfinite(value) and value > 0):
-        raise ModelError(f"{name} must be a positive number", field=name, value=value,
-                         expected="a finite value > 0")
+        raise ModelError(
+            f"{name} must be a positive number",
+            field=name,
+            value=value,
+            expected="a finite value > 0",
+        )
 
 
-def plain(diameter: float, length: float, clearance: float, viscosity: float,
-          name: str = "plain") -> FixedBearing:
+def plain(
+    diameter: float, length: float, clearance: float, viscosity: float, name: str = "plain"
+) -> FixedBearing:
     """Plain cylindrical (360°, ungrooved) journal bearing (all SI)."""
-    return FixedBearing(diameter, length, clearance, viscosity,
-                        (Pad(0.0, TWO_PI, periodic=True),), name)
+    return FixedBearing(
+        diameter, length, clearance, viscosity, (Pad(0.0, TWO_PI, periodic=True),), name
+    )
 
 
-def axial_groove(diameter: float, length: float, clearance: float, viscosity: float,
-                 n_grooves: int = 2, groove_arc: float = math.radians(20.0),
-                 first_groove: float = 0.0, name: str = "axial groove") -> FixedBearing:
+def axial_groove(
+    diameter: float,
+    length: float,
+    clearance: float,
+    viscosity: float,
+    n_grooves: int = 2,
+    groove_arc: float = math.radians(20.0),
+    first_groove: float = 0.0,
+    name: str = "axial groove",
+) -> FixedBearing:
     """Cylindrical bearing with ``n_grooves`` equal axial grooves (ambient pressure).
 
     Grooves of ``groove_arc`` (rad) are centred at ``first_groove + k·2π/n`` (rad); the pads
     between them are circular arcs (no preload).
     """
     if n_grooves < 1:
-        raise ModelError("need at least one groove", field="n_grooves", value=n_grooves,
-                         expected="an integer ≥ 1")
+        raise ModelError(
+            "need at least one groove",
+            field="n_grooves",
+            value=n_grooves,
+            expected="an integer ≥ 1",
+        )
     pitch = TWO_PI / n_grooves
     arc = pitch - groove_arc
     pads = tuple(Pad(first_groove + 0.5 * groove_arc + k * pitch, arc) for k in range(n_grooves))
     return FixedBearing(diameter, length, clearance, viscosity, pads, name)
 
 
-def multilobe(diameter: float, length: float, clearance: float, viscosity: float,
-              pivots: Sequence[float], arc: float, preload: float, offset: float = 0.5,
-              pockets: dict[int, Pocket] | None = None, name: str = "multilobe") -> FixedBearing:
+def multilobe(
+    diameter: float,
+    length: float,
+    clearance: float,
+    viscosity: float,
+    pivots: Sequence[float],
+    arc: float,
+    preload: float,
+    offset: float = 0.5,
+    pockets: dict[int, Pocket] | None = None,
+    name: str = "multilobe",
+) -> FixedBearing:
     """Multi-lobe bearing with lobes whose reference angles are ``pivots`` (rad).
 
     Each lobe spans ``arc`` (rad) starting at ``pivot − offset·arc``; ``pockets`` maps a lobe
@@ -309,16 +385,27 @@ def multilobe(diameter: float, length: float, clearance: float, viscosity: float
     pockets = pockets or {}
     for k in pockets:
         if not 0 <= k < len(pivots):
-            raise ModelError("pocket on a pad that does not exist", field="pockets",
-                             value=k, expected=f"pad index 0..{len(pivots) - 1}")
-    pads = tuple(Pad(p - offset * arc, arc, preload, offset, pockets.get(k))
-                 for k, p in enumerate(pivots))
+            raise ModelError(
+                "pocket on a pad that does not exist",
+                field="pockets",
+                value=k,
+                expected=f"pad index 0..{len(pivots) - 1}",
+            )
+    pads = tuple(
+        Pad(p - offset * arc, arc, preload, offset, pockets.get(k)) for k, p in enumerate(pivots)
+    )
     return FixedBearing(diameter, length, clearance, viscosity, pads, name)
 
 
-def offset_halves(diameter: float, length: float, clearance: float, viscosity: float,
-                  preload: float = 0.5, groove_arc: float = math.radians(20.0),
-                  name: str = "offset halves") -> FixedBearing:
+def offset_halves(
+    diameter: float,
+    length: float,
+    clearance: float,
+    viscosity: float,
+    preload: float = 0.5,
+    groove_arc: float = math.radians(20.0),
+    name: str = "offset halves",
+) -> FixedBearing:
     """Two-lobe offset-halves bearing, split horizontally, for a positive speed.
 
     The two halves are shifted horizontally in opposite directions so that each lobe converges
@@ -332,21 +419,48 @@ def offset_halves(diameter: float, length: float, clearance: float, viscosity: f
     return FixedBearing(diameter, length, clearance, viscosity, pads, name)
 
 
-def elliptical(diameter: float, length: float, clearance: float, viscosity: float,
-               preload: float = 0.5, groove_arc: float = math.radians(20.0),
-               name: str = "elliptical") -> FixedBearing:
+def elliptical(
+    diameter: float,
+    length: float,
+    clearance: float,
+    viscosity: float,
+    preload: float = 0.5,
+    groove_arc: float = math.radians(20.0),
+    name: str = "elliptical",
+) -> FixedBearing:
     """Elliptical (lemon-bore) bearing: two lobes centred at 90° and 270°, horizontal split."""
     arc = math.pi - groove_arc
-    return multilobe(diameter, length, clearance, viscosity, (0.5 * math.pi, 1.5 * math.pi),
-                     arc, preload, 0.5, name=name)
+    return multilobe(
+        diameter,
+        length,
+        clearance,
+        viscosity,
+        (0.5 * math.pi, 1.5 * math.pi),
+        arc,
+        preload,
+        0.5,
+        name=name,
+    )
 
 
-def tilting_pad(diameter: float, length: float, clearance: float, viscosity: float,
-                pivots: Sequence[float], arc: float, preload: float = 0.0, offset: float = 0.5,
-                inertia: float = 0.0, mass: float = 0.0, thickness: float = 0.0,
-                pivot_stiffness: float | None = None,
-                name: str = "tilting pad") -> TiltingPadBearing:
+def tilting_pad(
+    diameter: float,
+    length: float,
+    clearance: float,
+    viscosity: float,
+    pivots: Sequence[float],
+    arc: float,
+    preload: float = 0.0,
+    offset: float = 0.5,
+    inertia: float = 0.0,
+    mass: float = 0.0,
+    thickness: float = 0.0,
+    pivot_stiffness: float | None = None,
+    name: str = "tilting pad",
+) -> TiltingPadBearing:
     """Tilting-pad bearing with identical pads at ``pivots`` (rad)."""
-    pads = tuple(TiltingPad(p, arc, offset, preload, inertia, mass, thickness, pivot_stiffness)
-                 for p in pivots)
+    pads = tuple(
+        TiltingPad(p, arc, offset, preload, inertia, mass, thickness, pivot_stiffness)
+        for p in pivots
+    )
     return TiltingPadBearing(diameter, length, clearance, viscosity, pads, name)

@@ -49,6 +49,11 @@ Stiffness = _q("stiffness")
 Mass = _q("mass")
 Inertia = _q("inertia")
 Fraction = _q("dimensionless")
+Preload = Annotated[
+    float,
+    BeforeValidator(lambda v: to_si(v, "dimensionless")),
+    Field(ge=0.0, lt=1.0, description="preload m = 1 − c/c_p"),
+]
 
 
 class _Strict(BaseModel):
@@ -89,7 +94,7 @@ class _PocketIn(_Strict):
 class _PadIn(_Strict):
     start: Angle
     arc: Arc
-    preload: Fraction = 0.0
+    preload: Preload = 0.0
     offset: Fraction = 0.5
 
 
@@ -120,14 +125,14 @@ class _AxialGrooveIn(_Common):
 
 class _OffsetHalvesIn(_Common):
     type: Literal["offset_halves"]
-    preload: Fraction = 0.5
+    preload: Preload = 0.5
     groove_arc: Angle = math.radians(20.0)
     pockets: list[_PocketIn] = []
 
 
 class _EllipticalIn(_Common):
     type: Literal["elliptical"]
-    preload: Fraction = 0.5
+    preload: Preload = 0.5
     groove_arc: Angle = math.radians(20.0)
     pockets: list[_PocketIn] = []
 
@@ -136,7 +141,7 @@ class _MultilobeIn(_Common):
     type: Literal["multilobe"]
     pivots: list[Angle] = Field(min_length=1)
     arc: Arc
-    preload: Fraction = 0.0
+    preload: Preload = 0.0
     offset: Fraction = 0.5
     pockets: list[_PocketIn] = []
 
@@ -151,7 +156,7 @@ class _TiltingIn(_Common):
     type: Literal["tilting_pad"]
     pivots: list[Angle] = Field(min_length=1)
     arc: Arc
-    preload: Fraction = 0.0
+    preload: Preload = 0.0
     offset: Fraction = 0.5
     pad_inertia: Inertia = 0.0
     pad_mass: Mass = 0.0
@@ -160,7 +165,12 @@ class _TiltingIn(_Common):
 
 
 _Input = Annotated[
-    _PlainIn | _AxialGrooveIn | _OffsetHalvesIn | _EllipticalIn | _MultilobeIn | _PadsIn
+    _PlainIn
+    | _AxialGrooveIn
+    | _OffsetHalvesIn
+    | _EllipticalIn
+    | _MultilobeIn
+    | _PadsIn
     | _TiltingIn,
     Field(discriminator="type"),
 ]
@@ -201,57 +211,90 @@ class BearingCase:
     notes: str = ""
 
 
-def _with_pockets(b, pockets: list[_PocketIn], n_pads: int, pad_arcs: list[float]):
+def _with_pockets(pockets: list[_PocketIn], n_pads: int) -> dict[int, Pocket]:
     out: dict[int, Pocket] = {}
     for k, p in enumerate(pockets):
         for num in p.pads:
             if not 1 <= num <= n_pads:
-                raise ModelError("pocket on a pad that does not exist",
-                                 field=f"bearing.pockets[{k}].pads", value=num,
-                                 expected=f"pad numbers 1..{n_pads}")
+                raise ModelError(
+                    "pocket on a pad that does not exist",
+                    field=f"bearing.pockets[{k}].pads",
+                    value=num,
+                    expected=f"pad numbers 1..{n_pads}",
+                )
             if num - 1 in out:
-                raise ModelError("two pockets on one pad", field=f"bearing.pockets[{k}].pads",
-                                 value=num, expected="at most one pocket per pad")
+                raise ModelError(
+                    "two pockets on one pad",
+                    field=f"bearing.pockets[{k}].pads",
+                    value=num,
+                    expected="at most one pocket per pad",
+                )
             out[num - 1] = Pocket(p.start, p.arc, p.width, p.depth)
     return out
 
 
 def _build(inp: Any) -> Bearing:
-    common = dict(diameter=inp.diameter, length=inp.length, clearance=inp.clearance,
-                  viscosity=inp.viscosity)
+    common = dict(
+        diameter=inp.diameter, length=inp.length, clearance=inp.clearance, viscosity=inp.viscosity
+    )
     name = inp.name
     t = inp.type
     if t == "plain":
         return plain(**common, name=name or "plain")
     if t == "tilting_pad":
-        return tilting_pad(**common, pivots=inp.pivots, arc=inp.arc, preload=inp.preload,
-                           offset=inp.offset, inertia=inp.pad_inertia, mass=inp.pad_mass,
-                           thickness=inp.pad_thickness, pivot_stiffness=inp.pivot_stiffness,
-                           name=name or "tilting pad")
+        return tilting_pad(
+            **common,
+            pivots=inp.pivots,
+            arc=inp.arc,
+            preload=inp.preload,
+            offset=inp.offset,
+            inertia=inp.pad_inertia,
+            mass=inp.pad_mass,
+            thickness=inp.pad_thickness,
+            pivot_stiffness=inp.pivot_stiffness,
+            name=name or "tilting pad",
+        )
     if t == "axial_groove":
-        base = axial_groove(**common, n_grooves=inp.grooves, groove_arc=inp.groove_arc,
-                            first_groove=inp.first_groove, name=name or "axial groove")
+        base = axial_groove(
+            **common,
+            n_grooves=inp.grooves,
+            groove_arc=inp.groove_arc,
+            first_groove=inp.first_groove,
+            name=name or "axial groove",
+        )
     elif t == "offset_halves":
-        base = offset_halves(**common, preload=inp.preload, groove_arc=inp.groove_arc,
-                             name=name or "offset halves")
+        base = offset_halves(
+            **common, preload=inp.preload, groove_arc=inp.groove_arc, name=name or "offset halves"
+        )
     elif t == "elliptical":
-        base = elliptical(**common, preload=inp.preload, groove_arc=inp.groove_arc,
-                          name=name or "elliptical")
+        base = elliptical(
+            **common, preload=inp.preload, groove_arc=inp.groove_arc, name=name or "elliptical"
+        )
     elif t == "multilobe":
-        base = multilobe(**common, pivots=inp.pivots, arc=inp.arc, preload=inp.preload,
-                         offset=inp.offset, name=name or "multilobe")
+        base = multilobe(
+            **common,
+            pivots=inp.pivots,
+            arc=inp.arc,
+            preload=inp.preload,
+            offset=inp.offset,
+            name=name or "multilobe",
+        )
     else:  # pads
         from .geometry import FixedBearing
 
-        base = FixedBearing(**common, pads=tuple(Pad(p.start, p.arc, p.preload, p.offset)
-                                                 for p in inp.pads), name=name or "pads")
-    pockets = _with_pockets(base, inp.pockets, len(base.pads), [p.arc for p in base.pads])
+        base = FixedBearing(
+            **common,
+            pads=tuple(Pad(p.start, p.arc, p.preload, p.offset) for p in inp.pads),
+            name=name or "pads",
+        )
+    pockets = _with_pockets(inp.pockets, len(base.pads))
     if not pockets:
         return base
     from dataclasses import replace
 
-    pads = tuple(replace(p, pocket=pockets.get(k)) if k in pockets else p
-                 for k, p in enumerate(base.pads))
+    pads = tuple(
+        replace(p, pocket=pockets.get(k)) if k in pockets else p for k, p in enumerate(base.pads)
+    )
     return replace(base, pads=pads)
 
 
@@ -260,8 +303,17 @@ def _loc(loc: tuple) -> str:
     for part in loc:
         if isinstance(part, int):
             out += f"[{part}]"
-        elif part in ("plain", "axial_groove", "offset_halves", "elliptical", "multilobe",
-                      "pads", "tilting_pad", "function-after", "function-before"):
+        elif part in (
+            "plain",
+            "axial_groove",
+            "offset_halves",
+            "elliptical",
+            "multilobe",
+            "pads",
+            "tilting_pad",
+            "function-after",
+            "function-before",
+        ):
             continue
         else:
             out += ("." if out else "") + str(part)
@@ -282,20 +334,26 @@ def parse_bearing(doc: dict, source: str = "") -> BearingCase:
             "extra_forbidden": "no such key: check the spelling (see docs/bearings.md)",
             "missing": "this field to be given",
             "union_tag_invalid": "type = plain | axial_groove | offset_halves | elliptical | "
-                                 "multilobe | pads | tilting_pad",
+            "multilobe | pads | tilting_pad",
         }.get(kind, msg)
-        raise ModelError(f"invalid bearing input{more}: {msg}", field=_loc(first["loc"]),
-                         value=first.get("input"), expected=expected, file=source or None
-                         ) from None
+        raise ModelError(
+            f"invalid bearing input{more}: {msg}",
+            field=_loc(first["loc"]),
+            value=first.get("input"),
+            expected=expected,
+            file=source or None,
+        ) from None
     inp = data.bearing
     try:
         bearing = _build(inp)
-        options = SolverOptions(grid=Grid(inp.grid.n_theta, inp.grid.n_z),
-                                cavitation=inp.cavitation)
+        options = SolverOptions(
+            grid=Grid(inp.grid.n_theta, inp.grid.n_z), cavitation=inp.cavitation
+        )
     except ModelError as err:
         if err.field and not err.field.startswith("bearing."):
-            err = ModelError(err.message, field=f"bearing.{err.field}", value=err.value,
-                             expected=err.expected)
+            err = ModelError(
+                err.message, field=f"bearing.{err.field}", value=err.value, expected=err.expected
+            )
         raise (err.with_file(source) if source else err) from None
     loads = tuple((ld.fx, ld.fy) for ld in inp.loads)
     names = tuple(ld.name for ld in inp.loads)
@@ -309,8 +367,9 @@ def load_bearing(path: str | Path) -> BearingCase:
         with path.open("rb") as fh:
             doc = tomllib.load(fh)
     except FileNotFoundError:
-        raise ModelError("bearing file not found", field=None, value=str(path),
-                         expected="an existing TOML file") from None
+        raise ModelError(
+            "bearing file not found", field=None, value=str(path), expected="an existing TOML file"
+        ) from None
     except tomllib.TOMLDecodeError as exc:
         raise ModelError(f"not valid TOML: {exc}", file=str(path)) from None
     return parse_bearing(doc, str(path))

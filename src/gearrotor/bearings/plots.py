@@ -13,11 +13,11 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .coefficients import Coefficients
+from .coefficients import BearingTable, Coefficients
 from .equilibrium import Equilibrium
 from .geometry import Bearing, TiltingPadBearing
 
-__all__ = ["plot_pressure", "plot_locus", "plot_coefficients"]
+__all__ = ["plot_pressure", "plot_locus", "plot_coefficients", "plot_table"]
 
 
 def _figure(**kw):
@@ -94,14 +94,18 @@ def _clearance_outline(bearing: Bearing) -> list[np.ndarray]:
     return out
 
 
-def plot_locus(results: Sequence[Equilibrium], bearing: Bearing,
-               path: str | Path | None = None):
+def plot_locus(results: Sequence[Equilibrium], bearing: Bearing, path: str | Path | None = None):
     """Journal-centre locus (x/c, y/c) over the load cases, with load arrows and pad outlines."""
     fig = _figure(figsize=(6.4, 6.0), layout="constrained")
     ax = fig.add_subplot()
     for k, arc in enumerate(_clearance_outline(bearing)):
-        ax.plot(arc[0], arc[1], color="0.5", lw=1.2, label="pad surface (journal contact)"
-                if k == 0 else None)
+        ax.plot(
+            arc[0],
+            arc[1],
+            color="0.5",
+            lw=1.2,
+            label="pad surface (journal contact)" if k == 0 else None,
+        )
     t = np.linspace(0, 2 * math.pi, 200)
     ax.plot(np.cos(t), np.sin(t), color="0.8", lw=0.8, ls=":", label="ε = 1")
     c = bearing.clearance
@@ -110,22 +114,33 @@ def plot_locus(results: Sequence[Equilibrium], bearing: Bearing,
     ax.plot(x, y, "o-", color="C3", ms=4, label="journal centre")
     wmax = max((math.hypot(*r.load) for r in results), default=1.0) or 1.0
     for r, xi, yi in zip(results, x, y, strict=True):
-        ax.annotate("", xy=(xi + 0.25 * r.load[0] / wmax, yi + 0.25 * r.load[1] / wmax),
-                    xytext=(xi, yi), arrowprops=dict(arrowstyle="->", color="C0", lw=0.8))
+        ax.annotate(
+            "",
+            xy=(xi + 0.25 * r.load[0] / wmax, yi + 0.25 * r.load[1] / wmax),
+            xytext=(xi, yi),
+            arrowprops=dict(arrowstyle="->", color="C0", lw=0.8),
+        )
     ax.set_aspect("equal")
     ax.set_xlabel("x / c")
     ax.set_ylabel("y / c")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8, loc="lower left")
     rpm = results[0].speed_rpm if results else float("nan")
-    ax.set_title(f"{bearing.name}: eccentricity locus at {rpm:.0f} rpm\n"
-                 "(arrows: load direction, length ∝ |W|)", fontsize=10)
+    ax.set_title(
+        f"{bearing.name}: eccentricity locus at {rpm:.0f} rpm\n"
+        "(arrows: load direction, length ∝ |W|)",
+        fontsize=10,
+    )
     return _save(fig, path)
 
 
-def plot_coefficients(results: Sequence[Coefficients], x: ArrayLike | None = None,
-                      xlabel: str = "load |W| (N)", path: str | Path | None = None,
-                      title: str = ""):
+def plot_coefficients(
+    results: Sequence[Coefficients],
+    x: ArrayLike | None = None,
+    xlabel: str = "load |W| (N)",
+    path: str | Path | None = None,
+    title: str = "",
+):
     """Stiffness (N/m) and damping (N·s/m) coefficients against load (default) or speed."""
     xs = np.asarray([r.load_magnitude for r in results] if x is None else x, dtype=float)
     fig = _figure(figsize=(10.0, 4.4), layout="constrained")
@@ -134,8 +149,7 @@ def plot_coefficients(results: Sequence[Coefficients], x: ArrayLike | None = Non
         for i, a in enumerate("xy"):
             for j, b in enumerate("xy"):
                 vals = np.array([getattr(r, mat)[i, j] for r in results])
-                ax.plot(xs, vals, "o-" if i == j else "s--", ms=3,
-                        label=f"{mat.lower()}{a}{b}")
+                ax.plot(xs, vals, "o-" if i == j else "s--", ms=3, label=f"{mat.lower()}{a}{b}")
         ax.axhline(0.0, color="0.6", lw=0.6)
         ax.set_xlabel(xlabel)
         ax.set_ylabel(f"{'stiffness' if mat == 'K' else 'damping'} ({unit})")
@@ -143,4 +157,28 @@ def plot_coefficients(results: Sequence[Coefficients], x: ArrayLike | None = Non
         ax.legend(fontsize=8)
     if title:
         fig.suptitle(title, fontsize=10)
+    return _save(fig, path)
+
+
+def plot_table(table: BearingTable, path: str | Path | None = None):
+    """Coefficients of a :class:`BearingTable` against speed (rpm)."""
+    fig = _figure(figsize=(10.0, 4.4), layout="constrained")
+    for col, (kind, unit) in enumerate((("k", "N/m"), ("c", "N·s/m"))):
+        ax = fig.add_subplot(1, 2, col + 1)
+        for a in "xy":
+            for b in "xy":
+                name = f"{kind}{a}{b}"
+                ax.plot(
+                    table.speed_rpm,
+                    getattr(table, name),
+                    "o-" if a == b else "s--",
+                    ms=3,
+                    label=name,
+                )
+        ax.axhline(0.0, color="0.6", lw=0.6)
+        ax.set_xlabel("speed (rpm)")
+        ax.set_ylabel(f"{'stiffness' if kind == 'k' else 'damping'} ({unit})")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8)
+    fig.suptitle(f"{table.name}: load ({table.load[0]:.0f}, {table.load[1]:.0f}) N", fontsize=10)
     return _save(fig, path)

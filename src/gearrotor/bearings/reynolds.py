@@ -73,8 +73,9 @@ class Grid:
         for name in ("n_theta", "n_z"):
             v = getattr(self, name)
             if not isinstance(v, int) or v < 2:
-                raise ModelError("grid size too small", field=f"grid.{name}", value=v,
-                                 expected="an integer ≥ 2")
+                raise ModelError(
+                    "grid size too small", field=f"grid.{name}", value=v, expected="an integer ≥ 2"
+                )
 
 
 @dataclass
@@ -127,8 +128,14 @@ def _pad_profile(pad: Pad | TiltingPad, theta: NDArray) -> tuple[NDArray, NDArra
     return h0, phi
 
 
-def _in_pocket(pad: Pad | TiltingPad, theta: NDArray, z: NDArray, length: float,
-               radius: float, clearance: float) -> NDArray:
+def _in_pocket(
+    pad: Pad | TiltingPad,
+    theta: NDArray,
+    z: NDArray,
+    length: float,
+    radius: float,
+    clearance: float,
+) -> NDArray:
     """Pocket depth /c at (theta, z) (broadcast), z measured from the edge (m)."""
     pocket = getattr(pad, "pocket", None)
     if pocket is None:
@@ -141,8 +148,9 @@ def _in_pocket(pad: Pad | TiltingPad, theta: NDArray, z: NDArray, length: float,
 
 
 @lru_cache(maxsize=256)
-def pad_mesh(pad: Pad | TiltingPad, radius: float, length: float, clearance: float,
-             grid: Grid) -> _Mesh:
+def pad_mesh(
+    pad: Pad | TiltingPad, radius: float, length: float, clearance: float, grid: Grid
+) -> _Mesh:
     """Build (and cache) the state-independent grid data of one pad."""
     periodic = bool(getattr(pad, "periodic", False))
     m = grid.n_theta * (2 if periodic else 1)
@@ -164,15 +172,17 @@ def pad_mesh(pad: Pad | TiltingPad, radius: float, length: float, clearance: flo
         z_lo = np.maximum(z_node - 0.5 * dze * radius, 0.0)
         z_hi = np.minimum(z_node + 0.5 * dze * radius, 0.5 * length)
         z_cv = z_lo[:, None] + (z_hi - z_lo)[:, None] * _GAUSS_X[None, :]  # (n+1, g)
-        pocket_q = _in_pocket(pad, tq[:, :, None, None], z_cv[None, None, :, :], length,
-                              radius, clearance)
+        pocket_q = _in_pocket(
+            pad, tq[:, :, None, None], z_cv[None, None, :, :], length, radius, clearance
+        )
         t_lo = np.maximum(theta - 0.5 * dth, theta[0])
         t_hi = np.minimum(theta + 0.5 * dth, theta[-1])
         t_cv = t_lo[:, None] + (t_hi - t_lo)[:, None] * _GAUSS_X[None, :]  # (m+1, g)
         h0_c, phi_c = _pad_profile(pad, t_cv)
         zq = (zeta[:-1, None] + dze * _GAUSS_X[None, :]) * radius  # (n, g)
-        pocket_zq = _in_pocket(pad, t_cv[:, :, None, None], zq[None, None, :, :], length,
-                               radius, clearance)
+        pocket_zq = _in_pocket(
+            pad, t_cv[:, :, None, None], zq[None, None, :, :], length, radius, clearance
+        )
     else:
         pocket_node = pocket_q = pocket_zq = h0_c = phi_c = None
 
@@ -201,13 +211,30 @@ def pad_mesh(pad: Pad | TiltingPad, radius: float, length: float, clearance: flo
         slots.append((start, start + int(mask.sum()), mask))
         start += int(mask.sum())
     return _Mesh(
-        periodic=periodic, theta=theta, zeta=zeta, dth=dth, dze=dze, dzw=dzw,
-        h0_node=h0_node, phi_node=phi_node, h0_q=h0_q, phi_q=phi_q,
-        pocket_node=pocket_node, pocket_q=pocket_q, pocket_zq=pocket_zq, h0_c=h0_c, phi_c=phi_c,
-        unk_i=unk_i, unk_j=unk_j, rows=np.concatenate(rows), cols=np.concatenate(cols),
-        slots=tuple(slots), w_area=dth * dzw[unk_j],
-        neighbours=np.where(np.stack([e_nb, w_nb, n_nb, s_nb]) >= 0,
-                            np.stack([e_nb, w_nb, n_nb, s_nb]), ni * n),
+        periodic=periodic,
+        theta=theta,
+        zeta=zeta,
+        dth=dth,
+        dze=dze,
+        dzw=dzw,
+        h0_node=h0_node,
+        phi_node=phi_node,
+        h0_q=h0_q,
+        phi_q=phi_q,
+        pocket_node=pocket_node,
+        pocket_q=pocket_q,
+        pocket_zq=pocket_zq,
+        h0_c=h0_c,
+        phi_c=phi_c,
+        unk_i=unk_i,
+        unk_j=unk_j,
+        rows=np.concatenate(rows),
+        cols=np.concatenate(cols),
+        slots=tuple(slots),
+        w_area=dth * dzw[unk_j],
+        neighbours=np.where(
+            np.stack([e_nb, w_nb, n_nb, s_nb]) >= 0, np.stack([e_nb, w_nb, n_nb, s_nb]), ni * n
+        ),
     )
 
 
@@ -258,31 +285,36 @@ def _film_faces(mesh: _Mesh, q: NDArray) -> tuple[NDArray, NDArray, NDArray, NDA
     if mesh.pocket_q is None:
         h_min = min(h_node.min(), h_q.min())
         if h_min <= 0.0:
-            raise FilmContact(f"film thickness ≤ 0 (min H = {h_min:.3g})")
-        inv3 = _GAUSS_W @ (h_q ** -3).T  # (m,)
-        inv2 = _GAUSS_W @ (h_q ** -2).T
+            raise _contact(h_min)
+        inv3 = _GAUSS_W @ (h_q**-3).T  # (m,)
+        inv2 = _GAUSS_W @ (h_q**-2).T
         g_th = np.repeat((1.0 / inv3)[:, None], n1, axis=1)
         h_c = np.repeat((inv2 / inv3)[:, None], n1, axis=1)
-        g_ze = np.repeat((h_node ** 3)[:, None], n1 - 1, axis=1)
+        g_ze = np.repeat((h_node**3)[:, None], n1 - 1, axis=1)
         h_full = np.repeat(h_node[:, None], n1, axis=1)
         return h_full, g_th, h_c, g_ze
     h_full = h_node[:, None] + mesh.pocket_node
     h_c = mesh.h0_c + np.tensordot(q, mesh.phi_c, axes=1)  # (m+1, g)
     h_min = min(h_node.min(), h_q.min(), h_c.min())
     if h_min <= 0.0:
-        raise FilmContact(f"film thickness ≤ 0 (min H = {h_min:.3g})")
+        raise _contact(h_min)
     hq = h_q[:, :, None, None] + mesh.pocket_q  # (m, g, n+1, gz)
-    inv3 = np.einsum("g,mgnz->mnz", _GAUSS_W, hq ** -3)
-    inv2 = np.einsum("g,mgnz->mnz", _GAUSS_W, hq ** -2)
+    inv3 = np.einsum("g,mgnz->mnz", _GAUSS_W, hq**-3)
+    inv2 = np.einsum("g,mgnz->mnz", _GAUSS_W, hq**-2)
     g_th = (1.0 / inv3) @ _GAUSS_W
     couette = (inv2 / inv3) @ _GAUSS_W
     hzq = h_c[:, :, None, None] + mesh.pocket_zq  # (m+1, gt, n, g)
-    g_ze = np.einsum("t,mtn->mn", _GAUSS_W, 1.0 / (hzq ** -3 @ _GAUSS_W))
+    g_ze = np.einsum("t,mtn->mn", _GAUSS_W, 1.0 / (hzq**-3 @ _GAUSS_W))
     return h_full, g_th, couette, g_ze
 
 
-def _lcp_active_set(a: sp.csr_matrix, f: NDArray, active: NDArray | None,
-                    max_iter: int = 60) -> tuple[NDArray, NDArray, int]:
+def _contact(h_min: float) -> FilmContact:
+    return FilmContact(f"the journal touches a pad (film thickness ≤ 0, min h/c = {h_min:.3g})")
+
+
+def _lcp_active_set(
+    a: sp.csr_matrix, f: NDArray, active: NDArray | None, max_iter: int = 60
+) -> tuple[NDArray, NDArray, int]:
     """Solve the M-matrix LCP ``A p − f ≥ 0, p ≥ 0, complementary`` by primal–dual active set.
 
     General sparse version (periodic pads): one sparse LU of the free block per iteration.
@@ -314,9 +346,16 @@ def _no_lcp_convergence(max_iter: int) -> SolverError:
     )
 
 
-def _lcp_banded(diag: NDArray, off: NDArray, nb: NDArray, nz: int, f: NDArray,
-                active: NDArray | None, clip: bool, max_iter: int = 60,
-                ) -> tuple[NDArray, NDArray, int]:
+def _lcp_banded(
+    diag: NDArray,
+    off: NDArray,
+    nb: NDArray,
+    nz: int,
+    f: NDArray,
+    active: NDArray | None,
+    clip: bool,
+    max_iter: int = 60,
+) -> tuple[NDArray, NDArray, int]:
     """Banded version for non-periodic pads (unknowns ordered ζ fastest, bandwidth ``nz``).
 
     ``off`` (4, N) are the positive conductances to the E, W, N, S neighbours ``nb`` (index N
@@ -338,8 +377,9 @@ def _lcp_banded(diag: NDArray, off: NDArray, nb: NDArray, nz: int, f: NDArray,
             rows = np.nonzero(keep & (nbr < n))[0]
             ab[nz - o, rows + o] = -off[c, rows]
         rhs = np.where(keep, f, 0.0)
-        p = solve_banded((nz, nz), ab, rhs, overwrite_ab=False, overwrite_b=True,
-                         check_finite=False)
+        p = solve_banded(
+            (nz, nz), ab, rhs, overwrite_ab=False, overwrite_b=True, check_finite=False
+        )
         if not clip:
             return p, act, it
         pe = np.append(p, 0.0)
@@ -351,9 +391,19 @@ def _lcp_banded(diag: NDArray, off: NDArray, nb: NDArray, nz: int, f: NDArray,
     raise _no_lcp_convergence(max_iter)
 
 
-def solve_pad(mesh: _Mesh, q: NDArray, qdot: NDArray, omega: float, *, viscosity: float,
-              radius: float, clearance: float, cavitation: Cavitation = "swift_stieber",
-              active: NDArray | None = None, work: WorkCounter | None = None) -> PadFilm:
+def solve_pad(
+    mesh: _Mesh,
+    q: NDArray,
+    qdot: NDArray,
+    omega: float,
+    *,
+    viscosity: float,
+    radius: float,
+    clearance: float,
+    cavitation: Cavitation = "swift_stieber",
+    active: NDArray | None = None,
+    work: WorkCounter | None = None,
+) -> PadFilm:
     """Solve the film of one pad.
 
     Parameters
@@ -395,16 +445,16 @@ def solve_pad(mesh: _Mesh, q: NDArray, qdot: NDArray, omega: float, *, viscosity
 
     if not mesh.periodic:
         off = np.where(mesh.neighbours < n_unk, np.stack([a_e, a_w, a_n, a_s]), 0.0)
-        p, act, iters = _lcp_banded(diag, off, mesh.neighbours, n, rhs, active,
-                                    clip=cavitation == "swift_stieber")
+        p, act, iters = _lcp_banded(
+            diag, off, mesh.neighbours, n, rhs, active, clip=cavitation == "swift_stieber"
+        )
         if cavitation == "half_sommerfeld":
             p = np.maximum(p, 0.0)
     else:
         data = [diag]
         for coef, (_, _, mask) in zip((a_e, a_w, a_n, a_s), mesh.slots[1:], strict=True):
             data.append(-coef[mask])
-        amat = sp.csr_matrix((np.concatenate(data), (mesh.rows, mesh.cols)),
-                             shape=(n_unk, n_unk))
+        amat = sp.csr_matrix((np.concatenate(data), (mesh.rows, mesh.cols)), shape=(n_unk, n_unk))
         if cavitation == "swift_stieber":
             p, act, iters = _lcp_active_set(amat, rhs, active)
         else:
@@ -426,8 +476,14 @@ def solve_pad(mesh: _Mesh, q: NDArray, qdot: NDArray, omega: float, *, viscosity
     forces = 2.0 * scale * radius**2 * (phi_u @ (p * mesh.w_area))
     # side flow out of both ends: one-sided flux through the edge faces j = 1/2
     irange = np.arange(m) if mesh.periodic else np.arange(1, m)
-    side = 2.0 * clearance * radius**2 * mesh.dth / (12.0 * mesh.dze) * float(
-        np.sum(g_ze[irange, 0] * pgrid[irange, 1]))
+    side = (
+        2.0
+        * clearance
+        * radius**2
+        * mesh.dth
+        / (12.0 * mesh.dze)
+        * float(np.sum(g_ze[irange, 0] * pgrid[irange, 1]))
+    )
     # friction power (full-film shear on the pad)
     wt = np.full(m + 1, mesh.dth)
     if not mesh.periodic:
@@ -442,7 +498,13 @@ def solve_pad(mesh: _Mesh, q: NDArray, qdot: NDArray, omega: float, *, viscosity
     dens = omega * (omega / h_full + 0.5 * h_full * dp_dth)
     power = 2.0 * viscosity * radius**4 / clearance * float(wt @ dens @ wz)
     return PadFilm(
-        theta=mesh.theta, z=mesh.zeta * radius, pressure=scale * pgrid,
-        film=clearance * h_full, forces=forces, side_flow=side, friction_power=abs(power),
-        active=act, iterations=iters,
+        theta=mesh.theta,
+        z=mesh.zeta * radius,
+        pressure=scale * pgrid,
+        film=clearance * h_full,
+        forces=forces,
+        side_flow=side,
+        friction_power=abs(power),
+        active=act,
+        iterations=iters,
     )

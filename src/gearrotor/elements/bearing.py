@@ -40,7 +40,7 @@ class CoefficientTable:
                 "speed outside the bearing coefficient table",
                 value=f"{w * 30 / np.pi:.6g} rpm",
                 expected=f"a speed within {s[0] * 30 / np.pi:.6g}..{s[-1] * 30 / np.pi:.6g} rpm "
-                "(extend the table or set extrapolate = \"hold\")",
+                '(extend the table or set extrapolate = "hold")',
             )
         return np.array([np.interp(w, s, self.values[:, j]) for j in range(8)])
 

@@ -25,8 +25,9 @@ class DiskElement:
     transverse: float
 
     def M(self) -> NDArray:
-        return np.diag([self.mass, self.mass, self.mass, self.transverse, self.transverse,
-                        self.polar])
+        return np.diag(
+            [self.mass, self.mass, self.mass, self.transverse, self.transverse, self.polar]
+        )
 
     def K(self) -> NDArray:
         return np.zeros((6, 6))

@@ -136,8 +136,17 @@ def iso6336_stiffness(
     zn1 = teeth_i / np.cos(b) ** 3
     zn2 = teeth_j / np.cos(b) ** 3
     C1, C2, C3, C4, C5, C6, C7, C8, C9 = _ISO_C
-    q = (C1 + C2 / zn1 + C3 / zn2 + C4 * shift_i + C5 * shift_i / zn1 + C6 * shift_j
-         + C7 * shift_j / zn2 + C8 * shift_i**2 + C9 * shift_j**2)
+    q = (
+        C1
+        + C2 / zn1
+        + C3 / zn2
+        + C4 * shift_i
+        + C5 * shift_i / zn1
+        + C6 * shift_j
+        + C7 * shift_j / zn2
+        + C8 * shift_i**2
+        + C9 * shift_j**2
+    )
     e_eq = 2 * E_i * E_j / (E_i + E_j)
     c_single = (1.0 / q) * CM * CR * CB * np.cos(b) * e_eq / 206e9
     c_gamma = c_single * (0.75 * contact_ratio + 0.25)  # N/(mm·µm) = 1e9 N/m²

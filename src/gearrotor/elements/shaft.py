@@ -34,8 +34,9 @@ _XI = 0.5 * (_GP + 1.0)
 _WXI = 0.5 * _GW
 
 
-def shear_coefficient(inner_diameter: float, outer_diameter: float, poisson: float,
-                      method: str = "hutchinson") -> float:
+def shear_coefficient(
+    inner_diameter: float, outer_diameter: float, poisson: float, method: str = "hutchinson"
+) -> float:
     """Shear coefficient κ of a (hollow) circular section.
 
     ``"hutchinson"`` is Hutchinson's (2001) result as used by Friswell et al. (2010), ``"cowper"``
@@ -45,37 +46,57 @@ def shear_coefficient(inner_diameter: float, outer_diameter: float, poisson: flo
     nu = poisson
     if method == "hutchinson":
         a = (1.0 + m2) ** 2
-        return 6.0 * a * (1.0 + nu) ** 2 / (
-            a * (7.0 + 12.0 * nu + 4.0 * nu**2) + 4.0 * m2 * (5.0 + 6.0 * nu + 2.0 * nu**2)
+        return (
+            6.0
+            * a
+            * (1.0 + nu) ** 2
+            / (a * (7.0 + 12.0 * nu + 4.0 * nu**2) + 4.0 * m2 * (5.0 + 6.0 * nu + 2.0 * nu**2))
         )
     if method == "cowper":
         a = (1.0 + m2) ** 2
         return 6.0 * a * (1.0 + nu) / (a * (7.0 + 6.0 * nu) + m2 * (20.0 + 12.0 * nu))
-    raise ValueError(f"unknown shear coefficient method {method!r}; expected 'hutchinson' or 'cowper'")
+    raise ValueError(
+        f"unknown shear coefficient method {method!r}; expected 'hutchinson' or 'cowper'"
+    )
 
 
 def _plane_shape(phi: float, length: float, xi: float) -> tuple[NDArray, NDArray, NDArray]:
     """Timoshenko interpolation at ``xi = z/L``: (N_w, N_ψ, dN_ψ/dz), each of length 4."""
     L = length
     d = 1.0 + phi
-    nw = np.array([
-        1.0 - 3 * xi**2 + 2 * xi**3 + phi * (1 - xi),
-        L * (xi - 2 * xi**2 + xi**3 + 0.5 * phi * (xi - xi**2)),
-        3 * xi**2 - 2 * xi**3 + phi * xi,
-        L * (-(xi**2) + xi**3 + 0.5 * phi * (xi**2 - xi)),
-    ]) / d
-    npsi = np.array([
-        6.0 / L * (xi**2 - xi),
-        1.0 - 4 * xi + 3 * xi**2 + phi * (1 - xi),
-        6.0 / L * (xi - xi**2),
-        -2 * xi + 3 * xi**2 + phi * xi,
-    ]) / d
-    dnpsi = np.array([
-        6.0 / L**2 * (2 * xi - 1),
-        (-4 + 6 * xi - phi) / L,
-        6.0 / L**2 * (1 - 2 * xi),
-        (-2 + 6 * xi + phi) / L,
-    ]) / d
+    nw = (
+        np.array(
+            [
+                1.0 - 3 * xi**2 + 2 * xi**3 + phi * (1 - xi),
+                L * (xi - 2 * xi**2 + xi**3 + 0.5 * phi * (xi - xi**2)),
+                3 * xi**2 - 2 * xi**3 + phi * xi,
+                L * (-(xi**2) + xi**3 + 0.5 * phi * (xi**2 - xi)),
+            ]
+        )
+        / d
+    )
+    npsi = (
+        np.array(
+            [
+                6.0 / L * (xi**2 - xi),
+                1.0 - 4 * xi + 3 * xi**2 + phi * (1 - xi),
+                6.0 / L * (xi - xi**2),
+                -2 * xi + 3 * xi**2 + phi * xi,
+            ]
+        )
+        / d
+    )
+    dnpsi = (
+        np.array(
+            [
+                6.0 / L**2 * (2 * xi - 1),
+                (-4 + 6 * xi - phi) / L,
+                6.0 / L**2 * (1 - 2 * xi),
+                (-2 + 6 * xi + phi) / L,
+            ]
+        )
+        / d
+    )
     return nw, npsi, dnpsi
 
 
@@ -116,8 +137,16 @@ class ShaftElement:
         return np.pi / 64 * (self.outer_diameter**4 - self.inner_diameter**4)
 
     def _mass_section(self) -> tuple[float, float]:
-        do = self.mass_outer_diameter if self.mass_outer_diameter is not None else self.outer_diameter
-        di = self.mass_inner_diameter if self.mass_inner_diameter is not None else self.inner_diameter
+        do = (
+            self.mass_outer_diameter
+            if self.mass_outer_diameter is not None
+            else self.outer_diameter
+        )
+        di = (
+            self.mass_inner_diameter
+            if self.mass_inner_diameter is not None
+            else self.inner_diameter
+        )
         return np.pi / 4 * (do**2 - di**2), np.pi / 64 * (do**4 - di**4)
 
     @property
@@ -129,9 +158,12 @@ class ShaftElement:
         """Shear parameter Φ = 12 EI / (κ G A L²)."""
         if not self.shear:
             return 0.0
-        kappa = shear_coefficient(self.inner_diameter, self.outer_diameter, self.poisson,
-                                  self.shear_method)
-        return 12 * self.E * self.inertia / (kappa * self.shear_modulus * self.area * self.length**2)
+        kappa = shear_coefficient(
+            self.inner_diameter, self.outer_diameter, self.poisson, self.shear_method
+        )
+        return (
+            12 * self.E * self.inertia / (kappa * self.shear_modulus * self.area * self.length**2)
+        )
 
     @property
     def mass(self) -> float:
@@ -210,12 +242,14 @@ class ShaftElement:
 
 def _dnw(phi: float, L: float, xi: float) -> NDArray:
     """dN_w/dz of the Timoshenko interpolation."""
-    return np.array([
-        (-6 * xi + 6 * xi**2 - phi) / L,
-        1 - 4 * xi + 3 * xi**2 + 0.5 * phi * (1 - 2 * xi),
-        (6 * xi - 6 * xi**2 + phi) / L,
-        -2 * xi + 3 * xi**2 + 0.5 * phi * (2 * xi - 1),
-    ]) / (1.0 + phi)
+    return np.array(
+        [
+            (-6 * xi + 6 * xi**2 - phi) / L,
+            1 - 4 * xi + 3 * xi**2 + 0.5 * phi * (1 - 2 * xi),
+            (6 * xi - 6 * xi**2 + phi) / L,
+            -2 * xi + 3 * xi**2 + 0.5 * phi * (2 * xi - 1),
+        ]
+    ) / (1.0 + phi)
 
 
 def _scatter_rod(out: NDArray, dof: int, k: float) -> None:

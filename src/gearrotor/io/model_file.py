@@ -70,9 +70,14 @@ def format_validation_error(exc: ValidationError, data: dict, file: str | None) 
     head = f"{file}: " if file else ""
     if len(lines) == 1:
         return ModelError(lines[0], file=file)
-    return ModelError(f"{len(lines)} errors in the model\n  " + "\n  ".join(lines),
-                      file=None if not file else file) if head else ModelError(
-        f"{len(lines)} errors in the model\n  " + "\n  ".join(lines))
+    return (
+        ModelError(
+            f"{len(lines)} errors in the model\n  " + "\n  ".join(lines),
+            file=None if not file else file,
+        )
+        if head
+        else ModelError(f"{len(lines)} errors in the model\n  " + "\n  ".join(lines))
+    )
 
 
 def _parse_path(path: str) -> list[str | int]:
@@ -85,8 +90,11 @@ def _parse_path(path: str) -> list[str | int]:
             parts.append(int(m.group(2)))
         pos = m.end()
     if not parts or pos != len(path):
-        raise ModelError("cannot read the override path", field=path,
-                         expected="a dotted path such as 'meshes[0].variation.ka_ratio'")
+        raise ModelError(
+            "cannot read the override path",
+            field=path,
+            expected="a dotted path such as 'meshes[0].variation.ka_ratio'",
+        )
     return parts
 
 
@@ -120,8 +128,12 @@ def apply_overrides(data: dict, overrides: dict[str, Any] | None) -> dict:
                     cur[part] = {}
                     cur = cur[part]
                 else:
-                    raise ModelError("override path does not exist in the model", field=path,
-                                     value=value, expected="an existing table or list index") from None
+                    raise ModelError(
+                        "override path does not exist in the model",
+                        field=path,
+                        value=value,
+                        expected="an existing table or list index",
+                    ) from None
         last = parts[-1]
         if isinstance(last, int):
             if not isinstance(cur, list) or last >= len(cur):

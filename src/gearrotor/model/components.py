@@ -216,8 +216,16 @@ class Bearing(NodeRef):
         """The constant coefficients kxx kxy kyx kyy cxx cxy cyx cyy (isotropic shortcuts added)."""
         k = self.k or 0.0
         c = self.c or 0.0
-        return (self.kxx + k, self.kxy, self.kyx, self.kyy + k,
-                self.cxx + c, self.cxy, self.cyx, self.cyy + c)
+        return (
+            self.kxx + k,
+            self.kxy,
+            self.kyx,
+            self.kyy + k,
+            self.cxx + c,
+            self.cxy,
+            self.cyx,
+            self.cyy + c,
+        )
 
 
 class ThrustBearing(NodeRef):

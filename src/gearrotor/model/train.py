@@ -105,11 +105,15 @@ class Train(Spec):
             if s.name == name:
                 return i
         raise ModelError(
-            "unknown shaft", field=field, value=name,
+            "unknown shaft",
+            field=field,
+            value=name,
             expected=f"one of {[s.name for s in self.shafts]}",
         )
 
-    def node_index(self, ref: NodeRef | object, field: str, shaft: str | None = None) -> tuple[int, int]:
+    def node_index(
+        self, ref: NodeRef | object, field: str, shaft: str | None = None
+    ) -> tuple[int, int]:
         """(shaft index, node index) of a node reference, checked against the layout."""
         sname = shaft if shaft is not None else ref.shaft
         si = self.shaft_index(sname, f"{field}.shaft")
@@ -117,7 +121,9 @@ class Train(Spec):
         if getattr(ref, "node", None) is not None:
             if ref.node >= len(z):
                 raise ModelError(
-                    f"node is not on shaft '{sname}'", field=f"{field}.node", value=ref.node,
+                    f"node is not on shaft '{sname}'",
+                    field=f"{field}.node",
+                    value=ref.node,
                     expected=f"a node index 0..{len(z) - 1}",
                 )
             return si, ref.node
@@ -126,7 +132,8 @@ class Train(Spec):
         k = int(np.argmin(np.abs(zl - at)))
         if abs(zl[k] - at) > 1e-6 * max(zl[-1], 1.0):
             raise ModelError(
-                f"no node of shaft '{sname}' at this axial position", field=f"{field}.at",
+                f"no node of shaft '{sname}' at this axial position",
+                field=f"{field}.at",
                 value=f"{at} m",
                 expected=f"a node position; nearest nodes at {zl[max(k - 1, 0)]:.6g}, "
                 f"{zl[k]:.6g}, {zl[min(k + 1, len(zl) - 1)]:.6g} m",
@@ -135,8 +142,12 @@ class Train(Spec):
 
     def material(self, name: str, field: str) -> Material:
         if name not in self.materials:
-            raise ModelError("unknown material", field=field, value=name,
-                             expected=f"one of {sorted(self.materials)}")
+            raise ModelError(
+                "unknown material",
+                field=field,
+                value=name,
+                expected=f"one of {sorted(self.materials)}",
+            )
         return self.materials[name]
 
     # ------------------------------------------------------------------------------------
@@ -178,8 +189,11 @@ class Train(Spec):
             a = self.shaft_index(m.gear.shaft, f"meshes[{k}].gear.shaft")
             b = self.shaft_index(m.mate.shaft, f"meshes[{k}].mate.shaft")
             if a == b:
-                raise ModelError("a gear mesh must join two different shafts",
-                                 field=f"meshes[{k}].mate.shaft", value=m.mate.shaft)
+                raise ModelError(
+                    "a gear mesh must join two different shafts",
+                    field=f"meshes[{k}].mate.shaft",
+                    value=m.mate.shaft,
+                )
             yield a, b, -m.gear.teeth / m.mate.teeth, "mesh", k
         for k, c in enumerate(self.couplings):
             a = self.shaft_index(c.node_i.shaft, f"couplings[{k}].node_i.shaft")
@@ -212,9 +226,10 @@ class Train(Spec):
                 if abs(ratios[b] - ratio_b) > _REL_TOL * abs(ratio_b):
                     raise ModelError(
                         f"inconsistent gear ratios around a loop of the train at shaft "
-                        f"'{self.shafts[b].name}'", field=f"{kind}es[{k}]" if kind == "mesh"
-                        else f"couplings[{k}]", value=f"speed ratio {ratio_b:.6g} vs "
-                        f"{ratios[b]:.6g}", expected="tooth counts that close the loop",
+                        f"'{self.shafts[b].name}'",
+                        field=f"{kind}es[{k}]" if kind == "mesh" else f"couplings[{k}]",
+                        value=f"speed ratio {ratio_b:.6g} vs {ratios[b]:.6g}",
+                        expected="tooth counts that close the loop",
                     )
                 if np.hypot(pos_b[0] - positions[b][0], pos_b[1] - positions[b][1]) > 1e-6:
                     raise ModelError(
@@ -227,7 +242,9 @@ class Train(Spec):
         if missing:
             raise ModelError(
                 "the train is disconnected: these shafts are joined to the reference shaft "
-                "by no gear mesh or coupling", field="shafts", value=missing,
+                "by no gear mesh or coupling",
+                field="shafts",
+                value=missing,
                 expected=f"every shaft connected to '{self.shafts[ref].name}'",
             )
         for i, s in enumerate(self.shafts):
@@ -236,7 +253,8 @@ class Train(Spec):
                 if dx > 1e-6 * max(1.0, np.hypot(*positions[i])):
                     raise ModelError(
                         "shaft position disagrees with the gear geometry",
-                        field=f"shafts[{i}].position", value=f"{tuple(s.position)} m",
+                        field=f"shafts[{i}].position",
+                        value=f"{tuple(s.position)} m",
                         expected=f"({positions[i][0]:.6g}, {positions[i][1]:.6g}) m from the "
                         "mesh radii and orientation (or leave position out)",
                     )
@@ -260,9 +278,14 @@ class Train(Spec):
         return ri, rj
 
     def _check_nodes(self) -> None:
-        groups = [("bearings", self.bearings), ("thrust_bearings", self.thrust_bearings),
-                  ("cross_couplings", self.cross_couplings), ("unbalances", self.unbalances),
-                  ("probes", self.probes), ("torques", self.torques)]
+        groups = [
+            ("bearings", self.bearings),
+            ("thrust_bearings", self.thrust_bearings),
+            ("cross_couplings", self.cross_couplings),
+            ("unbalances", self.unbalances),
+            ("probes", self.probes),
+            ("torques", self.torques),
+        ]
         for gname, items in groups:
             for k, it in enumerate(items):
                 self.node_index(it, f"{gname}[{k}]")
@@ -282,21 +305,26 @@ class Train(Spec):
             if abs(zi - zj) > 1e-6 * max(1.0, abs(zi)):
                 raise ModelError(
                     "the two gears of a mesh are at different axial positions",
-                    field=f"meshes[{k}].mate", value=f"z = {zj:.6g} m vs gear at {zi:.6g} m",
+                    field=f"meshes[{k}].mate",
+                    value=f"z = {zj:.6g} m vs gear at {zi:.6g} m",
                     expected="gear nodes in the same plane (adjust the shafts' 'start')",
                 )
             ri, rj = self.pitch_radii(k)
             rr = (ri / rj) / (m.gear.teeth / m.mate.teeth)
             if abs(rr - 1) > 0.01:
                 raise ModelError(
-                    "pitch radii do not match the tooth counts", field=f"meshes[{k}]",
+                    "pitch radii do not match the tooth counts",
+                    field=f"meshes[{k}]",
                     value=f"r_i/r_j = {ri / rj:.5g}, N_i/N_j = {m.gear.teeth / m.mate.teeth:.5g}",
                     expected="r_i/r_j = N_i/N_j within 1%",
                 )
             needs_w = not isinstance(m.stiffness, float) and m.stiffness.method != "value"
             if needs_w and m.face_width is None:
-                raise ModelError(f"mesh stiffness method '{m.stiffness.method}' needs face_width",
-                                 field=f"meshes[{k}].face_width", expected="a length")
+                raise ModelError(
+                    f"mesh stiffness method '{m.stiffness.method}' needs face_width",
+                    field=f"meshes[{k}].face_width",
+                    expected="a length",
+                )
 
     def _check_speeds(self, ratios: list[float]) -> None:
         for i, s in enumerate(self.shafts):
@@ -305,7 +333,8 @@ class Train(Spec):
             implied = ratios[i] * self.speed
             if abs(s.speed - implied) > 1e-3 * max(abs(implied), 1e-9) + 1e-9:
                 raise ModelError(
-                    "inconsistent speed set", field=f"shafts[{i}].speed",
+                    "inconsistent speed set",
+                    field=f"shafts[{i}].speed",
                     value=f"{s.speed * 30 / np.pi:.6g} rpm",
                     expected=f"{implied * 30 / np.pi:.6g} rpm from the reference speed "
                     f"{self.speed * 30 / np.pi:.6g} rpm of '{self.reference}' and the gear "

@@ -43,8 +43,9 @@ def plot_mode_shapes(result, modes=None, path=None, max_modes: int = 8):
         modes = [i for i in range(len(result)) if not result.overdamped[i]][:max_modes]
     modes = list(modes)
     ns = len(layout.shafts)
-    fig, axes = plt.subplots(len(modes), ns, figsize=(4.2 * ns + 1, 2.1 * len(modes) + 0.6),
-                             squeeze=False, sharex="col")
+    fig, axes = plt.subplots(
+        len(modes), ns, figsize=(4.2 * ns + 1, 2.1 * len(modes) + 0.6), squeeze=False, sharex="col"
+    )
     for row, m in enumerate(modes):
         phi = result.mode_shapes[m]
         for col, sl in enumerate(layout.shafts):
@@ -74,13 +75,19 @@ def plot_mode_shapes(result, modes=None, path=None, max_modes: int = 8):
                 ax.set_title(sl.name)
             if col == 0:
                 ws = "/".join(result.whirl_per_shaft[m])
-                ax.set_ylabel(f"{result.frequency_rpm[m]:.0f} rpm\nδ={result.log_dec[m]:.3g} "
-                              f"{ws} {result.mode_type[m]}", fontsize=8)
+                ax.set_ylabel(
+                    f"{result.frequency_rpm[m]:.0f} rpm\nδ={result.log_dec[m]:.3g} "
+                    f"{ws} {result.mode_type[m]}",
+                    fontsize=8,
+                )
             if row == len(modes) - 1:
                 ax.set_xlabel("z (m)")
     axes[0, -1].legend(loc="upper right", fontsize=7)
-    fig.suptitle(f"{asm.train.name}: mode shapes at {result.speed * RPM:.0f} rpm "
-                 "(▲ bearing, | gear)", fontsize=10, y=1.0)
+    fig.suptitle(
+        f"{asm.train.name}: mode shapes at {result.speed * RPM:.0f} rpm (▲ bearing, | gear)",
+        fontsize=10,
+        y=1.0,
+    )
     fig.tight_layout()
     return _save(fig, path)
 
@@ -97,10 +104,28 @@ def plot_campbell(result, path=None, max_frequency=None):
     for j in range(f.shape[1]):
         ax.plot(s, f[:, j], color="0.75", lw=0.8, zorder=1)
         fw = result.whirl[:, j] == "F"
-        sc = ax.scatter(s[fw], f[fw, j], c=ld[fw, j], cmap="viridis_r", vmin=-0.5, vmax=3.0,
-                        marker="o", s=12, zorder=2)
-        ax.scatter(s[~fw], f[~fw, j], c=ld[~fw, j], cmap="viridis_r", vmin=-0.5, vmax=3.0,
-                   marker="x", s=14, zorder=2)
+        sc = ax.scatter(
+            s[fw],
+            f[fw, j],
+            c=ld[fw, j],
+            cmap="viridis_r",
+            vmin=-0.5,
+            vmax=3.0,
+            marker="o",
+            s=12,
+            zorder=2,
+        )
+        ax.scatter(
+            s[~fw],
+            f[~fw, j],
+            c=ld[~fw, j],
+            cmap="viridis_r",
+            vmin=-0.5,
+            vmax=3.0,
+            marker="x",
+            s=14,
+            zorder=2,
+        )
     top = max_frequency * RPM if max_frequency else np.nanmax(f) * 1.05
     for k, o in enumerate(result.orders):
         line = result.order_frequency(o) * RPM
@@ -125,8 +150,9 @@ def plot_bode(result, path=None, probes=None):
     half-power bands and the operating range."""
     plt = _plt()
     probes = result.probes if probes is None else probes
-    fig, (a1, a2) = plt.subplots(2, 1, figsize=(8, 6.5), sharex=True,
-                                 gridspec_kw={"height_ratios": [2, 1]})
+    fig, (a1, a2) = plt.subplots(
+        2, 1, figsize=(8, 6.5), sharex=True, gridspec_kw={"height_ratios": [2, 1]}
+    )
     s = result.speeds * RPM
     for k, p in enumerate(probes):
         a1.plot(s, p.amplitude * 1e6, color=f"C{k}", label=p.name)
@@ -134,9 +160,13 @@ def plot_bode(result, path=None, probes=None):
         for c in p.criticals:
             a1.plot(c.speed * RPM, c.amplitude * 1e6, "v", color=f"C{k}")
             if c.amplification_factor is not None:
-                a1.annotate(f"AF {c.amplification_factor:.1f}",
-                            (c.speed * RPM, c.amplitude * 1e6), fontsize=7,
-                            textcoords="offset points", xytext=(4, 4))
+                a1.annotate(
+                    f"AF {c.amplification_factor:.1f}",
+                    (c.speed * RPM, c.amplitude * 1e6),
+                    fontsize=7,
+                    textcoords="offset points",
+                    xytext=(4, 4),
+                )
     lo, hi = result.operating_range
     a1.axvspan(lo * RPM * 0.999, hi * RPM * 1.001, color="C2", alpha=0.2, label="operating")
     a1.set_ylabel("amplitude 0-pk (µm)")

@@ -111,12 +111,13 @@ class TransientSystem:
             v0[a != 0] = self.nominal_speeds[s]
         return q0, v0
 
-    def linear_matrices(self) -> tuple[NDArray, NDArray, NDArray]:
+    def linear_matrices(self, meshes: bool = True) -> tuple[NDArray, NDArray, NDArray]:
         """Dense (M, K, C) of the constant-speed linear model at the nominal speeds: the meshes
-        at their average stiffness Kg (no damping), bearings at the nominal speeds."""
+        at their average stiffness Kg (no damping; left out with ``meshes=False``), bearings at
+        the nominal speeds."""
         K = self.K.toarray()
         C = self.C.toarray()
-        for law, d in zip(self.meshes, self.mesh_dofs, strict=True):
+        for law, d in zip(self.meshes if meshes else (), self.mesh_dofs, strict=False):
             ok = d >= 0
             K[np.ix_(d[ok], d[ok])] += law.kg * np.outer(law.w[ok], law.w[ok])
         for b, d in enumerate(self.bearing_dofs):

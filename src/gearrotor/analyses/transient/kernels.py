@@ -38,6 +38,8 @@ STATUS_NONFINITE = 1
 STATUS_BLOWUP = 2
 
 _CACHE = True
+# reassociation/contraction only: no 'nnan'/'ninf', so divergence checks stay valid
+_FAST = {"reassoc", "contract", "arcp", "nsz"}
 
 
 @njit(cache=_CACHE)
@@ -243,7 +245,7 @@ def _accel_physical(t, q, v, a, P, W):
      m_sel, m_w, m_par, m_ab, m_ns, m_tptr, m_tphi, m_tk, m_te, m_nte,
      u_sel, u_me, u_ph, t_sel, t_par, t_ptr, t_time, t_vals,
      b_sel, b_shaft, b_ptr, b_speed, b_coef, b_ref,
-     Minv_a, Minv_ux, Minv_uy, Minv_ut) = P
+     Minv_a, Minv_ux, Minv_uy, Minv_ut, u_full) = P
     (F, gq, zq, qs, vs, fs, Om, Z, S, rhs, piv) = W
     n = q.shape[0]
     ns = a_ptr.shape[0] - 1
@@ -288,7 +290,7 @@ def _accel_physical(t, q, v, a, P, W):
                 Z[c + 1, i] = Minv_a[s, i]
     for u in range(nu):
         c = per_s * (ns + u)
-        th = q[u_sel[u, 2]] + u_ph[u]
+        th = q[u_full[u, 2]] + u_ph[u]
         sn, cs = np.sin(th), np.cos(th)
         me = u_me[u]
         for i in range(n):
@@ -297,10 +299,10 @@ def _accel_physical(t, q, v, a, P, W):
             for i in range(n):
                 Z[c + 1, i] = me * Minv_ut[u, i]
     for row in range(r):
-        rhs[row] = _qdot(row, a, q, ns, per_s, a_ptr, a_idx, a_w, row_shaft, gq, u_sel, u_ph)
+        rhs[row] = _qdot(row, a, q, ns, per_s, a_ptr, a_idx, a_w, row_shaft, gq, u_full, u_ph)
         for col in range(r):
             S[row, col] = (1.0 if row == col else 0.0) + _qdot(
-                row, Z[col], q, ns, per_s, a_ptr, a_idx, a_w, row_shaft, gq, u_sel, u_ph)
+                row, Z[col], q, ns, per_s, a_ptr, a_idx, a_w, row_shaft, gq, u_full, u_ph)
     _lu_solve(S, rhs, piv)
     for c in range(r):
         f = rhs[c]
@@ -390,10 +392,11 @@ def rk4_physical(t0, dt, n_steps, q, v, save_every, out_idx, rec_q, rec_v, rec_a
 # ------------------------------------------------------------------------------------------
 # modal coordinates
 # ------------------------------------------------------------------------------------------
-@njit(cache=_CACHE)
+@njit(cache=_CACHE, fastmath=_FAST)
 def _accel_modal(t, e, de, a, P, W):
-    """Modal accelerations (a ← η̈) with M_r = I."""
-    (lam, Cr, Gr, alpha, Phi_sel, reactions,
+    """Modal accelerations (a ← η̈) with M_r = I. ``PhiT_sel`` is Φ_selᵀ (m, nsel); work
+    array ``Z`` (2r, m) holds the Woodbury factors P (rows 0..r−1) and Q (rows r..2r−1)."""
+    (lam, Cr, Gr, alpha, Phi_sel, PhiT_sel, reactions,
      m_sel, m_w, m_par, m_ab, m_ns, m_tptr, m_tphi, m_tk, m_te, m_nte,
      u_sel, u_me, u_ph, t_sel, t_par, t_ptr, t_time, t_vals,
      b_sel, b_shaft, b_ptr, b_speed, b_coef, b_ref) = P
@@ -419,33 +422,35 @@ def _accel_modal(t, e, de, a, P, W):
               b_sel, b_shaft, b_ptr, b_speed, b_coef, b_ref)
     for i in range(m):
         acc = -lam[i] * e[i]
+        c0 = 0.0
         for j in range(m):
-            cg = Cr[i, j]
-            for s in range(ns):
-                cg += Om[s] * Gr[s, i, j]
-            acc -= cg * de[j]
+            c0 += Cr[i, j] * de[j]
+        acc -= c0
+        for s in range(ns):
+            g1 = 0.0
+            g2 = 0.0
+            for j in range(m):
+                g1 += Gr[s, i, j] * de[j]
+                g2 += Gr[s, i, j] * e[j]
+            acc -= Om[s] * g1
+            gq[s, i] = 0.5 * g2
+        f = 0.0
         for p in range(nsel):
-            acc += Phi_sel[p, i] * fs[p]
-        a[i] = acc
+            f += PhiT_sel[i, p] * fs[p]
+        a[i] = acc + f
     # Woodbury on I + P Qᵀ
     nu = u_sel.shape[0]
     per_s = 2 if reactions else 1
     r = per_s * (ns + nu)
     for s in range(ns):
-        for i in range(m):
-            g = 0.0
-            for j in range(m):
-                g += Gr[s, i, j] * e[j]
-            gq[s, i] = 0.5 * g
-    # Z columns (P) and Q columns stored in Z[:, r:2r]
-    for s in range(ns):
         c = per_s * s
         for i in range(m):
-            Z[i, c] = gq[s, i]
-            Z[i, r + c] = alpha[s, i]
-            if reactions:
-                Z[i, c + 1] = alpha[s, i]
-                Z[i, r + c + 1] = gq[s, i]
+            Z[c, i] = gq[s, i]
+            Z[r + c, i] = alpha[s, i]
+        if reactions:
+            for i in range(m):
+                Z[c + 1, i] = alpha[s, i]
+                Z[r + c + 1, i] = gq[s, i]
     for u in range(nu):
         c = per_s * (ns + u)
         th = qs[u_sel[u, 2]] + u_ph[u]
@@ -454,30 +459,29 @@ def _accel_modal(t, e, de, a, P, W):
         ix, iy, it = u_sel[u, 0], u_sel[u, 1], u_sel[u, 2]
         for i in range(m):
             su = -sn * Phi_sel[ix, i] + cs * Phi_sel[iy, i]
-            Z[i, c] = me * su
-            Z[i, r + c] = Phi_sel[it, i]
+            Z[c, i] = me * su
+            Z[r + c, i] = Phi_sel[it, i]
             if reactions:
-                Z[i, c + 1] = me * Phi_sel[it, i]
-                Z[i, r + c + 1] = su
+                Z[c + 1, i] = me * Phi_sel[it, i]
+                Z[r + c + 1, i] = su
     for row in range(r):
         acc = 0.0
         for i in range(m):
-            acc += Z[i, r + row] * a[i]
+            acc += Z[r + row, i] * a[i]
         rhs[row] = acc
         for col in range(r):
             acc = 1.0 if row == col else 0.0
             for i in range(m):
-                acc += Z[i, r + row] * Z[i, col]
+                acc += Z[r + row, i] * Z[col, i]
             S[row, col] = acc
     _lu_solve(S, rhs, piv)
-    for i in range(m):
-        s = 0.0
-        for c in range(r):
-            s += Z[i, c] * rhs[c]
-        a[i] -= s
+    for c in range(r):
+        f = rhs[c]
+        for i in range(m):
+            a[i] -= Z[c, i] * f
 
 
-@njit(cache=_CACHE)
+@njit(cache=_CACHE, fastmath=_FAST)
 def rk4_modal(t0, dt, n_steps, e, de, save_every, Phi_out, rec_q, rec_v, rec_a, rec_om,
               rec_t, rec_start, blowup, P, W, K1):
     """Classical RK4 on the reduced modal system; records physical output DOFs Φ_out η."""
