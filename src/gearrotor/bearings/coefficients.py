@@ -254,6 +254,13 @@ class BearingTable:
         """The rotor model's :class:`gearrotor.elements.bearing.CoefficientTable` (rad/s)."""
         from ..elements.bearing import CoefficientTable
 
+        if np.any(self.speed_rpm > 0) and np.any(self.speed_rpm < 0):
+            raise ModelError(
+                "a rotor coefficient table needs speeds of one sign",
+                field="speed_rpm",
+                value=self.speed_rpm.tolist(),
+                expected="all positive or all negative speeds (one direction of rotation)",
+            )
         speed = np.abs(self.speed_rpm) * math.pi / 30.0
         order = np.argsort(speed)
         return CoefficientTable(speed[order], self.values()[order], extrapolate)

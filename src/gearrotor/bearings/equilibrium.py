@@ -132,7 +132,7 @@ def _newton(
             return u, film, it
         if it == max_iter:
             break
-        kmat, _ = ev.jacobians(u, velocity=False)
+        kmat, _ = ev.jacobians(u, velocity=False, base=film)
         try:
             du = np.linalg.solve(kmat, r)  # r − K du = 0
         except np.linalg.LinAlgError:

@@ -255,38 +255,47 @@ class _Evaluator:
                     u[ir] = self.pad(k, q, np.zeros(4)).forces[3] / slot.pivot_stiffness
         return u
 
-    def jacobians(self, u: NDArray, velocity: bool = True) -> tuple[NDArray, NDArray]:
-        """Stiffness and damping matrices K = −∂F/∂u, C = −∂F/∂u̇ by central differences."""
+    def jacobians(
+        self, u: NDArray, velocity: bool = True, base: BearingFilm | None = None
+    ) -> tuple[NDArray, NDArray]:
+        """Stiffness and damping matrices K = −∂F/∂u, C = −∂F/∂u̇ by central differences.
+
+        ``base`` is the film at ``u`` when already known. Every perturbed solve starts from the
+        base state's cavitated set (deterministic, and the base set is kept afterwards).
+        """
         c = self.bearing.clearance
         kmat = np.zeros((self.n, self.n))
         cmat = np.zeros((self.n, self.n))
-        base = self.evaluate(u)
+        if base is None:
+            base = self.evaluate(u)
+        saved = list(self.active)
         hmin = base.min_film / c
         dx = self.options.perturbation * c * min(1.0, 5.0 * hmin)
         # velocity: a smaller step keeps the cavitated set fixed, so that C keeps the symmetry
         # of the discrete film operator (the force is linear in velocity on a fixed set)
         dv = 0.1 * self.options.perturbation * c * max(abs(self.speed), 1.0)
+        zero = np.zeros(4)
+
+        def solve(k: int, q: NDArray, qdot: NDArray) -> NDArray:
+            self.active[k] = saved[k]
+            return self.pad(k, q, qdot).forces
+
         for k, slot in enumerate(self.slots):
             q0 = self.local_q(k, u)
             present = [loc for loc, g in enumerate(slot.index) if g >= 0]
             for loc in present:
                 e = np.zeros(4)
                 e[loc] = 1.0
-                fp = self.pad(k, q0 + e * dx / c, np.zeros(4)).forces
-                fm = self.pad(k, q0 - e * dx / c, np.zeros(4)).forces
-                dk = -(fp - fm) / (2 * dx)
+                dk = -(solve(k, q0 + e * dx / c, zero) - solve(k, q0 - e * dx / c, zero)) / (2 * dx)
                 if velocity:
-                    gp = self.pad(k, q0, e * dv / c).forces
-                    gm = self.pad(k, q0, -e * dv / c).forces
-                    dc = -(gp - gm) / (2 * dv)
+                    dc = -(solve(k, q0, e * dv / c) - solve(k, q0, -e * dv / c)) / (2 * dv)
                 for row in present:
                     kmat[slot.index[row], slot.index[loc]] += dk[row]
                     if velocity:
                         cmat[slot.index[row], slot.index[loc]] += dc[row]
             if slot.index[3] >= 0:
                 kmat[slot.index[3], slot.index[3]] += slot.pivot_stiffness
-        # restore warm starts to the base state
-        self.evaluate(u)
+        self.active = saved
         return kmat, cmat
 
 

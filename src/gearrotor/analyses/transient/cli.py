@@ -1,0 +1,122 @@
+"""Command-line functions of the transient analysis (registered by ``gearrotor.cli``):
+
+    app.command("transient")(transient_command)
+    app.command("transient-plot")(plot_command)
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+from typing import Annotated
+
+import numpy as np
+import typer
+
+from ...errors import ModelError, SolverError
+
+__all__ = ["transient_command", "plot_command", "parse_overrides"]
+
+
+def parse_overrides(items: list[str] | None) -> dict[str, str]:
+    """``["meshes[0].variation.ka_ratio=0.2", ...]`` → {path: value}."""
+    out = {}
+    for item in items or []:
+        if "=" not in item:
+            raise ModelError("a --set option needs PATH=VALUE", field="--set", value=item,
+                             expected="e.g. meshes[0].variation.ka_ratio=0.2")
+        key, value = item.split("=", 1)
+        out[key.strip()] = value.strip()
+    return out
+
+
+def _fail(exc: Exception, code: int) -> typer.Exit:
+    typer.echo(f"error: {exc}", err=True)
+    return typer.Exit(code)
+
+
+def transient_command(
+    model: Annotated[Path, typer.Argument(help="model file (TOML)")],
+    t_end: Annotated[float, typer.Option("--t-end", help="end time, s")] = 1.0,
+    dt: Annotated[float | None, typer.Option(
+        "--dt", help="time step, s (default: rk4 0.95× its stability limit; modal: automatic)"
+    )] = None,
+    method: Annotated[str, typer.Option("--method", help="'modal' (fast) or 'rk4' (reference)")
+                      ] = "modal",
+    set_: Annotated[list[str] | None, typer.Option(
+        "--set", help="override a model value, PATH=VALUE (repeatable)")] = None,
+    output: Annotated[Path | None, typer.Option("--output", "-o",
+                                                help="write the result (NetCDF)")] = None,
+    format: Annotated[str, typer.Option("--format", help="'table' or 'json'")] = "table",
+    plot: Annotated[Path | None, typer.Option("--plot", help="directory for PNG figures")] = None,
+    reactions: Annotated[bool, typer.Option(
+        help="reaction torques of the θ̈ terms (Lagrangian form); --no-reactions: dissertation"
+    )] = True,
+    progress: Annotated[bool, typer.Option(help="progress on stderr")] = True,
+) -> None:
+    """Nonlinear transient (time-varying mesh, backlash, free speed) of a train."""
+    from .integrators import RK4, RK4_STABILITY, ModalRK4, omega_max, transient
+    from .equations import build_system
+    from .plots import standard_figures
+
+    if format not in ("table", "json"):
+        raise _fail(ModelError("unknown output format", field="--format", value=format,
+                               expected="'table' or 'json'"), 2)
+    try:
+        from ...io import load_model
+
+        train = load_model(model, parse_overrides(set_))
+        if method == "rk4":
+            if dt is None:
+                w = omega_max(build_system(train))
+                dt = float(f"{0.95 * RK4_STABILITY / w:.2g}")
+            integ = RK4(dt=dt)
+        elif method == "modal":
+            integ = ModalRK4(dt=dt)
+        else:
+            raise ModelError("unknown method", field="--method", value=method,
+                             expected="'modal' or 'rk4'")
+        if dt is not None and not dt > 0:
+            raise ModelError("the time step must be positive", field="--dt", value=dt)
+        res = transient(train, t_end=t_end, integrator=integ, reactions=reactions,
+                        progress=progress)
+    except ModelError as exc:
+        raise _fail(exc, 2) from None
+    except SolverError as exc:
+        raise _fail(exc, 1) from None
+    if output is not None:
+        res.save(output)
+    if plot is not None:
+        standard_figures(res, plot)
+    if format == "json":
+        typer.echo(json.dumps(res.summary(), default=_jsonable))
+    else:
+        typer.echo(res.table())
+    sys.stdout.flush()
+
+
+def _jsonable(x):
+    if isinstance(x, np.generic):
+        return x.item()
+    raise TypeError(type(x))
+
+
+def plot_command(
+    file: Annotated[Path, typer.Argument(help="a transient result (NetCDF)")],
+    output: Annotated[Path | None, typer.Option(
+        "--output", "-o", help="directory for the PNGs (default: next to the file)")] = None,
+) -> None:
+    """Standard figures of a saved transient result."""
+    from .plots import standard_figures
+    from .results import load_result
+
+    try:
+        ds = load_result(file)
+    except ModelError as exc:
+        raise _fail(exc, 2) from None
+    except (OSError, ValueError) as exc:
+        raise _fail(ModelError(f"cannot read the result file: {exc}", file=str(file)), 2) from None
+    out = output if output is not None else file.with_name(file.stem + "_plots")
+    for p in standard_figures(ds, out, prefix=file.stem):
+        typer.echo(str(p))
