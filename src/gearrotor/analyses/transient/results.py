@@ -176,7 +176,7 @@ class TransientResult:
                 "x": (("time", "node"), self.node_x, {"units": "m"}),
                 "y": (("time", "node"), self.node_y, {"units": "m"}),
                 "node_shaft": (("node",), self.node_shaft.astype(np.int64)),
-                "probe": (("time", "probe"), self.probes, {"units": "m"}),
+                "probe_signal": (("time", "probe"), self.probes, {"units": "m"}),
                 "mesh_force": (("time", "mesh"), self.mesh_force,
                                {"units": "N", "long_name": "normal tooth force"}),
                 "mesh_torque_gear": (("time", "mesh"), self.mesh_torque_gear, {"units": "N m"}),
