@@ -217,6 +217,44 @@ def mesh_stiffness(train: Train, k: int) -> float:
     )
 
 
+def _film_table(b, field: str, shaft) -> CoefficientTable:
+    """Speed table of a bearing from a saved file or from the fluid-film solver."""
+    from .bearings import coefficients_table, load_bearing, load_table
+
+    try:
+        if b.table_file is not None:
+            t = load_table(b.table_file)
+        else:
+            ff = b.fluid_film
+            case = load_bearing(ff.file)
+            if ff.load is not None:
+                load = ff.load
+            elif ff.load_case < len(case.loads):
+                load = case.loads[ff.load_case]
+            else:
+                raise ModelError(
+                    "no such load case in the bearing file",
+                    field=f"{field}.fluid_film.load_case",
+                    value=ff.load_case,
+                    expected=f"0..{len(case.loads) - 1} or a 'load'",
+                )
+            sign = 1.0 if shaft.speed_ratio >= 0 else -1.0  # the journal turns with its shaft
+            rpm = sign * np.sort(np.abs(ff.speeds)) * 30 / np.pi
+            t = coefficients_table(case.bearing, load, rpm, options=case.options)
+    except ModelError as exc:
+        raise ModelError(
+            exc.message,
+            field=exc.field or field,
+            value=exc.value,
+            expected=exc.expected,
+            file=exc.file,
+        ) from None
+    speed = np.abs(np.asarray(t.speed_rpm)) * np.pi / 30
+    order = np.argsort(speed)
+    vals = np.column_stack([t.kxx, t.kxy, t.kyx, t.kyy, t.cxx, t.cxy, t.cyx, t.cyy])[order]
+    return CoefficientTable(speed[order], vals)
+
+
 def assemble(train: Train) -> Assembly:
     """Build the global matrices of a train (raises :class:`ModelError` on bad input)."""
     layout = train.layout()
@@ -264,6 +302,8 @@ def assemble(train: Train) -> Assembly:
             t = b.table
             vals = np.column_stack([t.kxx, t.kxy, t.kyx, t.kyy, t.cxx, t.cxy, t.cyx, t.cyy])
             el = RadialBearing(table=CoefficientTable(np.asarray(t.speed), vals, t.extrapolate))
+        elif b.table_file is not None or b.fluid_film is not None:
+            el = RadialBearing(table=_film_table(b, f"bearings[{k}]", layout.shafts[si]))
         else:
             el = RadialBearing(*b.coefficients())
         sup = None

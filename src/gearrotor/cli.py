@@ -281,13 +281,19 @@ def unbalance(
 @handle_errors
 def bearing(
     path: Annotated[Path, typer.Argument(help="bearing TOML file")],
-    load: Annotated[str | None, typer.Option(help="FX,FY in N (default: the file's load "
-                                             "cases)")] = None,
-    speed: Annotated[str | None, typer.Option(help="journal speed, rpm or with units "
-                                              "(default: the file's)")] = None,
+    load: Annotated[
+        str | None, typer.Option(help="FX,FY in N (default: the file's load cases)")
+    ] = None,
+    speed: Annotated[
+        str | None, typer.Option(help="journal speed, rpm or with units (default: the file's)")
+    ] = None,
     format: FormatOpt = "table",
-    plot: Annotated[Path | None, typer.Option(help="write pressure maps, eccentricity locus "
-                                              "and coefficient plots to this directory")] = None,
+    plot: Annotated[
+        Path | None,
+        typer.Option(
+            help="write pressure maps, eccentricity locus and coefficient plots to this directory"
+        ),
+    ] = None,
 ) -> None:
     """Fluid-film journal bearing: static equilibrium and the 8 dynamic coefficients."""
     from .bearings.cli import bearing_command

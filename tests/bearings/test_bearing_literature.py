@@ -15,7 +15,9 @@ Sources
    tests.) Their frame has x along the load (down) and y horizontal in the direction of
    rotation; with our counter-clockwise rotation and load along −y that is x_LT = −y,
    y_LT = x, hence K_LT = [[kyy, −kyx], [−kxy, kxx]] (same for damping), with
-   K̄ = K c/W and B̄ = C c ω/W.
+   K̄ = K c/W and B̄ = C c ω/W. Their elliptical (lemon) bearing: two 160° lobes centred at
+   the top and bottom, preload 0.5, L/D = 1; all their groups there use the PAD clearance
+   c_p: S = μNLD/W (R/c_p)², ε = e/c_p, K̄ = K c_p/W, B̄ = C c_p ω/W.
 """
 
 import math
@@ -30,6 +32,7 @@ from gearrotor.bearings import (
     SolverOptions,
     axial_groove,
     coefficients,
+    elliptical,
     film_state,
 )
 
@@ -119,5 +122,35 @@ def test_lund_thomsen_two_axial_groove(ld, row):
     assert co.equilibrium.eccentricity_ratio == pytest.approx(eps, abs=0.005)
     assert math.degrees(co.equilibrium.attitude_angle) == pytest.approx(phi, abs=0.3)
     k, b_ = co.dimensionless(c)
+    ours = [k[1, 1], -k[1, 0], -k[0, 1], k[0, 0], b_[1, 1], -b_[1, 0], b_[0, 0]]
+    np.testing.assert_allclose(ours, ref, rtol=0.03, atol=0.05)
+
+
+# [LT] elliptical bearing rows: (S, ε, φ, Kxx, Kxy, Kyx, Kyy, Bxx, Bxy, Byy), pad clearance
+LT_ELLIPTICAL = [
+    (0.211, 0.260, 87.79, 6.65, 4.36, -3.21, 0.86, 13.09, -2.23, 3.70),
+    (0.161, 0.304, 83.29, 5.63, 3.84, -2.32, 1.01, 10.75, -1.02, 3.07),
+    (0.120, 0.350, 81.80, 4.99, 3.54, -1.52, 1.14, 9.04, -0.01, 2.49),
+    (0.097, 0.381, 78.65, 4.82, 3.46, -1.01, 1.21, 8.26, 0.56, 2.10),
+]
+
+
+@pytest.mark.parametrize("row", LT_ELLIPTICAL, ids=[f"S{r[0]}" for r in LT_ELLIPTICAL])
+def test_lund_thomsen_elliptical_preload(row):
+    """Preloaded lobes (m = 0.5) on a 72×16 grid: ε within 0.005, coefficients within
+    0.05 + 3 % (measured ≤ 0.03 except Bxy 0.53 vs 0.56), φ within 0.3° — except the
+    S = 0.161 row, printed 83.29° where we get 85.28° on every grid: the neighbouring rows
+    agree within 0.07°, and 85.3° lies on their smooth trend (87.8, 85.3, 81.8, 78.6), so the
+    printed value looks like a typo (ROSS's test makes the same observation)."""
+    s, eps, phi, *ref = row
+    d, mu, rpm, cp, m = 0.1, 0.02, 3000.0, 200e-6, 0.5
+    c = cp * (1 - m)
+    w = mu * rpm / 60 * d * d * (d / 2 / cp) ** 2 / s
+    b = elliptical(d, d, c, mu, preload=m, groove_arc=math.radians(20.0))
+    co = coefficients(b, (0.0, -w), rpm * math.pi / 30, options=SolverOptions(grid=Grid(72, 16)))
+    assert co.equilibrium.eccentricity_ratio * c / cp == pytest.approx(eps, abs=0.005)
+    att = math.degrees(co.equilibrium.attitude_angle)
+    assert att == pytest.approx(85.3 if s == 0.161 else phi, abs=0.3)
+    k, b_ = co.dimensionless(cp)
     ours = [k[1, 1], -k[1, 0], -k[0, 1], k[0, 0], b_[1, 1], -b_[1, 0], b_[0, 0]]
     np.testing.assert_allclose(ours, ref, rtol=0.03, atol=0.05)

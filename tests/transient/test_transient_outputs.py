@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -20,7 +21,7 @@ from gearrotor.analyses.transient import (
 )
 from gearrotor.analyses.transient.cli import plot_command, transient_command
 
-from conftest import EXAMPLE  # noqa: I001
+EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "unity_gearbox.toml"
 
 
 @pytest.fixture(scope="module")

@@ -175,4 +175,17 @@ def load_model(path: str | Path, overrides: dict[str, Any] | None = None) -> Tra
         data = apply_overrides(data, overrides)
     except ModelError as exc:
         raise exc.with_file(name) from None
+    _resolve_paths(data, path.parent)
     return model_from_dict(data, file=name)
+
+
+def _resolve_paths(data: dict, base: Path) -> None:
+    """Make the bearing files of a model absolute, relative to the model file's folder."""
+    for b in data.get("bearings", []) if isinstance(data.get("bearings"), list) else []:
+        if not isinstance(b, dict):
+            continue
+        if isinstance(b.get("table_file"), str):
+            b["table_file"] = str((base / b["table_file"]).resolve())
+        ff = b.get("fluid_film")
+        if isinstance(ff, dict) and isinstance(ff.get("file"), str):
+            ff["file"] = str((base / ff["file"]).resolve())

@@ -17,6 +17,7 @@ from ..units import (
     Damping,
     Density,
     Dimensionless,
+    Force,
     Inertia,
     Length,
     Mass,
@@ -37,6 +38,7 @@ __all__ = [
     "NodeRef",
     "Shaft",
     "BearingTable",
+    "FluidFilm",
     "Support",
     "Bearing",
     "ThrustBearing",
@@ -194,9 +196,22 @@ class Support(Spec):
     cyy: Damping = 0.0
 
 
+class FluidFilm(Spec):
+    """Coefficients from the fluid-film bearing solver: a bearing file (see docs/bearings.md),
+    the static ``load`` (Fx, Fy) on this journal (default: the file's load case ``load_case``)
+    and the ``speeds`` (absolute shaft speeds) at which to tabulate them."""
+
+    file: str
+    load: tuple[Force, Force] | None = None
+    load_case: int = Field(default=0, ge=0)
+    speeds: list[AngularSpeed] = Field(min_length=1)
+
+
 class Bearing(NodeRef):
     """Radial bearing or seal with 8 coefficients: constant (``k``/``c`` isotropic shortcuts or
-    kxx..cyy) or a ``table`` against speed; optionally on a ``support`` pedestal."""
+    kxx..cyy), a ``table`` against speed, a saved table file ``table_file`` (CSV/TOML written by
+    ``gearrotor.bearings.save_table``) or ``fluid_film`` (solved at assembly); optionally on a
+    ``support`` pedestal. Relative file paths are relative to the model file."""
 
     name: str | None = None
     k: Stiffness | None = None
@@ -210,7 +225,22 @@ class Bearing(NodeRef):
     cyx: Damping = 0.0
     cyy: Damping = 0.0
     table: BearingTable | None = None
+    table_file: str | None = None
+    fluid_film: FluidFilm | None = None
     support: Support | None = None
+
+    @model_validator(mode="after")
+    def _one_source(self) -> Bearing:
+        sources = [self.table is not None, self.table_file is not None, self.fluid_film is not None]
+        constant = any(
+            getattr(self, n)
+            for n in ("k", "c", "kxx", "kxy", "kyx", "kyy", "cxx", "cxy", "cyx", "cyy")
+        )
+        if sum(sources) + constant > 1:
+            raise ValueError(
+                "give one coefficient source: constants, 'table', 'table_file' or 'fluid_film'"
+            )
+        return self
 
     def coefficients(self) -> tuple[float, ...]:
         """The constant coefficients kxx kxy kyx kyy cxx cxy cyx cyy (isotropic shortcuts added)."""

@@ -28,7 +28,7 @@ def _ds(result):
     return result if hasattr(result, "data_vars") else result.to_xarray()
 
 
-def _figure(nrows=1, ncols=1, size=(9, 6)):
+def _figure(nrows=1, ncols=1, size=(9, 6)):  # noqa: D401
     from matplotlib.figure import Figure
 
     fig = Figure(figsize=size, layout="constrained")
@@ -62,6 +62,8 @@ def plot_time_histories(result):
 def plot_spectra(result, *, segments: int = 4, window: str = "hann"):
     """Spectra (cpm) of gear-node x and shaft-1 speed over the second half of the run: full
     range (log) and zooms near 1x/2x and near the mesh frequency (with ±1x sidebands)."""
+    from matplotlib.ticker import MaxNLocator
+
     ds = _ds(result)
     sl = _steady(ds)
     t = ds["time"].values[sl]
@@ -71,7 +73,7 @@ def plot_spectra(result, *, segments: int = 4, window: str = "hann"):
     node0 = str(ds["node"].values[0])
     x = ds["x"].values[sl, 0]
     f, a = spectrum(x, dt, window=window, segments=segments)
-    fs, as_ = spectrum(ds["shaft_speed"].values[sl, 0] * RPM, dt, window=window,
+    fs, as_ = spectrum(np.abs(ds["shaft_speed"].values[sl, 0]) * RPM, dt, window=window,
                        segments=segments)
     fig, ax = _figure(2, 3, (14, 7))
     model = _model(ds)
@@ -97,6 +99,7 @@ def plot_spectra(result, *, segments: int = 4, window: str = "hann"):
                     ax[row, c].axvline(mesh_cpm + sb * run_cpm, color="0.8", ls=":", lw=0.6)
             ax[row, c].set_xlim(lo, hi)
         for c in range(3):
+            ax[row, c].xaxis.set_major_locator(MaxNLocator(5))
             ax[row, c].set_xlabel("frequency (cpm)")
             ax[row, c].set_ylabel(f"amplitude 0-pk ({unit})")
             ax[row, c].grid(alpha=0.3)
@@ -139,10 +142,10 @@ def plot_speeds(result):
     t = ds["time"].values
     fig, ax = _figure(1, 1, (10, 4))
     for k, name in enumerate(ds["shaft"].values):
-        rpm = ds["shaft_speed"].values[:, k] * RPM
+        rpm = np.abs(ds["shaft_speed"].values[:, k]) * RPM
         ax[0, 0].plot(t, rpm - rpm[0], lw=0.6, label=f"{name} (start {rpm[0]:.0f} rpm)")
     ax[0, 0].set_xlabel("time (s)")
-    ax[0, 0].set_ylabel("speed − initial (rpm)")
+    ax[0, 0].set_ylabel("|speed| − initial (rpm)")
     ax[0, 0].legend()
     ax[0, 0].grid(alpha=0.3)
     fig.suptitle("Shaft speed fluctuation")
@@ -179,7 +182,8 @@ def plot_whirl_power(result, *, smooth: float = 0.01):
     ker = np.ones(n) / n
     fig, ax = _figure(1, 1, (10, 5))
     for k, name in enumerate(ds["component"].values):
-        p = np.convolve(ds["whirl_power"].values[:, k], ker, mode="same")
+        x = ds["whirl_power"].values[:, k]
+        p = np.convolve(np.pad(x, (n // 2, n - 1 - n // 2), mode="edge"), ker, mode="valid")
         ax[0, 0].plot(t, p, lw=0.8, label=str(name))
     ax[0, 0].axhline(0, color="k", lw=0.5)
     ax[0, 0].set_xlabel("time (s)")

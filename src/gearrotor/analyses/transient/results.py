@@ -127,11 +127,13 @@ class TransientResult:
         for lab, a in amp.items():
             s["nodes"][lab] = {"x_1x_um": a["x"] * 1e6, "y_1x_um": a["y"] * 1e6,
                                "x_2x_um": a["x2"] * 1e6, "y_2x_um": a["y2"] * 1e6}
+        fl = self.speed_fluctuation(min(0.5, float(self.time[-1] - self.time[0])))
         for k, name in enumerate(self.shaft_names):
             rpm = self.shaft_speed_rpm[:, k]
             s["shafts"][name] = {"speed_min_rpm": float(rpm.min()),
                                  "speed_max_rpm": float(rpm.max()),
-                                 "speed_mean_rpm": float(rpm.mean())}
+                                 "speed_mean_rpm": float(rpm.mean()),
+                                 "speed_fluctuation_rpm": float(fl[k] * RPM)}
         for k, name in enumerate(self.mesh_names):
             s["meshes"][name] = {"force_min_N": float(self.mesh_force[:, k].min()),
                                  "force_max_N": float(self.mesh_force[:, k].max()),
@@ -162,6 +164,17 @@ class TransientResult:
         sl = slice(None) if start is None else self.time >= start
         return spectrum(np.asarray(signal)[sl], float(np.median(np.diff(self.time))),
                         window=window, segments=segments, overlap=overlap)
+
+    def speed_fluctuation(self, window: float = 0.5) -> NDArray:
+        """(ns,) half peak-to-peak speed fluctuation (rad/s) about a linear trend over the last
+        ``window`` seconds (the trend is the coast-down or run-up)."""
+        sl = self.time >= self.time[-1] - window
+        t = self.time[sl]
+        out = []
+        for s in range(self.shaft_speed.shape[1]):
+            w = self.shaft_speed[sl, s]
+            out.append(0.5 * np.ptp(w - np.polyval(np.polyfit(t - t[0], w, 1), t - t[0])))
+        return np.array(out)
 
     # ---- xarray / NetCDF -----------------------------------------------------------------
     def to_xarray(self):
@@ -227,16 +240,24 @@ def load_result(path: str | Path):
 
 # ---- signal processing ---------------------------------------------------------------------
 def spectrum(x: NDArray, dt: float, *, window: str = "hann", segments: int = 1,
-             overlap: float = 0.5) -> tuple[NDArray, NDArray]:
+             overlap: float = 0.5, detrend: str = "linear") -> tuple[NDArray, NDArray]:
     """Averaged amplitude spectrum: (frequency in cpm, zero-to-peak amplitude).
 
-    The signal (mean removed) is split into ``segments`` windows overlapping by ``overlap``;
+    The signal (linear trend or mean removed: ``detrend = "linear"`` or ``"mean"``, so that a
+    coasting speed does not swamp the low frequencies) is split into ``segments`` windows
+    overlapping by ``overlap``;
     each is windowed (``"hann"``, ``"flattop"`` for amplitude accuracy, or ``"rect"``) and the
     magnitudes are averaged; scaling ``2|X|/Σw`` makes a sinusoid at a bin read its amplitude.
     """
     x = np.asarray(x, float)
-    x = x - x.mean()
     n = len(x)
+    if detrend == "linear" and n > 1:
+        tt = np.arange(n)
+        x = x - np.polyval(np.polyfit(tt, x, 1), tt)
+    elif detrend == "mean":
+        x = x - x.mean()
+    else:
+        raise ValueError(f"unknown detrend {detrend!r}; expected 'linear' or 'mean'")
     if segments < 1 or n < 8:
         raise ValueError("spectrum needs at least 8 samples and segments >= 1")
     L = int(n / (1 + (segments - 1) * (1 - overlap)))
