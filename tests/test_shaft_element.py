@@ -12,6 +12,18 @@ E, RHO, NU = 211e9, 7850.0, 0.3
 G = E / (2 * (1 + NU))
 
 
+def timoshenko_simply_supported(n: int, L: float, d: float) -> float:
+    """Lower root of the Timoshenko frequency equation of a simply supported solid beam,
+    mode n: ρ²I/(κG) ω⁴ − (ρA + ρI k²(1 + E/(κG))) ω² + EI k⁴ = 0, k = nπ/L."""
+    A, I = np.pi * d**2 / 4, np.pi * d**4 / 64
+    k = n * np.pi / L
+    kappa = shear_coefficient(0, d, NU)
+    a = RHO * I * RHO / (kappa * G)
+    b = -(RHO * A + RHO * I * k**2 * (1 + E / (kappa * G)))
+    c = E * I * k**4
+    return float(np.sqrt((-b - np.sqrt(b * b - 4 * a * c)) / (2 * a)))
+
+
 def element(L=0.1, d=0.06, di=0.0, **kw):
     return ShaftElement(L, d, di, E, G, RHO, **kw)
 
@@ -91,7 +103,6 @@ def test_pinned_pinned_and_mesh_convergence_order():
     """Simply supported Euler–Bernoulli-like beam: ω_n = (nπ/L)² √(EI/ρA); cubic elements
     converge as h⁴."""
     L, d = 2.0, 0.02
-    A, I = np.pi * d**2 / 4, np.pi * d**4 / 64
 
     def first(n_el):
         t = single_shaft(
@@ -106,13 +117,7 @@ def test_pinned_pinned_and_mesh_convergence_order():
         lat = np.sort(res.damped_frequency[np.array(res.mode_type) == "L"])
         return lat[4]  # 3rd bending mode (pairs)
 
-    # Timoshenko closed form for the 3rd simply-supported mode (exact reference)
-    k = 3 * np.pi / L
-    kappa = shear_coefficient(0, d, NU)
-    a = RHO * I * RHO / (kappa * G)
-    b = -(RHO * A + RHO * I * k**2 * (1 + E / (kappa * G)))
-    c = E * I * k**4
-    exact = np.sqrt((-b - np.sqrt(b * b - 4 * a * c)) / (2 * a))
+    exact = timoshenko_simply_supported(3, L, d)
     errs = [abs(first(n) - exact) / exact for n in (6, 12, 24)]
     order = np.log2(errs[0] / errs[1]), np.log2(errs[1] / errs[2])
     assert errs[-1] < 3e-5, errs
@@ -135,13 +140,9 @@ def test_timoshenko_shear_effect_thick_beam():
     )
     res = modal(t, speed=0.0)
     lat = np.sort(res.damped_frequency[np.array(res.mode_type) == "L"])[::2]
-    kappa = shear_coefficient(0, d, NU)
     for n, got in zip((1, 2), lat[:2], strict=True):
         k = n * np.pi / L
-        a = RHO * I * RHO / (kappa * G)
-        b = -(RHO * A + RHO * I * k**2 * (1 + E / (kappa * G)))
-        c = E * I * k**4
-        timo = np.sqrt((-b - np.sqrt(b * b - 4 * a * c)) / (2 * a))
+        timo = timoshenko_simply_supported(n, L, d)
         eb = k**2 * np.sqrt(E * I / (RHO * A))
         assert got == pytest.approx(timo, rel=2e-3)
         assert eb / timo > 1.04  # the shear effect is real at this slenderness (4.5 %, 15 %)

@@ -11,9 +11,9 @@ import typer
 from typer.testing import CliRunner
 
 from gearrotor.analyses.transient import (
-    ModalRK4,
     RK4,
     Checkpoint,
+    ModalRK4,
     Save,
     load_result,
     spectrum,

@@ -64,6 +64,9 @@ class Equilibrium:
         Newton iterations (summed over continuation steps).
     film_solves, factorizations
         Work of the film solver.
+    status
+        ``"converged"`` (Newton) or ``"converged (load continuation)"`` (after the fallback);
+        failures raise instead.
     """
 
     speed: float
@@ -121,18 +124,24 @@ def _check_inputs(load: Sequence[float], speed: float) -> tuple[float, float]:
 def _newton(
     ev: _Evaluator, u: NDArray, wg: NDArray, ftol: float, max_iter: int
 ) -> tuple[NDArray, BearingFilm, int]:
-    """Damped Newton with backtracking; raises SolverError on failure."""
+    """Damped Newton with backtracking; raises SolverError on failure.
+
+    The stiffness (Jacobian) is recomputed by central differences whenever the last step was
+    not a full step that at least halved the residual; otherwise it gets a Broyden rank-one
+    update (``K s = −Δr`` for the step just taken), which saves most of the film solves.
+    """
     c = ev.bearing.clearance
     film = ev.evaluate(u)
     r = film.forces + wg
     norm = float(np.linalg.norm(r))
-    kmat = None
-    for it in range(max_iter + 1):
+    kmat, fresh = None, False
+    it = 0
+    while it < max_iter:
         if norm <= ftol:
             return u, film, it
-        if it == max_iter:
-            break
-        kmat, _ = ev.jacobians(u, velocity=False, base=film)
+        if kmat is None:
+            kmat, _ = ev.jacobians(u, velocity=False, base=film)
+            fresh = True
         try:
             du = np.linalg.solve(kmat, r)  # r − K du = 0
         except np.linalg.LinAlgError:
@@ -150,12 +159,24 @@ def _newton(
             r_t = film_t.forces + wg
             n_t = float(np.linalg.norm(r_t))
             if n_t < (1.0 - 1e-4 * t) * norm:
-                u, film, r, norm = trial, film_t, r_t, n_t
                 accepted = True
                 break
             t *= 0.5
+        it += 1
         if not accepted:
-            break
+            if fresh:
+                break
+            kmat = None  # the updated Jacobian misled the step: take a fresh one
+            continue
+        if t == 1.0 and n_t < 0.5 * norm:
+            step = t * du
+            kmat = kmat - np.outer(r_t - r + kmat @ step, step) / (step @ step)
+            fresh = False
+        else:
+            kmat = None
+        u, film, r, norm = trial, film_t, r_t, n_t
+    if norm <= ftol:
+        return u, film, it
     raise SolverError(
         f"equilibrium Newton iteration stalled at residual {norm:.3g} N "
         f"(tolerance {ftol:.3g} N) after {it} iterations"
@@ -205,11 +226,13 @@ def equilibrium(
     iterations = 0
     if start is None:
         u0 = ev.settle_pads(u0)
+    status = "converged"
     try:
         u, film, iterations = _newton(ev, u0, wg, ftol, opts.max_iter)
     except SolverError as first:
         u, film, iterations = _continuation(ev, wg, ftol, opts.max_iter, first)
-    return _result(bearing, speed, (fx, fy), u, film, iterations, ev)
+        status = "converged (load continuation)"
+    return _result(bearing, speed, (fx, fy), u, film, iterations, ev, status)
 
 
 def _continuation(
@@ -250,6 +273,7 @@ def _result(
     film: BearingFilm,
     iterations: int,
     ev: _Evaluator,
+    status: str,
 ) -> Equilibrium:
     x, y = float(u[0]), float(u[1])
     e = math.hypot(x, y)
@@ -276,4 +300,5 @@ def _result(
         iterations=iterations,
         film_solves=ev.work.film_solves,
         factorizations=ev.work.factorizations,
+        status=status,
     )

@@ -20,7 +20,15 @@ from numpy.typing import NDArray
 
 from ..errors import ModelError
 from .geometry import Bearing, FixedBearing, TiltingPadBearing
-from .reynolds import Cavitation, Grid, PadFilm, WorkCounter, pad_mesh, solve_pad
+from .reynolds import (
+    Cavitation,
+    FilmContact,
+    Grid,
+    PadFilm,
+    WorkCounter,
+    pad_mesh,
+    solve_pad,
+)
 
 __all__ = ["SolverOptions", "BearingFilm", "film_state", "dof_names"]
 
@@ -286,7 +294,17 @@ class _Evaluator:
             for loc in present:
                 e = np.zeros(4)
                 e[loc] = 1.0
-                dk = -(solve(k, q0 + e * dx / c, zero) - solve(k, q0 - e * dx / c, zero)) / (2 * dx)
+                step = dx
+                for _ in range(4):  # near contact: shrink the step until both sides have a film
+                    try:
+                        fp = solve(k, q0 + e * step / c, zero)
+                        fm = solve(k, q0 - e * step / c, zero)
+                        break
+                    except FilmContact:
+                        step *= 0.1
+                else:
+                    raise FilmContact("no film left to perturb the journal position in")
+                dk = -(fp - fm) / (2 * step)
                 if velocity:
                     dc = -(solve(k, q0, e * dv / c) - solve(k, q0, -e * dv / c)) / (2 * dv)
                 for row in present:

@@ -474,15 +474,15 @@ def solve_pad(
     # generalised forces (both halves)
     phi_u = mesh.phi_node[:, i]
     forces = 2.0 * scale * radius**2 * (phi_u @ (p * mesh.w_area))
-    # side flow out of both ends: one-sided flux through the edge faces j = 1/2
-    irange = np.arange(m) if mesh.periodic else np.arange(1, m)
+    # side flow out of both ends: the flux through the faces j = 1/2 plus the net Couette and
+    # squeeze source of the half cell between them and the edge (second order in Δζ)
+    first = (j == 1) & (p > 0.0)
     side = (
         2.0
         * clearance
         * radius**2
-        * mesh.dth
-        / (12.0 * mesh.dze)
-        * float(np.sum(g_ze[irange, 0] * pgrid[irange, 1]))
+        / 12.0
+        * float(np.sum(a_s[first] * p[first]) + 0.5 * np.sum(rhs[first]))
     )
     # friction power (full-film shear on the pad)
     wt = np.full(m + 1, mesh.dth)

@@ -56,8 +56,8 @@ def transient_command(
     progress: Annotated[bool, typer.Option(help="progress on stderr")] = True,
 ) -> None:
     """Nonlinear transient (time-varying mesh, backlash, free speed) of a train."""
-    from .integrators import RK4, RK4_STABILITY, ModalRK4, omega_max, transient
     from .equations import build_system
+    from .integrators import RK4, RK4_STABILITY, ModalRK4, omega_max, transient
     from .plots import standard_figures
 
     if format not in ("table", "json"):

@@ -184,7 +184,7 @@ def build_system(
         if A.nnz:
             A.data[np.abs(A.data) < 1e-12 * np.abs(A.data).max()] = 0.0
             A.eliminate_zeros()
-    for k, m in enumerate(asm.meshes):
+    for m in asm.meshes:
         ri, rj = m.geometry.radius_i, m.geometry.radius_j
         ni, nj = m.teeth
         if abs(ri / rj - ni / nj) > 1e-9 * ni / nj:
@@ -297,7 +297,8 @@ def build_system(
     return system
 
 
-def mesh_damping_from_ratio(system: TransientSystem, mesh: int, ratio: float) -> tuple[float, float]:
+def mesh_damping_from_ratio(system: TransientSystem, mesh: int,
+                            ratio: float) -> tuple[float, float]:
     """Mesh damping coefficient c (N·s/m) giving modal damping ratio ``ratio`` to the mesh mode.
 
     The mesh mode is the undamped mode φ_i (mass-normalised, of the constant-speed linear model

@@ -324,8 +324,8 @@ def build_result(system: TransientSystem, out: NDArray, t, rq, rv, ra, rom, *, s
     def node_label(g):
         return asm.dof_labels[g].rsplit(".", 1)[0]
 
-    node_x = np.column_stack([hist(rq, g) for g, _ in node_list]) if node_list else np.zeros((nt, 0))
-    node_y = np.column_stack([hist(rq, g + 1) for g, _ in node_list]) if node_list else np.zeros((nt, 0))
+    node_x = np.column_stack([hist(rq, g) for g, _ in node_list] + [np.zeros((nt, 0))])
+    node_y = np.column_stack([hist(rq, g + 1) for g, _ in node_list] + [np.zeros((nt, 0))])
     probes = []
     for k, p in enumerate(train.probes):
         si, node = train.node_index(p, f"probes[{k}]")
