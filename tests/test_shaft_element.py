@@ -159,3 +159,27 @@ def test_axial_and_torsional_rod_free_free():
     n = np.array([1, 2])
     np.testing.assert_allclose(ax, n * np.pi / L * np.sqrt(E / RHO), rtol=1e-3)
     np.testing.assert_allclose(tor, n * np.pi / L * np.sqrt(G / RHO), rtol=1e-3)
+
+
+def test_convergence_rate_depends_on_element_slenderness():
+    """Slender elements (Φ ≪ 1): O(h⁴); elements shorter than the diameter (Φ ≳ 1): O(h²)."""
+
+    def rate(L, d, n0):
+        ex = timoshenko_simply_supported(2, L, d)
+        errs = []
+        for n in (n0, 2 * n0):
+            t = single_shaft(
+                length=L,
+                diameter=d,
+                elements=n,
+                E=E,
+                density=RHO,
+                bearings=[{"node": 0, "k": 1e18}, {"node": n, "k": 1e18}],
+            )
+            r = modal(t, speed=0.0)
+            lat = np.sort(r.damped_frequency[np.array(r.mode_type) == "L"])[::2]
+            errs.append(abs(lat[1] - ex) / ex)
+        return np.log2(errs[0] / errs[1])
+
+    assert rate(2.0, 0.02, 8) > 3.6  # Φ ~ 1e-3 (pre-asymptotic at 8 elements: 3.7)
+    assert 1.8 < rate(0.5, 0.1, 16) < 2.3  # Φ ~ 10

@@ -84,10 +84,10 @@ def _doc(**over):
 @pytest.mark.parametrize(
     "over, field, words",
     [
-        ({"diamter": "1 m"}, "bearing.diamter", "no such key"),
+        ({"diamter": "1 m"}, "bearing.diamter", "unknown key"),
         ({"diameter": "100 kg"}, "bearing.diameter", "length"),
         ({"arc": 150}, "bearing.arc", "deg"),
-        ({"type": "lemon"}, "bearing", "type = plain"),
+        ({"type": "lemon"}, "bearing.type", "offset_halves | elliptical"),
         (
             {"pockets": [{"pads": [3], "arc": "30 deg", "width": "20 mm", "depth": "0.1 mm"}]},
             "bearing.pockets[0].pads",

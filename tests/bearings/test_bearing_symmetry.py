@@ -239,3 +239,15 @@ def test_zero_speed_is_an_input_error():
 
     with pytest.raises(ModelError, match="non-zero speed"):
         equilibrium(plain(0.1, 0.05, 1e-4, 0.02), (0.0, -100.0), 0.0)
+
+
+def test_stability_threshold_half_frequency_whirl():
+    """Rigid rotor on plain bearings (Lund's threshold): a lightly loaded plain bearing whirls
+    at half speed (measured 0.4998 at ε = 0.004), and the threshold disappears at high
+    eccentricity (ε = 0.85 at L/D = 0.5: stable for any mass)."""
+    b = plain(0.1, 0.05, 1e-4, 0.02)
+    ratio, m_crit = coefficients(b, (0.0, -10.0), 300.0, options=OPTS).stability_threshold()
+    assert ratio == pytest.approx(0.5, abs=0.005) and 0 < m_crit < math.inf
+    heavy = coefficients(b, (0.0, -20000.0), 300.0, options=OPTS)
+    assert heavy.equilibrium.eccentricity_ratio > 0.8
+    assert heavy.stability_threshold()[1] == math.inf

@@ -82,6 +82,9 @@ def _row(k: int, name: str, co: Coefficients) -> dict:
         "sommerfeld": eq.sommerfeld,
         "newton_iterations": eq.iterations,
     }
+    ratio, m_crit = co.stability_threshold()
+    d["whirl_frequency_ratio"] = None if math.isnan(ratio) else ratio
+    d["critical_mass_kg"] = None if math.isinf(m_crit) else m_crit
     for n in ("kxx", "kxy", "kyx", "kyy"):
         d[f"{n}_N_per_m"] = getattr(co, n)
     for n in ("cxx", "cxy", "cyx", "cyy"):
@@ -90,11 +93,16 @@ def _row(k: int, name: str, co: Coefficients) -> dict:
 
 
 def format_table(rows: list[dict], header: str = "") -> str:
-    """Two fixed-width tables: equilibrium, then coefficients."""
+    """Two fixed-width tables: equilibrium, then coefficients.
+
+    ``whirl`` and ``m_crit`` are Lund's rigid-rotor threshold whirl frequency ratio and
+    critical mass per bearing (``-`` = no threshold, stable for any mass).
+    """
     lines = [header] if header else []
     lines.append(
         f"{'case':>4} {'Fx N':>9} {'Fy N':>9} {'rpm':>7} {'ecc':>6} {'att deg':>8} "
-        f"{'hmin um':>8} {'pmax MPa':>8} {'P kW':>7} {'Q l/min':>8} {'S':>8}"
+        f"{'hmin um':>8} {'pmax MPa':>8} {'P kW':>7} {'Q l/min':>8} {'S':>8} "
+        f"{'whirl':>6} {'m_crit kg':>10}"
     )
     for r in rows:
         lines.append(
@@ -102,7 +110,8 @@ def format_table(rows: list[dict], header: str = "") -> str:
             f"{r['eccentricity_ratio']:>6.3f} {r['attitude_angle_deg']:>8.2f} "
             f"{r['min_film_m'] * 1e6:>8.2f} {r['peak_pressure_Pa'] / 1e6:>8.3f} "
             f"{r['friction_power_W'] / 1e3:>7.3f} {r['side_flow_m3_per_s'] * 6e4:>8.3f} "
-            f"{r['sommerfeld']:>8.4g}"
+            f"{r['sommerfeld']:>8.4g} {_opt(r['whirl_frequency_ratio'], '6.3f')} "
+            f"{_opt(r['critical_mass_kg'], '10.4g')}"
         )
     lines.append("")
     names = ["kxx", "kxy", "kyx", "kyy", "cxx", "cxy", "cyx", "cyy"]
@@ -113,6 +122,11 @@ def format_table(rows: list[dict], header: str = "") -> str:
         vals = [r[f"{n}_N_per_m"] for n in names[:4]] + [r[f"{n}_N_s_per_m"] for n in names[4:]]
         lines.append(f"{r['case']:>4} " + " ".join(f"{v:>11.4e}" for v in vals))
     return "\n".join(lines)
+
+
+def _opt(value: float | None, spec: str) -> str:
+    width = int(spec.split(".")[0])
+    return f"{'-':>{width}}" if value is None else format(value, spec)
 
 
 def to_json(rows: list[dict], meta: dict) -> str:

@@ -111,6 +111,23 @@ class Coefficients:
         """The 8 coefficients in :data:`COEFFICIENT_NAMES` order."""
         return np.concatenate([self.K.ravel(), self.C.ravel()])
 
+    def stability_threshold(self) -> tuple[float, float]:
+        """Lund's rigid-rotor stability threshold of these (synchronous) coefficients.
+
+        For a rigid mass m per bearing (no other damping), instability sets in at whirl
+        frequency γ with ``K_eq = (kxx cyy + kyy cxx − kxy cyx − kyx cxy)/(cxx + cyy)`` and
+        ``γ² = ((K_eq − kxx)(K_eq − kyy) − kxy kyx)/(cxx cyy − cxy cyx)``, at the critical mass
+        ``m_c = K_eq/γ²``. Returns (whirl frequency ratio γ/|ω|, m_c in kg); (NaN, inf) when
+        γ² ≤ 0, i.e. no threshold (stable for any mass).
+        """
+        (kxx, kxy), (kyx, kyy) = self.K
+        (cxx, cxy), (cyx, cyy) = self.C
+        k_eq = (kxx * cyy + kyy * cxx - kxy * cyx - kyx * cxy) / (cxx + cyy)
+        g2 = ((k_eq - kxx) * (k_eq - kyy) - kxy * kyx) / (cxx * cyy - cxy * cyx)
+        if not g2 > 0:
+            return math.nan, math.inf
+        return math.sqrt(g2) / abs(self.speed), k_eq / g2
+
     def reduced(self, whirl: float) -> tuple[NDArray, NDArray]:
         """Journal K, C condensed at whirl frequency ``whirl`` (rad/s) (pad DOFs eliminated).
 

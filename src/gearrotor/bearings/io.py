@@ -63,7 +63,7 @@ class _Strict(BaseModel):
 def _arc_check(v: float) -> float:
     if not 0.0 < v <= 2 * math.pi + 1e-9:
         raise ValueError(
-            f"an angle between 0 and 360 deg (plain numbers are radians; write e.g. "
+            f"expected an angle between 0 and 360 deg (plain numbers are radians; write e.g. "
             f"'{math.degrees(v) if v < 10 else v:.4g} deg')"
         )
     return v
@@ -330,16 +330,26 @@ def parse_bearing(doc: dict, source: str = "") -> BearingCase:
         more = f" (and {len(errors) - 1} more error(s))" if len(errors) > 1 else ""
         msg = first["msg"].removeprefix("Value error, ")
         kind = first["type"]
-        expected = {
-            "extra_forbidden": "no such key: check the spelling (see docs/bearings.md)",
-            "missing": "this field to be given",
-            "union_tag_invalid": "type = plain | axial_groove | offset_halves | elliptical | "
-            "multilobe | pads | tilting_pad",
-        }.get(kind, msg)
+        message, expected = {
+            "value_error": (msg, None),
+            "extra_forbidden": ("unknown key", "a key listed in docs/bearings.md (check spelling)"),
+            "missing": ("missing required field", "this field to be given"),
+            "union_tag_invalid": (
+                "unknown bearing type",
+                "plain | axial_groove | offset_halves | elliptical | multilobe | pads | "
+                "tilting_pad",
+            ),
+        }.get(kind, ("invalid value", msg[:1].lower() + msg[1:]))
+        value = first.get("input")
+        where = _loc(first["loc"])
+        if kind == "missing":
+            value = None
+        elif kind == "union_tag_invalid" and isinstance(value, dict):
+            value, where = value.get("type"), f"{where}.type"
         raise ModelError(
-            f"invalid bearing input{more}: {msg}",
-            field=_loc(first["loc"]),
-            value=first.get("input"),
+            message + more,
+            field=where,
+            value=value,
             expected=expected,
             file=source or None,
         ) from None

@@ -127,9 +127,9 @@ def plot_locus(results: Sequence[Equilibrium], bearing: Bearing, path: str | Pat
     ax.legend(fontsize=8, loc="lower left")
     rpm = results[0].speed_rpm if results else float("nan")
     ax.set_title(
-        f"{bearing.name}: eccentricity locus at {rpm:.0f} rpm\n"
+        f"{bearing.name}\neccentricity locus at {rpm:.0f} rpm "
         "(arrows: load direction, length ∝ |W|)",
-        fontsize=10,
+        fontsize=9,
     )
     return _save(fig, path)
 

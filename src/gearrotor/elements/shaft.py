@@ -13,6 +13,10 @@ by Gauss quadrature of the Timoshenko interpolation functions (in which the shea
 along the element), not transcribed: stiffness ``∫EI ψ'ᵀψ' + κGA γᵀγ``, translational mass
 ``∫ρA NᵀN``, rotary inertia ``∫ρI N_ψᵀN_ψ`` and the gyroscopic matrix ``∫ρIp (θxᵀθy − θyᵀθx)``.
 The axial bar and the torsional rod use linear shape functions (consistent mass).
+
+Convergence: the stiffness is exact for a uniform element; frequencies converge as h⁴ while
+elements are slender (Φ ≪ 1) and as h² once elements are shorter than about the diameter
+(Φ ≳ 1), where the interpolation tends to linear displacements (see tests/test_shaft_element.py).
 """
 
 from __future__ import annotations

@@ -54,10 +54,13 @@ def transient_command(
         help="reaction torques of the θ̈ terms (Lagrangian form); --no-reactions: dissertation"
     )] = True,
     progress: Annotated[bool, typer.Option(help="progress on stderr")] = True,
+    checkpoint: Annotated[Path | None, typer.Option(
+        "--checkpoint", help="checkpoint file: written every minute, resumed from if present")
+    ] = None,
 ) -> None:
     """Nonlinear transient (time-varying mesh, backlash, free speed) of a train."""
     from .equations import build_system
-    from .integrators import RK4, RK4_STABILITY, ModalRK4, omega_max, transient
+    from .integrators import RK4, RK4_STABILITY, Checkpoint, ModalRK4, omega_max, transient
     from .plots import standard_figures
 
     if format not in ("table", "json"):
@@ -80,7 +83,8 @@ def transient_command(
         if dt is not None and not dt > 0:
             raise ModelError("the time step must be positive", field="--dt", value=dt)
         res = transient(train, t_end=t_end, integrator=integ, reactions=reactions,
-                        progress=progress)
+                        progress=progress,
+                        checkpoint=Checkpoint(checkpoint) if checkpoint is not None else None)
     except ModelError as exc:
         raise _fail(exc, 2) from None
     except SolverError as exc:

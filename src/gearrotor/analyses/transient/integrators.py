@@ -102,26 +102,31 @@ class Checkpoint:
 
 
 # ------------------------------------------------------------------------------------------
-def _blocks(M: sp.csr_array) -> tuple[NDArray, NDArray, NDArray, NDArray]:
-    n = M.shape[0]
+def _mass_factor(M: sp.csr_array) -> tuple[NDArray, ...]:
+    """Sparse Cholesky factor of M, block by block (M's connected components, each banded in
+    node order): returns perm, L (CSR, diagonal last in each row), U = Lᵀ (CSR, diagonal first),
+    with ``M[perm][:, perm] = L Lᵀ``, and the component label of every DOF."""
     nb, labels = connected_components(M, directed=False)
-    order = np.argsort(labels, kind="stable")
+    perm = np.argsort(labels, kind="stable")
     counts = np.bincount(labels, minlength=nb)
-    blk_ptr = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
-    inv_ptr = np.concatenate([[0], np.cumsum(counts**2)]).astype(np.int64)
+    ptr = np.concatenate([[0], np.cumsum(counts)])
     Md = M.toarray()
-    inv = np.empty(int(inv_ptr[-1]))
+    L = np.zeros((M.shape[0], M.shape[0]))
     for b in range(nb):
-        idx = order[blk_ptr[b]:blk_ptr[b + 1]]
-        blk = Md[np.ix_(idx, idx)]
+        idx = perm[ptr[b]:ptr[b + 1]]
         try:
-            c = la.cho_factor(blk)
+            L[ptr[b]:ptr[b + 1], ptr[b]:ptr[b + 1]] = la.cholesky(Md[np.ix_(idx, idx)],
+                                                                  lower=True)
         except la.LinAlgError:
             raise ModelError("the mass matrix is not positive definite on some DOFs (a node "
                              "without mass or inertia?)") from None
-        inv[inv_ptr[b]:inv_ptr[b + 1]] = la.cho_solve(c, np.eye(len(idx))).ravel()
-    assert blk_ptr[-1] == n
-    return blk_ptr, order.astype(np.int64), inv_ptr, inv
+    Ls = sp.csr_array(L)
+    Ls.sort_indices()
+    Us = sp.csr_array(L.T)
+    Us.sort_indices()
+    return (perm.astype(np.int64), Ls.indptr.astype(np.int64), Ls.indices.astype(np.int64),
+            Ls.data.copy(), Us.indptr.astype(np.int64), Us.indices.astype(np.int64),
+            Us.data.copy(), labels)
 
 
 def _csr(A: sp.csr_array) -> tuple[NDArray, NDArray, NDArray]:
@@ -276,7 +281,7 @@ def _prepare_physical(system: TransientSystem, integ: RK4, out: NDArray,
             )
     sel = _force_dofs(system)
     G = sum((g for g in system.G), sp.csr_array((n, n)))
-    blk = _blocks(system.M)
+    *fac, comp = _mass_factor(system.M)
     ns = len(system.a_weights)
     a_idx, a_w, a_ptr = [], [], [0]
     for a in system.a_weights:
@@ -294,16 +299,35 @@ def _prepare_physical(system: TransientSystem, integ: RK4, out: NDArray,
 
     ud = system.unbalance_dofs
     Minv_u = [np.array([minv_unit(d[c]) for d in ud]).reshape(-1, n) for c in range(3)]
+
+    def support(dofs):
+        return np.flatnonzero(np.isin(comp, np.unique(comp[np.asarray(dofs, int)])))
+
+    g_rows = [np.flatnonzero(np.diff(sp.csr_array(g).indptr) > 0) for g in system.G]
+    z_sup = []
+    for s in range(ns):
+        z_sup.append(support(g_rows[s]) if len(g_rows[s]) else np.zeros(0, int))
+        z_sup.append(support(np.flatnonzero(system.a_weights[s])))
+    for d in ud:
+        z_sup.append(support(d[:2]))
+        z_sup.append(support(d[2:]))
+    if not system.reactions:
+        z_sup = z_sup[0::2]
+    z_ptr = np.concatenate([[0], np.cumsum([len(z) for z in z_sup])]).astype(np.int64)
+    z_idx = np.concatenate(z_sup + [np.zeros(0, int)]).astype(np.int64)
+    g_ptr = np.concatenate([[0], np.cumsum([len(g) for g in g_rows])]).astype(np.int64)
+    g_idx = np.concatenate(g_rows + [np.zeros(0, int)]).astype(np.int64)
     P = (*_csr(system.K), *_csr(system.C), *_csr(G), system.shaft_of_row.astype(np.int64),
-         *blk, np.array(a_idx, np.int64), np.array(a_w, float), np.array(a_ptr, np.int64),
+         *fac, np.array(a_idx, np.int64), np.array(a_w, float), np.array(a_ptr, np.int64),
          np.flatnonzero(system.torsion).astype(np.int64), bool(frozen),
          bool(system.reactions), sel,
          *_pack_forces(system, sel, modal=False, bearing_ref=False),
-         Minv_a, *Minv_u, system.unbalance_dofs.astype(np.int64).reshape(-1, 3))
+         Minv_a, *Minv_u, system.unbalance_dofs.astype(np.int64).reshape(-1, 3),
+         z_ptr, z_idx, g_ptr, g_idx)
     r = 2 * (ns + len(ud))
     W = (np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(len(sel)), np.zeros(len(sel)),
          np.zeros(len(sel)), np.zeros(ns), np.zeros((max(r, 1), n)), np.zeros((r, r)),
-         np.zeros(r), np.zeros(r, np.int64))
+         np.zeros(r), np.zeros(r, np.int64), np.zeros(n))
     K1 = tuple(np.zeros(n) for _ in range(10))
     return _Prepared("physical", integ.dt, n, P, W, K1, out, None, {"n_dof": n})
 

@@ -224,29 +224,41 @@ def _csr_mv(indptr, indices, data, x, out, scale_rows, Om, row_shaft, accumulate
 
 
 @njit(cache=_CACHE)
-def _minv(blk_ptr, blk_idx, inv_ptr, inv_data, x, out):
-    """out = M⁻¹ x with M⁻¹ stored as dense inverse blocks."""
-    for b in range(blk_ptr.shape[0] - 1):
-        lo, hi = blk_ptr[b], blk_ptr[b + 1]
-        nb = hi - lo
-        base = inv_ptr[b]
-        for i in range(nb):
-            s = 0.0
-            for j in range(nb):
-                s += inv_data[base + i * nb + j] * x[blk_idx[lo + j]]
-            out[blk_idx[lo + i]] = s
+def _msolve(perm, Lp, Li, Ld, Up, Ui, Ud, x, out, y):
+    """out = M⁻¹ x with the sparse Cholesky factor of the permuted mass matrix
+    ``M[perm][:, perm] = L Lᵀ`` (L rows: diagonal last; U = Lᵀ rows: diagonal first)."""
+    n = perm.shape[0]
+    for i in range(n):
+        y[i] = x[perm[i]]
+    for i in range(n):
+        acc = y[i]
+        d = Lp[i + 1] - 1
+        for p in range(Lp[i], d):
+            acc -= Ld[p] * y[Li[p]]
+        y[i] = acc / Ld[d]
+    for i in range(n - 1, -1, -1):
+        acc = y[i]
+        d = Up[i]
+        for p in range(d + 1, Up[i + 1]):
+            acc -= Ud[p] * y[Ui[p]]
+        y[i] = acc / Ud[d]
+    for i in range(n):
+        out[perm[i]] = y[i]
 
 
 @njit(cache=_CACHE)
 def _accel_physical(t, q, v, a, P, W):
-    """Accelerations of the physical model (a ← q̈). P: parameter tuple, W: work tuple."""
-    (Kp, Ki, Kd, Cp, Ci, Cd, Gp, Gi, Gd, row_shaft, blk_ptr, blk_idx, inv_ptr, inv_data,
+    """Accelerations of the physical model (a ← q̈). P: parameter tuple, W: work tuple.
+
+    The low-rank implicit part M + P Qᵀ is solved by Woodbury: a = y − Z (I + QᵀZ)⁻¹ Qᵀ y with
+    y = M⁻¹F and the rows of Zᵀ = (M⁻¹P)ᵀ, each nonzero only on its support (z_ptr/z_idx)."""
+    (Kp, Ki, Kd, Cp, Ci, Cd, Gp, Gi, Gd, row_shaft, perm, Lp, Li, Ld, Up, Ui, Ud,
      a_idx, a_w, a_ptr, torsion_idx, frozen, reactions, sel,
      m_sel, m_w, m_par, m_ab, m_ns, m_tptr, m_tphi, m_tk, m_te, m_nte,
      u_sel, u_me, u_ph, t_sel, t_par, t_ptr, t_time, t_vals,
      b_sel, b_shaft, b_ptr, b_speed, b_coef, b_ref,
-     Minv_a, Minv_ux, Minv_uy, Minv_ut, u_full) = P
-    (F, gq, zq, qs, vs, fs, Om, Z, S, rhs, piv) = W
+     Minv_a, Minv_ux, Minv_uy, Minv_ut, u_full, z_ptr, z_idx, g_ptr, g_idx) = P
+    (F, gq, zq, qs, vs, fs, Om, Z, S, rhs, piv, y) = W
     n = q.shape[0]
     ns = a_ptr.shape[0] - 1
     for s in range(ns):
@@ -267,7 +279,7 @@ def _accel_physical(t, q, v, a, P, W):
               b_sel, b_shaft, b_ptr, b_speed, b_coef, b_ref)
     for i in range(sel.shape[0]):
         F[sel[i]] += fs[i]
-    _minv(blk_ptr, blk_idx, inv_ptr, inv_data, F, a)
+    _msolve(perm, Lp, Li, Ld, Up, Ui, Ud, F, a, y)
     if frozen:
         for i in range(torsion_idx.shape[0]):
             a[torsion_idx[i]] = 0.0
@@ -276,42 +288,46 @@ def _accel_physical(t, q, v, a, P, W):
     for i in range(n):
         gq[i] = 0.0
     _csr_mv(Gp, Gi, Gd, q, gq, False, Om, row_shaft, 0.5)  # g = ½ G q (all shafts)
-    _minv(blk_ptr, blk_idx, inv_ptr, inv_data, gq, zq)
+    _msolve(perm, Lp, Li, Ld, Up, Ui, Ud, gq, zq, y)
     nu = u_sel.shape[0]
     per_s = 2 if reactions else 1
     r = per_s * (ns + nu)
-    # rows of Zt = (M⁻¹ P)ᵀ
+    # rows of Zᵀ = (M⁻¹ P)ᵀ on their supports
     for s in range(ns):
         c = per_s * s
-        for i in range(n):
-            Z[c, i] = zq[i] if row_shaft[i] == s else 0.0
+        for p in range(z_ptr[c], z_ptr[c + 1]):
+            Z[c, z_idx[p]] = zq[z_idx[p]]
         if reactions:
-            for i in range(n):
-                Z[c + 1, i] = Minv_a[s, i]
+            for p in range(z_ptr[c + 1], z_ptr[c + 2]):
+                Z[c + 1, z_idx[p]] = Minv_a[s, z_idx[p]]
     for u in range(nu):
         c = per_s * (ns + u)
         th = q[u_full[u, 2]] + u_ph[u]
         sn, cs = np.sin(th), np.cos(th)
         me = u_me[u]
-        for i in range(n):
+        for p in range(z_ptr[c], z_ptr[c + 1]):
+            i = z_idx[p]
             Z[c, i] = me * (-sn * Minv_ux[u, i] + cs * Minv_uy[u, i])
         if reactions:
-            for i in range(n):
+            for p in range(z_ptr[c + 1], z_ptr[c + 2]):
+                i = z_idx[p]
                 Z[c + 1, i] = me * Minv_ut[u, i]
     for row in range(r):
-        rhs[row] = _qdot(row, a, q, ns, per_s, a_ptr, a_idx, a_w, row_shaft, gq, u_full, u_ph)
+        rhs[row] = _qdot(row, a, q, ns, per_s, a_ptr, a_idx, a_w, g_ptr, g_idx, gq, u_full,
+                         u_ph)
         for col in range(r):
             S[row, col] = (1.0 if row == col else 0.0) + _qdot(
-                row, Z[col], q, ns, per_s, a_ptr, a_idx, a_w, row_shaft, gq, u_full, u_ph)
+                row, Z[col], q, ns, per_s, a_ptr, a_idx, a_w, g_ptr, g_idx, gq, u_full, u_ph)
     _lu_solve(S, rhs, piv)
     for c in range(r):
         f = rhs[c]
-        for i in range(n):
+        for p in range(z_ptr[c], z_ptr[c + 1]):
+            i = z_idx[p]
             a[i] -= Z[c, i] * f
 
 
 @njit(cache=_CACHE)
-def _qdot(row, x, q, ns, per_s, a_ptr, a_idx, a_w, row_shaft, gq, u_sel, u_ph):
+def _qdot(row, x, q, ns, per_s, a_ptr, a_idx, a_w, g_ptr, g_idx, gq, u_full, u_ph):
     """Q[:, row]ᵀ x for the low-rank factor Q of the implicit terms (physical model)."""
     acc = 0.0
     if row < ns * per_s:
@@ -319,16 +335,15 @@ def _qdot(row, x, q, ns, per_s, a_ptr, a_idx, a_w, row_shaft, gq, u_sel, u_ph):
         if row % per_s == 0:  # Q = a_s
             for p in range(a_ptr[s], a_ptr[s + 1]):
                 acc += a_w[p] * x[a_idx[p]]
-        else:  # Q = g_s
-            for i in range(x.shape[0]):
-                if row_shaft[i] == s:
-                    acc += gq[i] * x[i]
+        else:  # Q = g_s, nonzero on the rows of G_s
+            for p in range(g_ptr[s], g_ptr[s + 1]):
+                acc += gq[g_idx[p]] * x[g_idx[p]]
         return acc
     u = (row - ns * per_s) // per_s
     if (row - ns * per_s) % per_s == 0:  # Q = c_u
-        return x[u_sel[u, 2]]
-    th = q[u_sel[u, 2]] + u_ph[u]  # Q = s_u
-    return -np.sin(th) * x[u_sel[u, 0]] + np.cos(th) * x[u_sel[u, 1]]
+        return x[u_full[u, 2]]
+    th = q[u_full[u, 2]] + u_ph[u]  # Q = s_u
+    return -np.sin(th) * x[u_full[u, 0]] + np.cos(th) * x[u_full[u, 1]]
 
 
 @njit(cache=_CACHE)
