@@ -31,8 +31,11 @@ from gearrotor.analyses.transient import RK4, ModalRK4, transient  # noqa: E402
 from gearrotor.errors import SolverError  # noqa: E402
 
 MODEL = Path(__file__).resolve().parents[1] / "examples" / "unity_gearbox.toml"
-CASE = {"meshes[0].variation.ka_ratio": "0.2", "meshes[0].variation.contact_ratio": "1.592",
-        "meshes[0].variation.terms": "5"}
+CASE = {
+    "meshes[0].variation.ka_ratio": "0.2",
+    "meshes[0].variation.contact_ratio": "1.592",
+    "meshes[0].variation.terms": "5",
+}
 
 
 def _cpu() -> str:
@@ -51,8 +54,10 @@ def main() -> None:
     ap.add_argument("--rk4-dt", type=float, default=8.8e-6)
     args = ap.parse_args()
     train = load_model(MODEL, CASE)
-    print(f"machine: {platform.machine()} {_cpu()}, python {platform.python_version()}, "
-          f"numpy {np.__version__}, 1 thread")
+    print(
+        f"machine: {platform.machine()} {_cpu()}, python {platform.python_version()}, "
+        f"numpy {np.__version__}, 1 thread"
+    )
     # warm-up: compile the kernels (cached on disk afterwards)
     transient(train, t_end=1e-3, integrator=RK4(dt=args.rk4_dt))
     transient(train, t_end=1e-3, integrator=ModalRK4())
@@ -68,21 +73,36 @@ def main() -> None:
     dev_speed = float(np.max(np.abs(f_fast / f_ref - 1)))
     s = fast.stats
     print(f"{'method':<12}{'dt (s)':>11}{'steps':>9}{'DOF/modes':>11}{'wall (s)':>10}")
-    print(f"{'rk4':<12}{ref.stats.dt:>11.3g}{ref.stats.steps:>9}{ref.stats.n_dof:>11}"
-          f"{ref.stats.wall_time_s:>10.2f}")
-    print(f"{'modal-rk4':<12}{s.dt:>11.3g}{s.steps:>9}{s.n_modes:>11}{s.wall_time_s:>10.2f}"
-          f"   (cut-off {s.cutoff_hz:.0f} Hz, highest kept mode {s.highest_mode_hz:.0f} Hz)")
+    print(
+        f"{'rk4':<12}{ref.stats.dt:>11.3g}{ref.stats.steps:>9}{ref.stats.n_dof:>11}"
+        f"{ref.stats.wall_time_s:>10.2f}"
+    )
+    print(
+        f"{'modal-rk4':<12}{s.dt:>11.3g}{s.steps:>9}{s.n_modes:>11}{s.wall_time_s:>10.2f}"
+        f"   (cut-off {s.cutoff_hz:.0f} Hz, highest kept mode {s.highest_mode_hz:.0f} Hz)"
+    )
     print(f"{'node':<14}{'dir':>4}{'rk4 1x µm':>12}{'modal 1x µm':>13}{'dev %':>8}")
     for n in a_ref:
         for d in ("x", "y"):
-            print(f"{n:<14}{d:>4}{a_ref[n][d] * 1e6:>12.3f}{a_fast[n][d] * 1e6:>13.3f}"
-                  f"{100 * (a_fast[n][d] / a_ref[n][d] - 1):>8.3f}")
+            print(
+                f"{n:<14}{d:>4}{a_ref[n][d] * 1e6:>12.3f}{a_fast[n][d] * 1e6:>13.3f}"
+                f"{100 * (a_fast[n][d] / a_ref[n][d] - 1):>8.3f}"
+            )
     for k, name in enumerate(ref.shaft_names):
-        print(f"{name}: speed fluctuation rk4 {f_ref[k] * 30 / np.pi:.3f} rpm, modal "
-              f"{f_fast[k] * 30 / np.pi:.3f} rpm ({100 * (f_fast[k] / f_ref[k] - 1):.3f} %)")
-    print(json.dumps({"fast_wall_s": round(s.wall_time_s, 3),
-                      "rk4_wall_s": round(ref.stats.wall_time_s, 3),
-                      "dev_1x": float(dev_1x), "dev_speed": dev_speed}))
+        print(
+            f"{name}: speed fluctuation rk4 {f_ref[k] * 30 / np.pi:.3f} rpm, modal "
+            f"{f_fast[k] * 30 / np.pi:.3f} rpm ({100 * (f_fast[k] / f_ref[k] - 1):.3f} %)"
+        )
+    print(
+        json.dumps(
+            {
+                "fast_wall_s": round(s.wall_time_s, 3),
+                "rk4_wall_s": round(ref.stats.wall_time_s, 3),
+                "dev_1x": float(dev_1x),
+                "dev_speed": dev_speed,
+            }
+        )
+    )
 
 
 if __name__ == "__main__":

@@ -165,3 +165,18 @@ def test_bearing_command_all_cases_table(capsys):
     assert len(res) == 10 and "kxx N/m" in out and out.count("\n") > 20
     ecc = [r.equilibrium.eccentricity_ratio for r in res]
     assert ecc[-1] > ecc[2] > 0  # heavier generator load → larger eccentricity
+
+
+def test_load_speed_sweep_and_mixed_sign_table():
+    from gearrotor.bearings import load_speed_sweep
+
+    b = plain(0.1, 0.05, 1e-4, 0.02)
+    opts = SolverOptions(grid=Grid(24, 6))
+    light, heavy = load_speed_sweep(b, [(0.0, -1000.0), (0.0, -3000.0)], [3000, 6000], options=opts)
+    assert light.load == (0.0, -1000.0) and np.all(heavy.kyy > light.kyy)
+    both = coefficients_table(b, (0.0, -1000.0), [-3000, 3000], options=opts)
+    # reversed rotation mirrors a plain bearing: kxy changes sign, kxx does not
+    assert both.kxy[0] == pytest.approx(-both.kxy[1], rel=1e-6)
+    assert both.kxx[0] == pytest.approx(both.kxx[1], rel=1e-6)
+    with pytest.raises(ModelError, match="one sign"):
+        both.to_coefficient_table()

@@ -9,8 +9,11 @@ import pytest
 from gearrotor.analyses.transient import RK4, ModalRK4, Save, transient
 from gearrotor.errors import SolverError
 
-VARIATION = {"meshes[0].variation.ka_ratio": "0.2", "meshes[0].variation.terms": "5",
-             "meshes[0].variation.contact_ratio": "1.592"}
+VARIATION = {
+    "meshes[0].variation.ka_ratio": "0.2",
+    "meshes[0].variation.terms": "5",
+    "meshes[0].variation.contact_ratio": "1.592",
+}
 
 
 def _observed_order(train, make, dts, t_end=0.01):
@@ -66,8 +69,9 @@ def test_rk4_step_outside_stability_region_is_refused(make_gearbox):
 def test_divergence_names_the_time(make_gearbox):
     train = make_gearbox(elements=4)
     with pytest.raises(SolverError, match=r"diverged at t = [0-9.e-]+ s"):
-        transient(train, t_end=0.05, integrator=RK4(dt=1e-4, check_stability=False),
-                  save=Save(dt=1e-4))
+        transient(
+            train, t_end=0.05, integrator=RK4(dt=1e-4, check_stability=False), save=Save(dt=1e-4)
+        )
 
 
 def test_backlash_contact_loss_resolved(make_gearbox):
@@ -76,8 +80,7 @@ def test_backlash_contact_loss_resolved(make_gearbox):
     interval), each contact episode spans many steps, and the 1x amplitude agrees."""
     train = make_gearbox({"meshes[0].backlash.value": "0.001 mm"}, elements=20)
     save = Save(dt=1.6e-5)
-    runs = [transient(train, t_end=0.04, integrator=RK4(dt=dt), save=save)
-            for dt in (8e-6, 4e-6)]
+    runs = [transient(train, t_end=0.04, integrator=RK4(dt=dt), save=save) for dt in (8e-6, 4e-6)]
     c0, c1 = (r.contact[:, 0] for r in runs)
     assert set(np.unique(c0)) == {-1, 0, 1}
     switches = np.flatnonzero(np.diff(c0) != 0)

@@ -19,15 +19,22 @@ def _momentum(system, res):
         r[a != 0] = ratio[s]
     M = system.M.toarray()
     G = [g.toarray() for g in system.G]
-    return np.array([r @ M @ v + sum(0.5 * ratio[s] * (v @ G[s] @ q) for s in range(len(G)))
-                     for q, v in zip(res.q, res.qdot, strict=True)])
+    return np.array(
+        [
+            r @ M @ v + sum(0.5 * ratio[s] * (v @ G[s] @ q) for s in range(len(G)))
+            for q, v in zip(res.q, res.qdot, strict=True)
+        ]
+    )
 
 
-@pytest.mark.parametrize("torque", [
-    {"value": "50 N*m"},
-    {"time": [0.0, 0.02, 0.04], "values": [0.0, 80.0, 80.0]},
-    {"value": "60 N*m", "speed_exponent": 2.0, "reference_speed": "6500 rpm"},
-])
+@pytest.mark.parametrize(
+    "torque",
+    [
+        {"value": "50 N*m"},
+        {"time": [0.0, 0.02, 0.04], "values": [0.0, 80.0, 80.0]},
+        {"value": "60 N*m", "speed_exponent": 2.0, "reference_speed": "6500 rpm"},
+    ],
+)
 def test_torque_changes_the_momentum_by_its_impulse(make_gearbox, torque):
     """dp/dt = ratio_s · T(t, Ω) on the rigid rotation: p(t) − p(0) = ∫ ratio T dt."""
     from gearrotor.io.model_file import model_from_dict
@@ -37,8 +44,7 @@ def test_torque_changes_the_momentum_by_its_impulse(make_gearbox, torque):
     data["torques"] = [{"shaft": "shaft2", "node": 0, **torque}]
     train = model_from_dict(data)
     system = build_system(train)
-    res = transient(train, t_end=0.05, integrator=RK4(dt=1e-5), save=Save(dt=1e-4,
-                                                                          full_state=True))
+    res = transient(train, t_end=0.05, integrator=RK4(dt=1e-5), save=Save(dt=1e-4, full_state=True))
     p = _momentum(system, res)
     t = res.time
     ratio = system.assembly.speed_ratio[1]
@@ -64,9 +70,17 @@ def _with_table(train, kxx_at):
     sp = [500.0, 680.678, 900.0]
     for b in data["bearings"]:
         k, c = b.pop("k"), b.pop("c")
-        b["table"] = {"speed": sp, "kxx": [kxx_at(s, k) for s in sp], "kxy": [0.0] * 3,
-                      "kyx": [0.0] * 3, "kyy": [k] * 3, "cxx": [c] * 3, "cxy": [0.0] * 3,
-                      "cyx": [0.0] * 3, "cyy": [c] * 3}
+        b["table"] = {
+            "speed": sp,
+            "kxx": [kxx_at(s, k) for s in sp],
+            "kxy": [0.0] * 3,
+            "kyx": [0.0] * 3,
+            "kyy": [k] * 3,
+            "cxx": [c] * 3,
+            "cxy": [0.0] * 3,
+            "cyx": [0.0] * 3,
+            "cyy": [c] * 3,
+        }
     return model_from_dict(data)
 
 
@@ -99,8 +113,9 @@ def test_speed_dependent_bearing_frozen_speed_harmonic(make_gearbox):
     A = K - w**2 * M + 1j * w * (C + G)
     X = np.zeros(asm.n_dof, complex)
     X[keep] = np.linalg.solve(A[np.ix_(keep, keep)], F[keep])
-    res = transient(train, t_end=0.3, integrator=RK4(dt=1e-5), frozen_speed=True,
-                    save=Save(dt=5e-5))
+    res = transient(
+        train, t_end=0.3, integrator=RK4(dt=1e-5), frozen_speed=True, save=Save(dt=5e-5)
+    )
     sl = res.time > 0.25
     t = res.time[sl]
     g = asm.node_offset[0][2]

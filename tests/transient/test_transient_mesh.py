@@ -34,8 +34,9 @@ def test_series_is_a_rectangular_wave_as_printed_in_spec():
     c = 1.592
     a, b = fourier_coefficients(c, 0.0, 400)
     phi = np.linspace(0, 2 * np.pi, 4001)[:-1]
-    kv = sum(2 * (a[s] * np.sin((s + 1) * phi) + b[s] * np.cos((s + 1) * phi))
-             for s in range(len(a)))
+    kv = sum(
+        2 * (a[s] * np.sin((s + 1) * phi) + b[s] * np.cos((s + 1) * phi)) for s in range(len(a))
+    )
     assert abs(kv.mean()) < 1e-3
     upper = kv > 0
     assert abs(upper.mean() - (2 - c)) < 0.01
@@ -52,8 +53,7 @@ def test_backlash_law_signs():
 
 
 def test_stiffness_law_and_table(make_gearbox):
-    train = make_gearbox({"meshes[0].variation.ka_ratio": "0.2",
-                          "meshes[0].variation.terms": "5"})
+    train = make_gearbox({"meshes[0].variation.ka_ratio": "0.2", "meshes[0].variation.terms": "5"})
     law = build_system(train).meshes[0]
     phi = np.linspace(0, 2 * np.pi, 1001)
     k = stiffness(law, phi)
@@ -69,8 +69,9 @@ def test_stiffness_law_and_table(make_gearbox):
 
 def test_stiffness_table_matches_series_in_time(make_gearbox):
     """A table sampled from the series gives the same transient as the series itself."""
-    train = make_gearbox({"meshes[0].variation.ka_ratio": "0.2",
-                          "meshes[0].variation.terms": "5"}, elements=4)
+    train = make_gearbox(
+        {"meshes[0].variation.ka_ratio": "0.2", "meshes[0].variation.terms": "5"}, elements=4
+    )
     law = build_system(train).meshes[0]
     phi = np.linspace(0, 2 * np.pi, 2001)[:-1]
     kw = dict(t_end=0.02, integrator=ModalRK4(dt=2e-5), save=Save(dt=1e-4))
@@ -85,12 +86,13 @@ def test_transmission_error_shifts_the_mesh_deflection(make_gearbox):
     δ_e = δ − e, and the mesh force responds at the mesh frequency."""
     train = make_gearbox(elements=4)
     te = np.array([[2e-6, 0.0]])
-    r = transient(train, t_end=0.05, integrator=ModalRK4(), transmission_error={0: te},
-                  save=Save(dt=2e-5))
+    r = transient(
+        train, t_end=0.05, integrator=ModalRK4(), transmission_error={0: te}, save=Save(dt=2e-5)
+    )
     f, amp = r.spectrum(r.mesh_force[:, 0], start=0.02)
     mesh_cpm = 30 * 6500
     k = np.argmin(np.abs(f - mesh_cpm))
-    assert amp[k - 3:k + 4].max() > 10.0  # N
+    assert amp[k - 3 : k + 4].max() > 10.0  # N
 
 
 def test_mesh_damping_from_ratio(make_gearbox):
@@ -108,5 +110,4 @@ def test_mesh_damping_from_ratio(make_gearbox):
     assert c * wphi**2 / (2 * om) == pytest.approx(0.02)
     assert 900 < om / 2 / np.pi < 1100  # the 1012 Hz lateral-torsional mesh mode
     with pytest.raises(ModelError, match="not both"):
-        build_system(make_gearbox({"meshes[0].damping_ratio": "0.02",
-                                   "meshes[0].damping": "100"}))
+        build_system(make_gearbox({"meshes[0].damping_ratio": "0.02", "meshes[0].damping": "100"}))

@@ -26,8 +26,7 @@ EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "unity_gearbox.toml
 
 @pytest.fixture(scope="module")
 def short_result(make_gearbox):
-    return transient(make_gearbox(elements=4), t_end=0.2, integrator=ModalRK4(),
-                     save=Save(dt=2e-4))
+    return transient(make_gearbox(elements=4), t_end=0.2, integrator=ModalRK4(), save=Save(dt=2e-4))
 
 
 def test_spectrum_reads_sinusoid_amplitude_in_cpm():
@@ -56,9 +55,9 @@ def test_result_fields_and_whirl_power(short_result):
     # bearings only dissipate: their mean whirl power is negative (c = 1.75e4 N·s/m)
     for k, n in enumerate(names):
         if n.startswith("bearing"):
-            assert r.whirl_power[nt // 2:, k].mean() < 0
+            assert r.whirl_power[nt // 2 :, k].mean() < 0
     # the unbalance feeds the whirl
-    assert r.whirl_power[nt // 2:, 0].mean() > 0
+    assert r.whirl_power[nt // 2 :, 0].mean() > 0
     s = r.summary()
     assert set(s["nodes"]["shaft1[2]"]) >= {"x_1x_um", "y_1x_um"}
     assert set(s["shafts"]["shaft1"]) >= {"speed_min_rpm", "speed_max_rpm"}
@@ -126,10 +125,24 @@ def _app():
 
 def test_cli_json_summary_and_plot(tmp_path):
     out = tmp_path / "r.nc"
-    res = CliRunner().invoke(_app(), [
-        "transient", str(EXAMPLE), "--t-end", "0.6", "--method", "modal", "--format", "json",
-        "--set", "unbalances[1].amount=360 g*mm", "--output", str(out), "--no-progress",
-    ])
+    res = CliRunner().invoke(
+        _app(),
+        [
+            "transient",
+            str(EXAMPLE),
+            "--t-end",
+            "0.6",
+            "--method",
+            "modal",
+            "--format",
+            "json",
+            "--set",
+            "unbalances[1].amount=360 g*mm",
+            "--output",
+            str(out),
+            "--no-progress",
+        ],
+    )
     assert res.exit_code == 0, res.output
     s = json.loads(res.stdout.strip().splitlines()[-1])
     assert s["wall_time_s"] > 0
@@ -149,6 +162,7 @@ def test_cli_input_errors_exit_2(tmp_path):
     assert "Traceback" not in res.output
     res = runner.invoke(_app(), ["transient", str(EXAMPLE), "--set", "meshes[0].teeth"])
     assert res.exit_code == 2 and "PATH=VALUE" in res.output
-    res = runner.invoke(_app(), ["transient", str(EXAMPLE), "--set",
-                                 "meshes[0].variation.ka_ratio=-1"])
+    res = runner.invoke(
+        _app(), ["transient", str(EXAMPLE), "--set", "meshes[0].variation.ka_ratio=-1"]
+    )
     assert res.exit_code == 2 and "ka_ratio" in res.output

@@ -38,8 +38,9 @@ def test_frozen_speed_steady_state_equals_harmonic_response(make_gearbox):
     of the linear model (oracle: direct complex solve from the assembly), within 1 %."""
     train = make_gearbox()
     asm, X, w = _harmonic_reference(train)
-    res = transient(train, t_end=0.3, integrator=RK4(dt=8e-6), frozen_speed=True,
-                    save=Save(dt=4e-5))
+    res = transient(
+        train, t_end=0.3, integrator=RK4(dt=8e-6), frozen_speed=True, save=Save(dt=4e-5)
+    )
     sl = res.time >= res.time[-1] - 0.05
     t = res.time[sl]
     worst = 0.0
@@ -83,10 +84,11 @@ def test_energy_conserved_free_speed_no_damping(make_gearbox, method):
     q0[asm.node_offset[0][0] + 5] = 2e-3
     system = build_system(train, initial_q=q0)
     drifts = []
-    for dt in ((5e-6, 2.5e-6) if method == "rk4" else (1e-5, 5e-6)):
+    for dt in (5e-6, 2.5e-6) if method == "rk4" else (1e-5, 5e-6):
         integ = RK4(dt=dt) if method == "rk4" else ModalRK4(dt=dt, cutoff=8000)
-        res = transient(train, t_end=0.05, integrator=integ, initial_q=q0,
-                        save=Save(dt=1e-3, full_state=True))
+        res = transient(
+            train, t_end=0.05, integrator=integ, initial_q=q0, save=Save(dt=1e-3, full_state=True)
+        )
         E = np.array([_energy(system, q, v) for q, v in zip(res.q, res.qdot, strict=True)])
         E_end = _energy(system, res.final_q, res.final_qdot)
         drifts.append(max(np.abs(E - E[0]).max(), abs(E_end - E[0])))
@@ -94,8 +96,12 @@ def test_energy_conserved_free_speed_no_damping(make_gearbox, method):
     assert drifts[0] / drifts[1] > 12.0, drifts
     # the lateral motion is not trivial: the energy exchanged with it is many times the drift
     lateral = ~system.torsion
-    kin_lat = 0.5 * np.einsum("ti,ij,tj->t", res.qdot[:, lateral],
-                              system.M.toarray()[np.ix_(lateral, lateral)], res.qdot[:, lateral])
+    kin_lat = 0.5 * np.einsum(
+        "ti,ij,tj->t",
+        res.qdot[:, lateral],
+        system.M.toarray()[np.ix_(lateral, lateral)],
+        res.qdot[:, lateral],
+    )
     assert kin_lat.max() > 100 * drifts[1]
 
 
@@ -112,16 +118,25 @@ def test_generalized_momentum_conserved(make_gearbox):
     q0[asm.node_offset[1][2] + 1] = -3e-5  # gear 2 y
     q0[asm.node_offset[0][0] + 5] = 2e-3  # twist of shaft 1
     system = build_system(train, initial_q=q0)
-    res = transient(train, t_end=0.05, integrator=RK4(dt=1e-5), initial_q=q0,
-                    save=Save(dt=1e-3, full_state=True))
+    res = transient(
+        train,
+        t_end=0.05,
+        integrator=RK4(dt=1e-5),
+        initial_q=q0,
+        save=Save(dt=1e-3, full_state=True),
+    )
     r = np.zeros(system.n)
     ratio = asm.speed_ratio
     for s, a in enumerate(system.a_weights):
         r[a != 0] = ratio[s]
     M = system.M.toarray()
     G = [g.toarray() for g in system.G]
-    p = np.array([r @ M @ v + sum(0.5 * ratio[s] * (v @ G[s] @ q) for s in range(len(G)))
-                  for q, v in zip(res.q, res.qdot, strict=True)])
+    p = np.array(
+        [
+            r @ M @ v + sum(0.5 * ratio[s] * (v @ G[s] @ q) for s in range(len(G)))
+            for q, v in zip(res.q, res.qdot, strict=True)
+        ]
+    )
     lateral = np.ptp(res.q[:, ~system.torsion], axis=0).max()
     assert lateral > 1e-5  # something moved
     assert np.ptp(p) < 1e-10 * abs(p[0]), (np.ptp(p), p[0])

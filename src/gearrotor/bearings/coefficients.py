@@ -38,6 +38,7 @@ __all__ = [
     "load_sweep",
     "BearingTable",
     "coefficients_table",
+    "load_speed_sweep",
     "save_table",
     "load_table",
     "COEFFICIENT_NAMES",
@@ -329,6 +330,17 @@ def coefficients_table(
         attitude_angle=np.array(att),
         name=bearing.name,
     )
+
+
+def load_speed_sweep(
+    bearing: Bearing,
+    loads: Iterable[Sequence[float]],
+    speeds: ArrayLike,
+    *,
+    options: SolverOptions | None = None,
+) -> list[BearingTable]:
+    """One :class:`BearingTable` per load case (N) over ``speeds`` (rpm)."""
+    return [coefficients_table(bearing, load, speeds, options=options) for load in loads]
 
 
 _CSV_UNITS = ["rpm"] + ["N/m"] * 4 + ["N*s/m"] * 4

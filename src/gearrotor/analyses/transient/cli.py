@@ -1,7 +1,7 @@
 """Command-line functions of the transient analysis (registered by ``gearrotor.cli``):
 
-    app.command("transient")(transient_command)
-    app.command("transient-plot")(plot_command)
+app.command("transient")(transient_command)
+app.command("transient-plot")(plot_command)
 """
 
 from __future__ import annotations
@@ -24,8 +24,12 @@ def parse_overrides(items: list[str] | None) -> dict[str, str]:
     out = {}
     for item in items or []:
         if "=" not in item:
-            raise ModelError("a --set option needs PATH=VALUE", field="--set", value=item,
-                             expected="e.g. meshes[0].variation.ka_ratio=0.2")
+            raise ModelError(
+                "a --set option needs PATH=VALUE",
+                field="--set",
+                value=item,
+                expected="e.g. meshes[0].variation.ka_ratio=0.2",
+            )
         key, value = item.split("=", 1)
         out[key.strip()] = value.strip()
     return out
@@ -39,23 +43,36 @@ def _fail(exc: Exception, code: int) -> typer.Exit:
 def transient_command(
     model: Annotated[Path, typer.Argument(help="model file (TOML)")],
     t_end: Annotated[float, typer.Option("--t-end", help="end time, s")] = 1.0,
-    dt: Annotated[float | None, typer.Option(
-        "--dt", help="time step, s (default: rk4 0.95× its stability limit; modal: automatic)"
-    )] = None,
-    method: Annotated[str, typer.Option("--method", help="'modal' (fast) or 'rk4' (reference)")
-                      ] = "modal",
-    set_: Annotated[list[str] | None, typer.Option(
-        "--set", help="override a model value, PATH=VALUE (repeatable)")] = None,
-    output: Annotated[Path | None, typer.Option("--output", "-o",
-                                                help="write the result (NetCDF)")] = None,
+    dt: Annotated[
+        float | None,
+        typer.Option(
+            "--dt", help="time step, s (default: rk4 0.95× its stability limit; modal: automatic)"
+        ),
+    ] = None,
+    method: Annotated[
+        str, typer.Option("--method", help="'modal' (fast) or 'rk4' (reference)")
+    ] = "modal",
+    set_: Annotated[
+        list[str] | None,
+        typer.Option("--set", help="override a model value, PATH=VALUE (repeatable)"),
+    ] = None,
+    output: Annotated[
+        Path | None, typer.Option("--output", "-o", help="write the result (NetCDF)")
+    ] = None,
     format: Annotated[str, typer.Option("--format", help="'table' or 'json'")] = "table",
     plot: Annotated[Path | None, typer.Option("--plot", help="directory for PNG figures")] = None,
-    reactions: Annotated[bool, typer.Option(
-        help="reaction torques of the θ̈ terms (Lagrangian form); --no-reactions: dissertation"
-    )] = True,
+    reactions: Annotated[
+        bool,
+        typer.Option(
+            help="reaction torques of the θ̈ terms (Lagrangian form); --no-reactions: dissertation"
+        ),
+    ] = True,
     progress: Annotated[bool, typer.Option(help="progress on stderr")] = True,
-    checkpoint: Annotated[Path | None, typer.Option(
-        "--checkpoint", help="checkpoint file: written every minute, resumed from if present")
+    checkpoint: Annotated[
+        Path | None,
+        typer.Option(
+            "--checkpoint", help="checkpoint file: written every minute, resumed from if present"
+        ),
     ] = None,
 ) -> None:
     """Nonlinear transient (time-varying mesh, backlash, free speed) of a train."""
@@ -64,8 +81,15 @@ def transient_command(
     from .plots import standard_figures
 
     if format not in ("table", "json"):
-        raise _fail(ModelError("unknown output format", field="--format", value=format,
-                               expected="'table' or 'json'"), 2)
+        raise _fail(
+            ModelError(
+                "unknown output format",
+                field="--format",
+                value=format,
+                expected="'table' or 'json'",
+            ),
+            2,
+        )
     try:
         from ...io import load_model
 
@@ -78,13 +102,19 @@ def transient_command(
         elif method == "modal":
             integ = ModalRK4(dt=dt)
         else:
-            raise ModelError("unknown method", field="--method", value=method,
-                             expected="'modal' or 'rk4'")
+            raise ModelError(
+                "unknown method", field="--method", value=method, expected="'modal' or 'rk4'"
+            )
         if dt is not None and not dt > 0:
             raise ModelError("the time step must be positive", field="--dt", value=dt)
-        res = transient(train, t_end=t_end, integrator=integ, reactions=reactions,
-                        progress=progress,
-                        checkpoint=Checkpoint(checkpoint) if checkpoint is not None else None)
+        res = transient(
+            train,
+            t_end=t_end,
+            integrator=integ,
+            reactions=reactions,
+            progress=progress,
+            checkpoint=Checkpoint(checkpoint) if checkpoint is not None else None,
+        )
     except ModelError as exc:
         raise _fail(exc, 2) from None
     except SolverError as exc:
@@ -108,8 +138,10 @@ def _jsonable(x):
 
 def plot_command(
     file: Annotated[Path, typer.Argument(help="a transient result (NetCDF)")],
-    output: Annotated[Path | None, typer.Option(
-        "--output", "-o", help="directory for the PNGs (default: next to the file)")] = None,
+    output: Annotated[
+        Path | None,
+        typer.Option("--output", "-o", help="directory for the PNGs (default: next to the file)"),
+    ] = None,
 ) -> None:
     """Standard figures of a saved transient result."""
     from .plots import standard_figures

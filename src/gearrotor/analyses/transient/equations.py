@@ -191,8 +191,9 @@ def build_system(
             raise ModelError(
                 "transient analysis needs pitch radii exactly in the tooth ratio (the absolute "
                 "angles roll at N_i θ_i = −N_j θ_j; any mismatch grows into a mesh deflection)",
-                field=f"meshes[{m.spec_index}]", value=f"r_i/r_j = {ri / rj:.9g}, N_i/N_j = "
-                f"{ni / nj:.9g}", expected="r_i/r_j = N_i/N_j",
+                field=f"meshes[{m.spec_index}]",
+                value=f"r_i/r_j = {ri / rj:.9g}, N_i/N_j = {ni / nj:.9g}",
+                expected="r_i/r_j = N_i/N_j",
             )
 
     # ---- couplings of the dynamics: which DOFs can move -------------------------------------
@@ -232,8 +233,11 @@ def build_system(
     if initial_q is not None:
         initial_q = np.asarray(initial_q, float)
         if initial_q.shape != (n_all,):
-            raise ModelError("initial displacement has the wrong length", value=initial_q.shape,
-                             expected=f"({n_all},) global DOFs")
+            raise ModelError(
+                "initial displacement has the wrong length",
+                value=initial_q.shape,
+                expected=f"({n_all},) global DOFs",
+            )
         forced |= initial_q != 0
     if extra_r:
         r = np.concatenate(extra_r)
@@ -260,22 +264,33 @@ def build_system(
         a = np.zeros(n)
         a[tz] = Mdiag_rows[tz]
         if a.sum() <= 0:
-            raise ModelError("a shaft without polar inertia cannot spin in a transient",
-                             field=f"shafts[{s}]")
+            raise ModelError(
+                "a shaft without polar inertia cannot spin in a transient", field=f"shafts[{s}]"
+            )
         a_w.append(a / a.sum())
 
-    laws = mesh_laws(train, asm, stiffness_tables=stiffness_tables,
-                     transmission_error=transmission_error)
+    laws = mesh_laws(
+        train, asm, stiffness_tables=stiffness_tables, transmission_error=transmission_error
+    )
     mesh_dofs = np.array([pos[m.dofs] for m in asm.meshes], int).reshape(-1, 12)
     brg = []
     for b in asm.bearings:
-        d = list(pos[b.dofs]) + (list(pos[b.support_dofs]) if b.support_dofs is not None
-                                 else [-1, -1])
+        d = list(pos[b.dofs]) + (
+            list(pos[b.support_dofs]) if b.support_dofs is not None else [-1, -1]
+        )
         brg.append(d)
     system = TransientSystem(
-        assembly=asm, active=active, M=Ma, K=sub(K), C=sub(C),
-        G=tuple(sub(g) for g in asm.G_shaft), shaft_of_row=shaft_of_row, torsion=torsion,
-        a_weights=tuple(a_w), nominal_speeds=np.asarray(speeds, float), meshes=laws,
+        assembly=asm,
+        active=active,
+        M=Ma,
+        K=sub(K),
+        C=sub(C),
+        G=tuple(sub(g) for g in asm.G_shaft),
+        shaft_of_row=shaft_of_row,
+        torsion=torsion,
+        a_weights=tuple(a_w),
+        nominal_speeds=np.asarray(speeds, float),
+        meshes=laws,
         mesh_dofs=mesh_dofs,
         unbalance_dofs=np.array([pos[d] for d, _, _ in unb], int).reshape(-1, 3),
         unbalance_me=np.array([a for _, a, _ in unb], float),
@@ -297,8 +312,9 @@ def build_system(
     return system
 
 
-def mesh_damping_from_ratio(system: TransientSystem, mesh: int,
-                            ratio: float) -> tuple[float, float]:
+def mesh_damping_from_ratio(
+    system: TransientSystem, mesh: int, ratio: float
+) -> tuple[float, float]:
     """Mesh damping coefficient c (N·s/m) giving modal damping ratio ``ratio`` to the mesh mode.
 
     The mesh mode is the undamped mode φ_i (mass-normalised, of the constant-speed linear model

@@ -113,20 +113,30 @@ def _mass_factor(M: sp.csr_array) -> tuple[NDArray, ...]:
     Md = M.toarray()
     L = np.zeros((M.shape[0], M.shape[0]))
     for b in range(nb):
-        idx = perm[ptr[b]:ptr[b + 1]]
+        idx = perm[ptr[b] : ptr[b + 1]]
         try:
-            L[ptr[b]:ptr[b + 1], ptr[b]:ptr[b + 1]] = la.cholesky(Md[np.ix_(idx, idx)],
-                                                                  lower=True)
+            L[ptr[b] : ptr[b + 1], ptr[b] : ptr[b + 1]] = la.cholesky(
+                Md[np.ix_(idx, idx)], lower=True
+            )
         except la.LinAlgError:
-            raise ModelError("the mass matrix is not positive definite on some DOFs (a node "
-                             "without mass or inertia?)") from None
+            raise ModelError(
+                "the mass matrix is not positive definite on some DOFs (a node "
+                "without mass or inertia?)"
+            ) from None
     Ls = sp.csr_array(L)
     Ls.sort_indices()
     Us = sp.csr_array(L.T)
     Us.sort_indices()
-    return (perm.astype(np.int64), Ls.indptr.astype(np.int64), Ls.indices.astype(np.int64),
-            Ls.data.copy(), Us.indptr.astype(np.int64), Us.indices.astype(np.int64),
-            Us.data.copy(), labels)
+    return (
+        perm.astype(np.int64),
+        Ls.indptr.astype(np.int64),
+        Ls.indices.astype(np.int64),
+        Ls.data.copy(),
+        Us.indptr.astype(np.int64),
+        Us.indices.astype(np.int64),
+        Us.data.copy(),
+        labels,
+    )
 
 
 def _csr(A: sp.csr_array) -> tuple[NDArray, NDArray, NDArray]:
@@ -147,8 +157,11 @@ def _output_dofs(system: TransientSystem, full_state: bool) -> NDArray:
         glob.extend(b.dofs)
         if b.support_dofs is not None:
             glob.extend(b.support_dofs)
-    for group, prefix in ((train.unbalances, "unbalances"), (train.probes, "probes"),
-                          (train.torques, "torques")):
+    for group, prefix in (
+        (train.unbalances, "unbalances"),
+        (train.probes, "probes"),
+        (train.torques, "torques"),
+    ):
         for k, it in enumerate(group):
             si, node = train.node_index(it, f"{prefix}[{k}]")
             glob.extend(asm.node_offset[si][node] + np.arange(6))
@@ -161,8 +174,7 @@ def _output_dofs(system: TransientSystem, full_state: bool) -> NDArray:
     return np.array(sorted(idx), dtype=np.int64)
 
 
-def _pack_forces(system: TransientSystem, sel: NDArray, *, modal: bool,
-                 bearing_ref: bool) -> tuple:
+def _pack_forces(system: TransientSystem, sel: NDArray, *, modal: bool, bearing_ref: bool) -> tuple:
     """Parameter arrays of :func:`kernels.nl_forces` with indices into ``sel``."""
     loc = -np.ones(system.n + 1, np.int64)
     loc[sel] = np.arange(len(sel))
@@ -177,8 +189,13 @@ def _pack_forces(system: TransientSystem, sel: NDArray, *, modal: bool,
     Se = max([len(law.te) for law in laws] + [1])
     m_sel = np.array([at(d) for d in system.mesh_dofs], np.int64).reshape(nm, 12)
     m_w = np.array([law.w for law in laws], float).reshape(nm, 12)
-    m_par = np.array([[law.kg, law.ka, law.backlash, law.damping, law.teeth,
-                       law.kg if modal else 0.0, 0.0] for law in laws], float).reshape(nm, 7)
+    m_par = np.array(
+        [
+            [law.kg, law.ka, law.backlash, law.damping, law.teeth, law.kg if modal else 0.0, 0.0]
+            for law in laws
+        ],
+        float,
+    ).reshape(nm, 7)
     m_ab = np.zeros((nm, S, 2))
     m_ns = np.zeros(nm, np.int64)
     m_te = np.zeros((nm, Se, 2))
@@ -186,17 +203,26 @@ def _pack_forces(system: TransientSystem, sel: NDArray, *, modal: bool,
     tptr = [0]
     tphi, tk = [], []
     for k, law in enumerate(laws):
-        m_ab[k, :len(law.coef_a), 0] = law.coef_a
-        m_ab[k, :len(law.coef_b), 1] = law.coef_b
+        m_ab[k, : len(law.coef_a), 0] = law.coef_a
+        m_ab[k, : len(law.coef_b), 1] = law.coef_b
         m_ns[k] = len(law.coef_a)
-        m_te[k, :len(law.te)] = law.te
+        m_te[k, : len(law.te)] = law.te
         m_nte[k] = len(law.te)
         tphi.append(law.table_phi)
         tk.append(law.table_k)
         tptr.append(tptr[-1] + len(law.table_phi))
-    mesh = (m_sel, m_w, m_par, m_ab, m_ns, np.array(tptr, np.int64),
-            np.concatenate(tphi + [np.zeros(1)]), np.concatenate(tk + [np.zeros(1)]),
-            m_te, m_nte)
+    mesh = (
+        m_sel,
+        m_w,
+        m_par,
+        m_ab,
+        m_ns,
+        np.array(tptr, np.int64),
+        np.concatenate(tphi + [np.zeros(1)]),
+        np.concatenate(tk + [np.zeros(1)]),
+        m_te,
+        m_nte,
+    )
     u_sel = np.array([at(d) for d in system.unbalance_dofs], np.int64).reshape(-1, 3)
     unb = (u_sel, system.unbalance_me.astype(float), system.unbalance_phase.astype(float))
     train = system.train
@@ -207,9 +233,13 @@ def _pack_forces(system: TransientSystem, sel: NDArray, *, modal: bool,
             t_time.extend(tq.time)
             t_vals.extend(tq.values)
         t_ptr.append(len(t_time))
-    torq = (at(system.torque_dof).astype(np.int64), np.array(t_par, float).reshape(-1, 3),
-            np.array(t_ptr, np.int64), np.array(t_time + [0.0], float),
-            np.array(t_vals + [0.0], float))
+    torq = (
+        at(system.torque_dof).astype(np.int64),
+        np.array(t_par, float).reshape(-1, 3),
+        np.array(t_ptr, np.int64),
+        np.array(t_time + [0.0], float),
+        np.array(t_vals + [0.0], float),
+    )
     b_sel, b_shaft, b_ptr, b_speed, b_coef, b_ref = [], [], [0], [], [], []
     for j, info in enumerate(system.assembly.bearings):
         if not system.bearing_dynamic[j]:
@@ -220,11 +250,19 @@ def _pack_forces(system: TransientSystem, sel: NDArray, *, modal: bool,
         b_speed.extend(tab.speed)
         b_coef.append(np.asarray(tab.values, float))
         b_ptr.append(len(b_speed))
-        b_ref.append(info.element.coefficients(system.nominal_speeds[system.bearing_shaft[j]])
-                     if bearing_ref else np.zeros(8))
-    brg = (np.array(b_sel, np.int64).reshape(-1, 4), np.array(b_shaft, np.int64),
-           np.array(b_ptr, np.int64), np.array(b_speed + [0.0], float),
-           np.concatenate(b_coef + [np.zeros((1, 8))]), np.array(b_ref, float).reshape(-1, 8))
+        b_ref.append(
+            info.element.coefficients(system.nominal_speeds[system.bearing_shaft[j]])
+            if bearing_ref
+            else np.zeros(8)
+        )
+    brg = (
+        np.array(b_sel, np.int64).reshape(-1, 4),
+        np.array(b_shaft, np.int64),
+        np.array(b_ptr, np.int64),
+        np.array(b_speed + [0.0], float),
+        np.concatenate(b_coef + [np.zeros((1, 8))]),
+        np.array(b_ref, float).reshape(-1, 8),
+    )
     return mesh + unb + torq + brg
 
 
@@ -248,8 +286,10 @@ def omega_max(system: TransientSystem) -> float:
 
 def excitation_frequency(system: TransientSystem) -> float:
     """Highest excitation frequency (rad/s): mesh frequency |N_i Ω_i|, else 10× shaft speed."""
-    f = [abs(law.teeth * system.nominal_speeds[system.assembly.meshes[k].shafts[0]])
-         for k, law in enumerate(system.meshes)]
+    f = [
+        abs(law.teeth * system.nominal_speeds[system.assembly.meshes[k].shafts[0]])
+        for k, law in enumerate(system.meshes)
+    ]
     return max(f) if f else 10.0 * float(np.max(np.abs(system.nominal_speeds)))
 
 
@@ -267,8 +307,7 @@ class _Prepared:
     info: dict
 
 
-def _prepare_physical(system: TransientSystem, integ: RK4, out: NDArray,
-                      frozen: bool) -> _Prepared:
+def _prepare_physical(system: TransientSystem, integ: RK4, out: NDArray, frozen: bool) -> _Prepared:
     n = system.n
     if integ.check_stability:
         wmax = omega_max(system)
@@ -317,17 +356,43 @@ def _prepare_physical(system: TransientSystem, integ: RK4, out: NDArray,
     z_idx = np.concatenate(z_sup + [np.zeros(0, int)]).astype(np.int64)
     g_ptr = np.concatenate([[0], np.cumsum([len(g) for g in g_rows])]).astype(np.int64)
     g_idx = np.concatenate(g_rows + [np.zeros(0, int)]).astype(np.int64)
-    P = (*_csr(system.K), *_csr(system.C), *_csr(G), system.shaft_of_row.astype(np.int64),
-         *fac, np.array(a_idx, np.int64), np.array(a_w, float), np.array(a_ptr, np.int64),
-         np.flatnonzero(system.torsion).astype(np.int64), bool(frozen),
-         bool(system.reactions), sel,
-         *_pack_forces(system, sel, modal=False, bearing_ref=False),
-         Minv_a, *Minv_u, system.unbalance_dofs.astype(np.int64).reshape(-1, 3),
-         z_ptr, z_idx, g_ptr, g_idx)
+    P = (
+        *_csr(system.K),
+        *_csr(system.C),
+        *_csr(G),
+        system.shaft_of_row.astype(np.int64),
+        *fac,
+        np.array(a_idx, np.int64),
+        np.array(a_w, float),
+        np.array(a_ptr, np.int64),
+        np.flatnonzero(system.torsion).astype(np.int64),
+        bool(frozen),
+        bool(system.reactions),
+        sel,
+        *_pack_forces(system, sel, modal=False, bearing_ref=False),
+        Minv_a,
+        *Minv_u,
+        system.unbalance_dofs.astype(np.int64).reshape(-1, 3),
+        z_ptr,
+        z_idx,
+        g_ptr,
+        g_idx,
+    )
     r = 2 * (ns + len(ud))
-    W = (np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(len(sel)), np.zeros(len(sel)),
-         np.zeros(len(sel)), np.zeros(ns), np.zeros((max(r, 1), n)), np.zeros((r, r)),
-         np.zeros(r), np.zeros(r, np.int64), np.zeros(n))
+    W = (
+        np.zeros(n),
+        np.zeros(n),
+        np.zeros(n),
+        np.zeros(len(sel)),
+        np.zeros(len(sel)),
+        np.zeros(len(sel)),
+        np.zeros(ns),
+        np.zeros((max(r, 1), n)),
+        np.zeros((r, r)),
+        np.zeros(r),
+        np.zeros(r, np.int64),
+        np.zeros(n),
+    )
     K1 = tuple(np.zeros(n) for _ in range(10))
     return _Prepared("physical", integ.dt, n, P, W, K1, out, None, {"n_dof": n})
 
@@ -336,8 +401,11 @@ def _prepare_modal(system: TransientSystem, integ: ModalRK4, out: NDArray) -> _P
     M, K, C = system.linear_matrices()
     w2, V = la.eigh(K, M)
     om = np.sqrt(np.clip(w2, 0.0, None))
-    wcut = 2 * np.pi * integ.cutoff if integ.cutoff is not None else (
-        integ.cutoff_factor * excitation_frequency(system))
+    wcut = (
+        2 * np.pi * integ.cutoff
+        if integ.cutoff is not None
+        else (integ.cutoff_factor * excitation_frequency(system))
+    )
     keep = om <= wcut
     if not keep.any():
         raise ModelError("no mode below the modal cut-off", value=f"{wcut / 2 / np.pi:.4g} Hz")
@@ -363,8 +431,10 @@ def _prepare_modal(system: TransientSystem, integ: ModalRK4, out: NDArray) -> _P
     m = Phi.shape[1]
     dt = integ.dt if integ.dt is not None else integ.accuracy / max(float(om[keep].max()), 1e-9)
     if float(om[keep].max()) * dt >= RK4_STABILITY * 0.995:
-        raise SolverError(f"modal RK4 step dt = {dt:.4g} s is unstable for the highest kept "
-                          f"mode ({om[keep].max() / 2 / np.pi:.5g} Hz); lower dt or the cut-off")
+        raise SolverError(
+            f"modal RK4 step dt = {dt:.4g} s is unstable for the highest kept "
+            f"mode ({om[keep].max() / 2 / np.pi:.5g} Hz); lower dt or the cut-off"
+        )
     sel = _force_dofs(system)
     Cr = Phi.T @ C @ Phi
     Gr = np.array([Phi.T @ g.toarray() @ Phi for g in system.G]).reshape(-1, m, m)
@@ -372,16 +442,35 @@ def _prepare_modal(system: TransientSystem, integ: ModalRK4, out: NDArray) -> _P
     ns = len(system.a_weights)
     nu = len(system.unbalance_dofs)
     r = 2 * (ns + nu)
-    P = (lam, np.ascontiguousarray(Cr), np.ascontiguousarray(Gr), np.ascontiguousarray(alpha),
-         np.ascontiguousarray(Phi[sel]), np.ascontiguousarray(Phi[sel].T),
-         bool(system.reactions),
-         *_pack_forces(system, sel, modal=True, bearing_ref=True))
-    W = (np.zeros(len(sel)), np.zeros(len(sel)), np.zeros(len(sel)), np.zeros(ns),
-         np.zeros((2 * max(r, 1), m)), np.zeros((r, r)), np.zeros(r), np.zeros(r, np.int64),
-         np.zeros((ns, m)))
+    P = (
+        lam,
+        np.ascontiguousarray(Cr),
+        np.ascontiguousarray(Gr),
+        np.ascontiguousarray(alpha),
+        np.ascontiguousarray(Phi[sel]),
+        np.ascontiguousarray(Phi[sel].T),
+        bool(system.reactions),
+        *_pack_forces(system, sel, modal=True, bearing_ref=True),
+    )
+    W = (
+        np.zeros(len(sel)),
+        np.zeros(len(sel)),
+        np.zeros(len(sel)),
+        np.zeros(ns),
+        np.zeros((2 * max(r, 1), m)),
+        np.zeros((r, r)),
+        np.zeros(r),
+        np.zeros(r, np.int64),
+        np.zeros((ns, m)),
+    )
     K1 = tuple(np.zeros(m) for _ in range(10))
-    info = {"n_modes": m, "cutoff_hz": wcut / 2 / np.pi,
-            "highest_mode_hz": float(om[keep].max() / 2 / np.pi), "Phi": Phi, "M": M}
+    info = {
+        "n_modes": m,
+        "cutoff_hz": wcut / 2 / np.pi,
+        "highest_mode_hz": float(om[keep].max() / 2 / np.pi),
+        "Phi": Phi,
+        "M": M,
+    }
     return _Prepared("modal", dt, m, P, W, K1, out, np.ascontiguousarray(Phi[out]), info)
 
 
@@ -445,9 +534,14 @@ def transient(
     if isinstance(integ, RK4) and not integ.dt > 0:
         raise ModelError("the time step must be positive", field="dt", value=integ.dt)
     save = save or Save()
-    system = build_system(model, frozen_speed=frozen_speed, reactions=reactions,
-                          initial_q=initial_q, stiffness_tables=stiffness_tables,
-                          transmission_error=transmission_error)
+    system = build_system(
+        model,
+        frozen_speed=frozen_speed,
+        reactions=reactions,
+        initial_q=initial_q,
+        stiffness_tables=stiffness_tables,
+        transmission_error=transmission_error,
+    )
     out = _output_dofs(system, save.full_state)
     if isinstance(integ, RK4):
         prep = _prepare_physical(system, integ, out, frozen_speed)
@@ -460,8 +554,11 @@ def transient(
     dt = prep.dt
     n_steps = int(np.ceil(t_end / dt - 1e-9))
     fexc = excitation_frequency(system)
-    save_dt = save.dt if save.dt is not None else (
-        2 * np.pi / (4 * fexc) if system.meshes else 2 * np.pi / (64 * fexc / 10))
+    save_dt = (
+        save.dt
+        if save.dt is not None
+        else (2 * np.pi / (4 * fexc) if system.meshes else 2 * np.pi / (64 * fexc / 10))
+    )
     save_every = max(1, int(round(save_dt / dt)))
     n_rec = n_steps // save_every + 1
 
@@ -489,8 +586,9 @@ def transient(
     scale = np.where(kind == 2, 0.0, 1.0 / blowup)
 
     step0 = 0
-    fp = _fingerprint(system.train, prep.kind, dt, f"{t_end}|{save_every}|{frozen_speed}|"
-                      f"{reactions}|{integ!r}")
+    fp = _fingerprint(
+        system.train, prep.kind, dt, f"{t_end}|{save_every}|{frozen_speed}|{reactions}|{integ!r}"
+    )
     if checkpoint is not None and Path(checkpoint.path).exists():
         with np.load(checkpoint.path, allow_pickle=False) as ck:
             if str(ck["fingerprint"]) == fp:
@@ -500,8 +598,10 @@ def transient(
                 rec_q[:nr], rec_v[:nr], rec_a[:nr] = ck["rec_q"], ck["rec_v"], ck["rec_a"]
                 rec_om[:nr], rec_t[:nr] = ck["rec_om"], ck["rec_t"]
                 if progress:
-                    print(f"resuming from {checkpoint.path} at t = {step0 * dt:.4g} s",
-                          file=sys.stderr)
+                    print(
+                        f"resuming from {checkpoint.path} at t = {step0 * dt:.4g} s",
+                        file=sys.stderr,
+                    )
     chunk = save_every * max(1, int(0.05 / (dt * save_every)))  # ~0.05 s of simulated time
     wall0 = _time.perf_counter()
     last_ck = wall0
@@ -511,13 +611,32 @@ def transient(
     out_arg = out if prep.kind == "physical" else prep.Phi_out
     while step < n_steps:
         nst = min(chunk, n_steps - step)
-        status, done = runner(step * dt, dt, nst, q, v, save_every, out_arg, rec_q, rec_v,
-                              rec_a, rec_om, rec_t, step // save_every, scale, prep.P, prep.W,
-                              prep.K1)
+        status, done = runner(
+            step * dt,
+            dt,
+            nst,
+            q,
+            v,
+            save_every,
+            out_arg,
+            rec_q,
+            rec_v,
+            rec_a,
+            rec_om,
+            rec_t,
+            step // save_every,
+            scale,
+            prep.P,
+            prep.W,
+            prep.K1,
+        )
         if status != kn.STATUS_OK:
             t_bad = (step + done) * dt
-            what = "non-finite values" if status == kn.STATUS_NONFINITE else (
-                f"a lateral displacement above {blowup} m")
+            what = (
+                "non-finite values"
+                if status == kn.STATUS_NONFINITE
+                else (f"a lateral displacement above {blowup} m")
+            )
             raise SolverError(
                 f"the transient diverged at t = {t_bad:.6g} s ({what}); likely causes: a step "
                 f"too large for the integrator (dt = {dt:.3g} s), or an unstable mode of the "
@@ -530,27 +649,54 @@ def transient(
             frac = step / n_steps
             el = now - wall0
             eta = el / max(frac - step0 / n_steps, 1e-12) * (1 - frac)
-            print(f"t = {step * dt:.4g}/{t_end:.4g} s ({100 * frac:.0f} %), {el:.1f} s elapsed, "
-                  f"~{eta:.1f} s left", file=sys.stderr)
+            print(
+                f"t = {step * dt:.4g}/{t_end:.4g} s ({100 * frac:.0f} %), {el:.1f} s elapsed, "
+                f"~{eta:.1f} s left",
+                file=sys.stderr,
+            )
             last_pr = now
         if checkpoint is not None and (now - last_ck > checkpoint.every) and step < n_steps:
             nr = step // save_every
-            _write_npz_atomic(Path(checkpoint.path), fingerprint=np.array(fp), step=step, q=q,
-                              v=v, rec_q=rec_q[:nr], rec_v=rec_v[:nr], rec_a=rec_a[:nr],
-                              rec_om=rec_om[:nr], rec_t=rec_t[:nr])
+            _write_npz_atomic(
+                Path(checkpoint.path),
+                fingerprint=np.array(fp),
+                step=step,
+                q=q,
+                v=v,
+                rec_q=rec_q[:nr],
+                rec_v=rec_v[:nr],
+                rec_a=rec_a[:nr],
+                rec_om=rec_om[:nr],
+                rec_t=rec_t[:nr],
+            )
             last_ck = now
     wall = _time.perf_counter() - wall0
     if checkpoint is not None and Path(checkpoint.path).exists():
         Path(checkpoint.path).unlink()
     nr = (n_steps - 1) // save_every + 1
-    stats = {"method": prep.kind if prep.kind == "physical" else "modal", "dt": dt,
-             "steps": n_steps, "rhs_evaluations": 4 * (n_steps - step0),
-             "wall_time_s": wall, "save_every": save_every, **{
-                 k: v for k, v in prep.info.items() if k not in ("Phi", "M")}}
+    stats = {
+        "method": prep.kind if prep.kind == "physical" else "modal",
+        "dt": dt,
+        "steps": n_steps,
+        "rhs_evaluations": 4 * (n_steps - step0),
+        "wall_time_s": wall,
+        "save_every": save_every,
+        **{k: v for k, v in prep.info.items() if k not in ("Phi", "M")},
+    }
     final = (q.copy(), v.copy())
     if prep.kind == "modal":
         Phi = prep.info["Phi"]
         final = (Phi @ q, Phi @ v)
-    return build_result(system, out, rec_t[:nr], rec_q[:nr], rec_v[:nr], rec_a[:nr],
-                        rec_om[:nr], stats=stats, final_state=final,
-                        name=integ.name, frozen=frozen_speed)
+    return build_result(
+        system,
+        out,
+        rec_t[:nr],
+        rec_q[:nr],
+        rec_v[:nr],
+        rec_a[:nr],
+        rec_om[:nr],
+        stats=stats,
+        final_state=final,
+        name=integ.name,
+        frozen=frozen_speed,
+    )

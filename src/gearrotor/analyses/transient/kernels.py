@@ -108,11 +108,37 @@ def mesh_eval(k, qs, vs, m_sel, m_w, m_par, m_ab, m_ns, m_tptr, m_tphi, m_tk, m_
 
 
 @njit(cache=_CACHE)
-def nl_forces(t, qs, vs, Om, fs,
-              m_sel, m_w, m_par, m_ab, m_ns, m_tptr, m_tphi, m_tk, m_te, m_nte,
-              u_sel, u_me, u_ph,
-              t_sel, t_par, t_ptr, t_time, t_vals,
-              b_sel, b_shaft, b_ptr, b_speed, b_coef, b_ref):
+def nl_forces(
+    t,
+    qs,
+    vs,
+    Om,
+    fs,
+    m_sel,
+    m_w,
+    m_par,
+    m_ab,
+    m_ns,
+    m_tptr,
+    m_tphi,
+    m_tk,
+    m_te,
+    m_nte,
+    u_sel,
+    u_me,
+    u_ph,
+    t_sel,
+    t_par,
+    t_ptr,
+    t_time,
+    t_vals,
+    b_sel,
+    b_shaft,
+    b_ptr,
+    b_speed,
+    b_coef,
+    b_ref,
+):
     """Generalised forces on the ``sel`` DOFs (overwrites fs): meshes (minus their linear part
     kg_lin δ + c_lin δ̇), unbalance centrifugal part m e θ̇² r_u, external torques,
     speed-dependent bearings (minus their reference coefficients)."""
@@ -120,7 +146,8 @@ def nl_forces(t, qs, vs, Om, fs,
         fs[i] = 0.0
     for k in range(m_sel.shape[0]):
         F, stiff, delta, ddelta, state, phi = mesh_eval(
-            k, qs, vs, m_sel, m_w, m_par, m_ab, m_ns, m_tptr, m_tphi, m_tk, m_te, m_nte)
+            k, qs, vs, m_sel, m_w, m_par, m_ab, m_ns, m_tptr, m_tphi, m_tk, m_te, m_nte
+        )
         # the linear part kept in the modal basis uses the geometric δ (no TE)
         dl = 0.0
         vl = 0.0
@@ -252,12 +279,65 @@ def _accel_physical(t, q, v, a, P, W):
 
     The low-rank implicit part M + P Qᵀ is solved by Woodbury: a = y − Z (I + QᵀZ)⁻¹ Qᵀ y with
     y = M⁻¹F and the rows of Zᵀ = (M⁻¹P)ᵀ, each nonzero only on its support (z_ptr/z_idx)."""
-    (Kp, Ki, Kd, Cp, Ci, Cd, Gp, Gi, Gd, row_shaft, perm, Lp, Li, Ld, Up, Ui, Ud,
-     a_idx, a_w, a_ptr, torsion_idx, frozen, reactions, sel,
-     m_sel, m_w, m_par, m_ab, m_ns, m_tptr, m_tphi, m_tk, m_te, m_nte,
-     u_sel, u_me, u_ph, t_sel, t_par, t_ptr, t_time, t_vals,
-     b_sel, b_shaft, b_ptr, b_speed, b_coef, b_ref,
-     Minv_a, Minv_ux, Minv_uy, Minv_ut, u_full, z_ptr, z_idx, g_ptr, g_idx) = P
+    (
+        Kp,
+        Ki,
+        Kd,
+        Cp,
+        Ci,
+        Cd,
+        Gp,
+        Gi,
+        Gd,
+        row_shaft,
+        perm,
+        Lp,
+        Li,
+        Ld,
+        Up,
+        Ui,
+        Ud,
+        a_idx,
+        a_w,
+        a_ptr,
+        torsion_idx,
+        frozen,
+        reactions,
+        sel,
+        m_sel,
+        m_w,
+        m_par,
+        m_ab,
+        m_ns,
+        m_tptr,
+        m_tphi,
+        m_tk,
+        m_te,
+        m_nte,
+        u_sel,
+        u_me,
+        u_ph,
+        t_sel,
+        t_par,
+        t_ptr,
+        t_time,
+        t_vals,
+        b_sel,
+        b_shaft,
+        b_ptr,
+        b_speed,
+        b_coef,
+        b_ref,
+        Minv_a,
+        Minv_ux,
+        Minv_uy,
+        Minv_ut,
+        u_full,
+        z_ptr,
+        z_idx,
+        g_ptr,
+        g_idx,
+    ) = P
     (F, gq, zq, qs, vs, fs, Om, Z, S, rhs, piv, y) = W
     n = q.shape[0]
     ns = a_ptr.shape[0] - 1
@@ -274,9 +354,37 @@ def _accel_physical(t, q, v, a, P, W):
     for i in range(sel.shape[0]):
         qs[i] = q[sel[i]]
         vs[i] = v[sel[i]]
-    nl_forces(t, qs, vs, Om, fs, m_sel, m_w, m_par, m_ab, m_ns, m_tptr, m_tphi, m_tk, m_te,
-              m_nte, u_sel, u_me, u_ph, t_sel, t_par, t_ptr, t_time, t_vals,
-              b_sel, b_shaft, b_ptr, b_speed, b_coef, b_ref)
+    nl_forces(
+        t,
+        qs,
+        vs,
+        Om,
+        fs,
+        m_sel,
+        m_w,
+        m_par,
+        m_ab,
+        m_ns,
+        m_tptr,
+        m_tphi,
+        m_tk,
+        m_te,
+        m_nte,
+        u_sel,
+        u_me,
+        u_ph,
+        t_sel,
+        t_par,
+        t_ptr,
+        t_time,
+        t_vals,
+        b_sel,
+        b_shaft,
+        b_ptr,
+        b_speed,
+        b_coef,
+        b_ref,
+    )
     for i in range(sel.shape[0]):
         F[sel[i]] += fs[i]
     _msolve(perm, Lp, Li, Ld, Up, Ui, Ud, F, a, y)
@@ -313,11 +421,11 @@ def _accel_physical(t, q, v, a, P, W):
                 i = z_idx[p]
                 Z[c + 1, i] = me * Minv_ut[u, i]
     for row in range(r):
-        rhs[row] = _qdot(row, a, q, ns, per_s, a_ptr, a_idx, a_w, g_ptr, g_idx, gq, u_full,
-                         u_ph)
+        rhs[row] = _qdot(row, a, q, ns, per_s, a_ptr, a_idx, a_w, g_ptr, g_idx, gq, u_full, u_ph)
         for col in range(r):
             S[row, col] = (1.0 if row == col else 0.0) + _qdot(
-                row, Z[col], q, ns, per_s, a_ptr, a_idx, a_w, g_ptr, g_idx, gq, u_full, u_ph)
+                row, Z[col], q, ns, per_s, a_ptr, a_idx, a_w, g_ptr, g_idx, gq, u_full, u_ph
+            )
     _lu_solve(S, rhs, piv)
     for c in range(r):
         f = rhs[c]
@@ -347,8 +455,25 @@ def _qdot(row, x, q, ns, per_s, a_ptr, a_idx, a_w, g_ptr, g_idx, gq, u_full, u_p
 
 
 @njit(cache=_CACHE)
-def rk4_physical(t0, dt, n_steps, q, v, save_every, out_idx, rec_q, rec_v, rec_a, rec_om,
-                 rec_t, rec_start, blowup, P, W, K1):
+def rk4_physical(
+    t0,
+    dt,
+    n_steps,
+    q,
+    v,
+    save_every,
+    out_idx,
+    rec_q,
+    rec_v,
+    rec_a,
+    rec_om,
+    rec_t,
+    rec_start,
+    blowup,
+    P,
+    W,
+    K1,
+):
     """Classical RK4 on (q, q̇) for ``n_steps`` steps from t0 (q, v updated in place).
 
     Every ``save_every`` steps (starting with the first) the state at the step start is recorded
@@ -411,10 +536,39 @@ def rk4_physical(t0, dt, n_steps, q, v, save_every, out_idx, rec_q, rec_v, rec_a
 def _accel_modal(t, e, de, a, P, W):
     """Modal accelerations (a ← η̈) with M_r = I. ``PhiT_sel`` is Φ_selᵀ (m, nsel); work
     array ``Z`` (2r, m) holds the Woodbury factors P (rows 0..r−1) and Q (rows r..2r−1)."""
-    (lam, Cr, Gr, alpha, Phi_sel, PhiT_sel, reactions,
-     m_sel, m_w, m_par, m_ab, m_ns, m_tptr, m_tphi, m_tk, m_te, m_nte,
-     u_sel, u_me, u_ph, t_sel, t_par, t_ptr, t_time, t_vals,
-     b_sel, b_shaft, b_ptr, b_speed, b_coef, b_ref) = P
+    (
+        lam,
+        Cr,
+        Gr,
+        alpha,
+        Phi_sel,
+        PhiT_sel,
+        reactions,
+        m_sel,
+        m_w,
+        m_par,
+        m_ab,
+        m_ns,
+        m_tptr,
+        m_tphi,
+        m_tk,
+        m_te,
+        m_nte,
+        u_sel,
+        u_me,
+        u_ph,
+        t_sel,
+        t_par,
+        t_ptr,
+        t_time,
+        t_vals,
+        b_sel,
+        b_shaft,
+        b_ptr,
+        b_speed,
+        b_coef,
+        b_ref,
+    ) = P
     (qs, vs, fs, Om, Z, S, rhs, piv, gq) = W
     m = e.shape[0]
     ns = alpha.shape[0]
@@ -432,9 +586,37 @@ def _accel_modal(t, e, de, a, P, W):
             y += Phi_sel[i, j] * de[j]
         qs[i] = x
         vs[i] = y
-    nl_forces(t, qs, vs, Om, fs, m_sel, m_w, m_par, m_ab, m_ns, m_tptr, m_tphi, m_tk, m_te,
-              m_nte, u_sel, u_me, u_ph, t_sel, t_par, t_ptr, t_time, t_vals,
-              b_sel, b_shaft, b_ptr, b_speed, b_coef, b_ref)
+    nl_forces(
+        t,
+        qs,
+        vs,
+        Om,
+        fs,
+        m_sel,
+        m_w,
+        m_par,
+        m_ab,
+        m_ns,
+        m_tptr,
+        m_tphi,
+        m_tk,
+        m_te,
+        m_nte,
+        u_sel,
+        u_me,
+        u_ph,
+        t_sel,
+        t_par,
+        t_ptr,
+        t_time,
+        t_vals,
+        b_sel,
+        b_shaft,
+        b_ptr,
+        b_speed,
+        b_coef,
+        b_ref,
+    )
     for i in range(m):
         acc = -lam[i] * e[i]
         c0 = 0.0
@@ -497,8 +679,25 @@ def _accel_modal(t, e, de, a, P, W):
 
 
 @njit(cache=_CACHE, fastmath=_FAST)
-def rk4_modal(t0, dt, n_steps, e, de, save_every, Phi_out, rec_q, rec_v, rec_a, rec_om,
-              rec_t, rec_start, blowup, P, W, K1):
+def rk4_modal(
+    t0,
+    dt,
+    n_steps,
+    e,
+    de,
+    save_every,
+    Phi_out,
+    rec_q,
+    rec_v,
+    rec_a,
+    rec_om,
+    rec_t,
+    rec_start,
+    blowup,
+    P,
+    W,
+    K1,
+):
     """Classical RK4 on the reduced modal system; records physical output DOFs Φ_out η."""
     m = e.shape[0]
     (k1q, k1v, k2q, k2v, k3q, k3v, k4q, k4v, qt, vt) = K1
@@ -560,15 +759,28 @@ def rk4_modal(t0, dt, n_steps, e, de, save_every, Phi_out, rec_q, rec_v, rec_a, 
 # outputs from recorded states
 # ------------------------------------------------------------------------------------------
 @njit(cache=_CACHE)
-def outputs_kernel(rec_q, rec_v, m_sel, m_w, m_par, m_ab, m_ns, m_tptr, m_tphi, m_tk, m_te,
-                   m_nte, mesh_out):
+def outputs_kernel(
+    rec_q, rec_v, m_sel, m_w, m_par, m_ab, m_ns, m_tptr, m_tphi, m_tk, m_te, m_nte, mesh_out
+):
     """Per record and mesh: F (N), k (N/m), δ_e (m), δ̇_e, state, φ_m into mesh_out (nt,nm,6).
     ``m_sel`` indexes the recorded output DOFs here."""
     for j in range(rec_q.shape[0]):
         for k in range(m_sel.shape[0]):
             F, stiff, delta, ddelta, state, phi = mesh_eval(
-                k, rec_q[j], rec_v[j], m_sel, m_w, m_par, m_ab, m_ns, m_tptr, m_tphi, m_tk,
-                m_te, m_nte)
+                k,
+                rec_q[j],
+                rec_v[j],
+                m_sel,
+                m_w,
+                m_par,
+                m_ab,
+                m_ns,
+                m_tptr,
+                m_tphi,
+                m_tk,
+                m_te,
+                m_nte,
+            )
             mesh_out[j, k, 0] = F
             mesh_out[j, k, 1] = stiff
             mesh_out[j, k, 2] = delta

@@ -83,8 +83,9 @@ def stiffness(law: MeshLaw, phi: NDArray | float) -> NDArray:
         return np.interp(np.mod(phi, 2 * np.pi), law.table_phi, law.table_k)
     k = np.full(phi.shape, law.kg)
     for s in range(len(law.coef_a)):
-        k = k + 2 * law.ka * (law.coef_a[s] * np.sin((s + 1) * phi)
-                              + law.coef_b[s] * np.cos((s + 1) * phi))
+        k = k + 2 * law.ka * (
+            law.coef_a[s] * np.sin((s + 1) * phi) + law.coef_b[s] * np.cos((s + 1) * phi)
+        )
     return k
 
 
@@ -117,14 +118,22 @@ def mesh_laws(
         if m.spec_index in stiffness_tables:
             phi_t, k_t = (np.asarray(x, float) for x in stiffness_tables[m.spec_index])
             if phi_t.ndim != 1 or phi_t.shape != k_t.shape or len(phi_t) < 2:
-                raise ModelError("a mesh stiffness table needs matching 1-D angle and stiffness "
-                                 "arrays", field=f"{field}.stiffness_table")
+                raise ModelError(
+                    "a mesh stiffness table needs matching 1-D angle and stiffness arrays",
+                    field=f"{field}.stiffness_table",
+                )
             if np.any(np.diff(phi_t) <= 0) or phi_t[0] < 0 or phi_t[-1] > 2 * np.pi + 1e-12:
-                raise ModelError("mesh angles of the stiffness table must increase within one "
-                                 "mesh cycle [0, 2π] rad", field=f"{field}.stiffness_table")
+                raise ModelError(
+                    "mesh angles of the stiffness table must increase within one "
+                    "mesh cycle [0, 2π] rad",
+                    field=f"{field}.stiffness_table",
+                )
             if np.any(k_t < 0):
-                raise ModelError("mesh stiffness table has negative values",
-                                 field=f"{field}.stiffness_table", expected="k ≥ 0 N/m")
+                raise ModelError(
+                    "mesh stiffness table has negative values",
+                    field=f"{field}.stiffness_table",
+                    expected="k ≥ 0 N/m",
+                )
             # close the period so interpolation wraps
             if phi_t[-1] < 2 * np.pi:
                 phi_t = np.append(phi_t, 2 * np.pi)
@@ -134,16 +143,32 @@ def mesh_laws(
                 k_t = np.insert(k_t, 0, k_t[-1])
         te = np.asarray(transmission_error.get(m.spec_index, np.zeros((0, 2))), float)
         if te.ndim != 2 or te.shape[1] != 2:
-            raise ModelError("transmission error must be an (S, 2) array of cos/sin amplitudes",
-                             field=f"{field}.transmission_error", value=te.shape)
+            raise ModelError(
+                "transmission error must be an (S, 2) array of cos/sin amplitudes",
+                field=f"{field}.transmission_error",
+                value=te.shape,
+            )
         if spec.damping_ratio is not None and spec.damping > 0:
-            raise ModelError("give either mesh 'damping' or 'damping_ratio', not both",
-                             field=f"{field}.damping_ratio", value=spec.damping_ratio)
-        out.append(MeshLaw(
-            name=m.name, w=np.asarray(m.w, float), kg=float(m.stiffness),
-            ka=float(v.ka_ratio * m.stiffness), coef_a=a, coef_b=b,
-            backlash=float(spec.backlash.half), damping=float(spec.damping),
-            damping_ratio=spec.damping_ratio, teeth=int(m.teeth[0]), table_phi=phi_t,
-            table_k=k_t, te=te,
-        ))
+            raise ModelError(
+                "give either mesh 'damping' or 'damping_ratio', not both",
+                field=f"{field}.damping_ratio",
+                value=spec.damping_ratio,
+            )
+        out.append(
+            MeshLaw(
+                name=m.name,
+                w=np.asarray(m.w, float),
+                kg=float(m.stiffness),
+                ka=float(v.ka_ratio * m.stiffness),
+                coef_a=a,
+                coef_b=b,
+                backlash=float(spec.backlash.half),
+                damping=float(spec.damping),
+                damping_ratio=spec.damping_ratio,
+                teeth=int(m.teeth[0]),
+                table_phi=phi_t,
+                table_k=k_t,
+                te=te,
+            )
+        )
     return tuple(out)

@@ -73,16 +73,17 @@ def plot_spectra(result, *, segments: int = 4, window: str = "hann"):
     node0 = str(ds["node"].values[0])
     x = ds["x"].values[sl, 0]
     f, a = spectrum(x, dt, window=window, segments=segments)
-    fs, as_ = spectrum(np.abs(ds["shaft_speed"].values[sl, 0]) * RPM, dt, window=window,
-                       segments=segments)
+    fs, as_ = spectrum(
+        np.abs(ds["shaft_speed"].values[sl, 0]) * RPM, dt, window=window, segments=segments
+    )
     fig, ax = _figure(2, 3, (14, 7))
     model = _model(ds)
     mesh_cpm = None
     if model is not None and model.get("meshes"):
         mesh_cpm = model["meshes"][0]["gear"]["teeth"] * run_cpm
     for row, (ff, aa, name, unit, scale) in enumerate(
-            ((f, a, f"{node0} x", "µm", 1e6), (fs, as_, f"{ds['shaft'].values[0]} speed",
-                                               "rpm", 1.0))):
+        ((f, a, f"{node0} x", "µm", 1e6), (fs, as_, f"{ds['shaft'].values[0]} speed", "rpm", 1.0))
+    ):
         ax[row, 0].semilogy(ff, np.maximum(aa * scale, 1e-12), lw=0.7)
         ax[row, 0].set_title(f"{name}: full range")
         zooms = [(0, 3 * run_cpm, "near 1x / 2x")]
@@ -152,21 +153,26 @@ def plot_speeds(result):
     return fig
 
 
-def plot_mesh(result):
-    """Mesh force, stiffness k(t), dynamic transmission error and contact state."""
+def plot_mesh(result, *, zoom: float = 0.02):
+    """Mesh force, stiffness k(t), dynamic transmission error and contact state: the whole run
+    (left) and its last ``zoom`` seconds (right), where single mesh cycles are visible."""
     ds = _ds(result)
     t = ds["time"].values
-    fig, ax = _figure(4, 1, (10, 9))
-    for k, name in enumerate(ds["mesh"].values):
-        ax[0, 0].plot(t, ds["mesh_force"].values[:, k], lw=0.5, label=str(name))
-        ax[1, 0].plot(t, ds["mesh_stiffness"].values[:, k], lw=0.5)
-        ax[2, 0].plot(t, ds["dte"].values[:, k] * 1e6, lw=0.5)
-        ax[3, 0].step(t, ds["contact"].values[:, k], lw=0.6, where="post")
-    for a, lab in zip(ax[:, 0], ("force (N)", "k (N/m)", "DTE (µm)", "contact"), strict=True):
-        a.set_ylabel(lab)
-        a.grid(alpha=0.3)
-    ax[3, 0].set_yticks([-1, 0, 1], ["back", "open", "drive"])
-    ax[3, 0].set_xlabel("time (s)")
+    fig, ax = _figure(4, 2, (14, 9))
+    last = t >= t[-1] - zoom
+    for col, sl in enumerate((slice(None), last)):
+        for k, name in enumerate(ds["mesh"].values):
+            ax[0, col].plot(t[sl], ds["mesh_force"].values[sl, k], lw=0.5, label=str(name))
+            ax[1, col].plot(t[sl], ds["mesh_stiffness"].values[sl, k], lw=0.5)
+            ax[2, col].plot(t[sl], ds["dte"].values[sl, k] * 1e6, lw=0.5)
+            ax[3, col].step(t[sl], ds["contact"].values[sl, k], lw=0.6, where="post")
+        for a, lab in zip(ax[:, col], ("force (N)", "k (N/m)", "DTE (µm)", "contact"), strict=True):
+            a.set_ylabel(lab)
+            a.grid(alpha=0.3)
+        ax[3, col].set_yticks([-1, 0, 1], ["back", "open", "drive"])
+        ax[3, col].set_xlabel("time (s)")
+    ax[0, 0].set_title("whole run")
+    ax[0, 1].set_title(f"last {zoom * 1e3:.0f} ms")
     ax[0, 0].legend(loc="upper right")
     fig.suptitle("Gear mesh")
     return fig
@@ -200,9 +206,14 @@ def standard_figures(result, directory: str | Path, prefix: str = "transient") -
     directory.mkdir(parents=True, exist_ok=True)
     ds = _ds(result)
     out = []
-    for name, fn in (("time", plot_time_histories), ("spectra", plot_spectra),
-                     ("orbits", plot_orbits), ("speeds", plot_speeds), ("mesh", plot_mesh),
-                     ("whirl_power", plot_whirl_power)):
+    for name, fn in (
+        ("time", plot_time_histories),
+        ("spectra", plot_spectra),
+        ("orbits", plot_orbits),
+        ("speeds", plot_speeds),
+        ("mesh", plot_mesh),
+        ("whirl_power", plot_whirl_power),
+    ):
         if name == "mesh" and ds.sizes.get("mesh", 0) == 0:
             continue
         fig = fn(ds)

@@ -20,8 +20,14 @@ from ...errors import ModelError
 from . import kernels as kn
 from .equations import TransientSystem
 
-__all__ = ["TransientResult", "SolverStats", "spectrum", "amplitude_at", "load_result",
-           "build_result"]
+__all__ = [
+    "TransientResult",
+    "SolverStats",
+    "spectrum",
+    "amplitude_at",
+    "load_result",
+    "build_result",
+]
 
 RPM = 30.0 / np.pi  # rad/s → rpm
 
@@ -109,61 +115,99 @@ class TransientResult:
         out = {}
         for k, lab in enumerate(self.node_labels):
             om = float(np.mean(np.abs(self.shaft_speed[sl, self.node_shaft[k]])))
-            out[lab] = {"x": amplitude_at(self.time[sl], self.node_x[sl, k], om),
-                        "y": amplitude_at(self.time[sl], self.node_y[sl, k], om),
-                        "x2": amplitude_at(self.time[sl], self.node_x[sl, k], 2 * om),
-                        "y2": amplitude_at(self.time[sl], self.node_y[sl, k], 2 * om)}
+            out[lab] = {
+                "x": amplitude_at(self.time[sl], self.node_x[sl, k], om),
+                "y": amplitude_at(self.time[sl], self.node_y[sl, k], om),
+                "x2": amplitude_at(self.time[sl], self.node_x[sl, k], 2 * om),
+                "y2": amplitude_at(self.time[sl], self.node_y[sl, k], 2 * om),
+            }
         return out
 
     def summary(self) -> dict:
         """JSON-ready summary: wall time, 1x amplitudes (µm) over the last 0.5 s per gear node,
         speed range per shaft (rpm), mesh force range and contact-loss fraction."""
         amp = self.amplitude_1x(min(0.5, float(self.time[-1] - self.time[0])))
-        s = {"status": self.status, "method": self.stats.method, "dt_s": self.stats.dt,
-             "steps": self.stats.steps, "wall_time_s": self.stats.wall_time_s,
-             "t_end_s": float(self.time[-1]), "nodes": {}, "shafts": {}, "meshes": {}}
+        s = {
+            "status": self.status,
+            "method": self.stats.method,
+            "dt_s": self.stats.dt,
+            "steps": self.stats.steps,
+            "wall_time_s": self.stats.wall_time_s,
+            "t_end_s": float(self.time[-1]),
+            "nodes": {},
+            "shafts": {},
+            "meshes": {},
+        }
         if self.stats.n_modes is not None:
             s["n_modes"] = self.stats.n_modes
         for lab, a in amp.items():
-            s["nodes"][lab] = {"x_1x_um": a["x"] * 1e6, "y_1x_um": a["y"] * 1e6,
-                               "x_2x_um": a["x2"] * 1e6, "y_2x_um": a["y2"] * 1e6}
+            s["nodes"][lab] = {
+                "x_1x_um": a["x"] * 1e6,
+                "y_1x_um": a["y"] * 1e6,
+                "x_2x_um": a["x2"] * 1e6,
+                "y_2x_um": a["y2"] * 1e6,
+            }
         fl = self.speed_fluctuation(min(0.5, float(self.time[-1] - self.time[0])))
         for k, name in enumerate(self.shaft_names):
             rpm = self.shaft_speed_rpm[:, k]
-            s["shafts"][name] = {"speed_min_rpm": float(rpm.min()),
-                                 "speed_max_rpm": float(rpm.max()),
-                                 "speed_mean_rpm": float(rpm.mean()),
-                                 "speed_fluctuation_rpm": float(fl[k] * RPM)}
+            s["shafts"][name] = {
+                "speed_min_rpm": float(rpm.min()),
+                "speed_max_rpm": float(rpm.max()),
+                "speed_mean_rpm": float(rpm.mean()),
+                "speed_fluctuation_rpm": float(fl[k] * RPM),
+            }
         for k, name in enumerate(self.mesh_names):
-            s["meshes"][name] = {"force_min_N": float(self.mesh_force[:, k].min()),
-                                 "force_max_N": float(self.mesh_force[:, k].max()),
-                                 "contact_loss_fraction": float(self.contact_loss_fraction[k])}
+            s["meshes"][name] = {
+                "force_min_N": float(self.mesh_force[:, k].min()),
+                "force_max_N": float(self.mesh_force[:, k].max()),
+                "contact_loss_fraction": float(self.contact_loss_fraction[k]),
+            }
         return s
 
     def table(self) -> str:
         """Human-readable summary table."""
         s = self.summary()
-        lines = [f"transient: {s['method']}, dt = {s['dt_s']:.3g} s, {s['steps']} steps, "
-                 f"{s['wall_time_s']:.2f} s wall"]
+        lines = [
+            f"transient: {s['method']}, dt = {s['dt_s']:.3g} s, {s['steps']} steps, "
+            f"{s['wall_time_s']:.2f} s wall"
+        ]
         lines.append(f"{'node':<16}{'x 1x µm':>10}{'y 1x µm':>10}{'x 2x µm':>10}{'y 2x µm':>10}")
         for lab, a in s["nodes"].items():
-            lines.append(f"{lab:<16}{a['x_1x_um']:>10.3f}{a['y_1x_um']:>10.3f}"
-                         f"{a['x_2x_um']:>10.3f}{a['y_2x_um']:>10.3f}")
+            lines.append(
+                f"{lab:<16}{a['x_1x_um']:>10.3f}{a['y_1x_um']:>10.3f}"
+                f"{a['x_2x_um']:>10.3f}{a['y_2x_um']:>10.3f}"
+            )
         lines.append(f"{'shaft':<16}{'min rpm':>12}{'max rpm':>12}{'mean rpm':>12}")
         for name, a in s["shafts"].items():
-            lines.append(f"{name:<16}{a['speed_min_rpm']:>12.2f}{a['speed_max_rpm']:>12.2f}"
-                         f"{a['speed_mean_rpm']:>12.2f}")
+            lines.append(
+                f"{name:<16}{a['speed_min_rpm']:>12.2f}{a['speed_max_rpm']:>12.2f}"
+                f"{a['speed_mean_rpm']:>12.2f}"
+            )
         for name, a in s["meshes"].items():
-            lines.append(f"mesh {name}: force {a['force_min_N']:.1f} .. {a['force_max_N']:.1f} "
-                         f"N, contact loss {100 * a['contact_loss_fraction']:.2f} %")
+            lines.append(
+                f"mesh {name}: force {a['force_min_N']:.1f} .. {a['force_max_N']:.1f} "
+                f"N, contact loss {100 * a['contact_loss_fraction']:.2f} %"
+            )
         return "\n".join(lines)
 
-    def spectrum(self, signal: NDArray, *, window: str = "hann", segments: int = 1,
-                 overlap: float = 0.5, start: float | None = None) -> tuple[NDArray, NDArray]:
+    def spectrum(
+        self,
+        signal: NDArray,
+        *,
+        window: str = "hann",
+        segments: int = 1,
+        overlap: float = 0.5,
+        start: float | None = None,
+    ) -> tuple[NDArray, NDArray]:
         """Amplitude spectrum (cpm, zero-to-peak) of a recorded signal, see :func:`spectrum`."""
         sl = slice(None) if start is None else self.time >= start
-        return spectrum(np.asarray(signal)[sl], float(np.median(np.diff(self.time))),
-                        window=window, segments=segments, overlap=overlap)
+        return spectrum(
+            np.asarray(signal)[sl],
+            float(np.median(np.diff(self.time))),
+            window=window,
+            segments=segments,
+            overlap=overlap,
+        )
 
     def speed_fluctuation(self, window: float = 0.5) -> NDArray:
         """(ns,) half peak-to-peak speed fluctuation (rad/s) about a linear trend over the last
@@ -184,37 +228,65 @@ class TransientResult:
         t = ("time", self.time, {"units": "s"})
         ds = xr.Dataset(
             {
-                "shaft_speed": (("time", "shaft"), self.shaft_speed,
-                                {"units": "rad/s", "long_name": "shaft spin speed"}),
+                "shaft_speed": (
+                    ("time", "shaft"),
+                    self.shaft_speed,
+                    {"units": "rad/s", "long_name": "shaft spin speed"},
+                ),
                 "x": (("time", "node"), self.node_x, {"units": "m"}),
                 "y": (("time", "node"), self.node_y, {"units": "m"}),
                 "node_shaft": (("node",), self.node_shaft.astype(np.int64)),
                 "probe_signal": (("time", "probe"), self.probes, {"units": "m"}),
-                "mesh_force": (("time", "mesh"), self.mesh_force,
-                               {"units": "N", "long_name": "normal tooth force"}),
+                "mesh_force": (
+                    ("time", "mesh"),
+                    self.mesh_force,
+                    {"units": "N", "long_name": "normal tooth force"},
+                ),
                 "mesh_torque_gear": (("time", "mesh"), self.mesh_torque_gear, {"units": "N m"}),
                 "mesh_torque_mate": (("time", "mesh"), self.mesh_torque_mate, {"units": "N m"}),
                 "mesh_stiffness": (("time", "mesh"), self.mesh_stiffness, {"units": "N/m"}),
-                "dte": (("time", "mesh"), self.dte, {
-                    "units": "m", "long_name": "dynamic transmission error"}),
-                "contact": (("time", "mesh"), self.contact.astype(np.int8), {
-                    "units": "1", "long_name": "+1 drive side, 0 separated, -1 back side"}),
-                "bearing_force": (("time", "bearing", "direction"), self.bearing_force,
-                                  {"units": "N"}),
-                "whirl_power": (("time", "component"), self.whirl_power, {
-                    "units": "W", "long_name": "whirl-promoting power Fx*vx + Fy*vy"}),
+                "dte": (
+                    ("time", "mesh"),
+                    self.dte,
+                    {"units": "m", "long_name": "dynamic transmission error"},
+                ),
+                "contact": (
+                    ("time", "mesh"),
+                    self.contact.astype(np.int8),
+                    {"units": "1", "long_name": "+1 drive side, 0 separated, -1 back side"},
+                ),
+                "bearing_force": (
+                    ("time", "bearing", "direction"),
+                    self.bearing_force,
+                    {"units": "N"},
+                ),
+                "whirl_power": (
+                    ("time", "component"),
+                    self.whirl_power,
+                    {"units": "W", "long_name": "whirl-promoting power Fx*vx + Fy*vy"},
+                ),
                 "q": (("time", "dof"), self.q, {"units": "m or rad"}),
                 "qdot": (("time", "dof"), self.qdot, {"units": "m/s or rad/s"}),
             },
-            coords={"time": t, "shaft": list(self.shaft_names), "node": list(self.node_labels),
-                    "probe": list(self.probe_names), "mesh": list(self.mesh_names),
-                    "bearing": list(self.bearing_names), "direction": ["x", "y"],
-                    "component": list(self.whirl_names), "dof": list(self.dof_labels),
-                    "global_dof": ("dof", self.recorded_dofs.astype(np.int64))},
-            attrs={"title": "gearrotor transient", "status": self.status,
-                   "model_json": self.model_json,
-                   "solver_stats": json.dumps({k: v for k, v in asdict(self.stats).items()}),
-                   "frozen_speed": int(self.frozen_speed)},
+            coords={
+                "time": t,
+                "shaft": list(self.shaft_names),
+                "node": list(self.node_labels),
+                "probe": list(self.probe_names),
+                "mesh": list(self.mesh_names),
+                "bearing": list(self.bearing_names),
+                "direction": ["x", "y"],
+                "component": list(self.whirl_names),
+                "dof": list(self.dof_labels),
+                "global_dof": ("dof", self.recorded_dofs.astype(np.int64)),
+            },
+            attrs={
+                "title": "gearrotor transient",
+                "status": self.status,
+                "model_json": self.model_json,
+                "solver_stats": json.dumps({k: v for k, v in asdict(self.stats).items()}),
+                "frozen_speed": int(self.frozen_speed),
+            },
         )
         return ds
 
@@ -239,8 +311,15 @@ def load_result(path: str | Path):
 
 
 # ---- signal processing ---------------------------------------------------------------------
-def spectrum(x: NDArray, dt: float, *, window: str = "hann", segments: int = 1,
-             overlap: float = 0.5, detrend: str = "linear") -> tuple[NDArray, NDArray]:
+def spectrum(
+    x: NDArray,
+    dt: float,
+    *,
+    window: str = "hann",
+    segments: int = 1,
+    overlap: float = 0.5,
+    detrend: str = "linear",
+) -> tuple[NDArray, NDArray]:
     """Averaged amplitude spectrum: (frequency in cpm, zero-to-peak amplitude).
 
     The signal (linear trend or mean removed: ``detrend = "linear"`` or ``"mean"``, so that a
@@ -266,8 +345,13 @@ def spectrum(x: NDArray, dt: float, *, window: str = "hann", segments: int = 1,
         w = np.hanning(L)
     elif window == "flattop":
         k = np.arange(L) / (L - 1) * 2 * np.pi
-        w = (0.21557895 - 0.41663158 * np.cos(k) + 0.277263158 * np.cos(2 * k)
-             - 0.083578947 * np.cos(3 * k) + 0.006947368 * np.cos(4 * k))
+        w = (
+            0.21557895
+            - 0.41663158 * np.cos(k)
+            + 0.277263158 * np.cos(2 * k)
+            - 0.083578947 * np.cos(3 * k)
+            + 0.006947368 * np.cos(4 * k)
+        )
     elif window == "rect":
         w = np.ones(L)
     else:
@@ -275,7 +359,7 @@ def spectrum(x: NDArray, dt: float, *, window: str = "hann", segments: int = 1,
     acc = np.zeros(L // 2 + 1)
     count = 0
     for s in range(0, n - L + 1, step):
-        seg = x[s:s + L]
+        seg = x[s : s + L]
         acc += np.abs(np.fft.rfft((seg - seg.mean()) * w))
         count += 1
         if count == segments:
@@ -293,8 +377,20 @@ def amplitude_at(t: NDArray, x: NDArray, omega: float) -> float:
 
 
 # ---- assembly of the result from recorded states ---------------------------------------------
-def build_result(system: TransientSystem, out: NDArray, t, rq, rv, ra, rom, *, stats: dict,
-                 final_state, name: str, frozen: bool) -> TransientResult:
+def build_result(
+    system: TransientSystem,
+    out: NDArray,
+    t,
+    rq,
+    rv,
+    ra,
+    rom,
+    *,
+    stats: dict,
+    final_state,
+    name: str,
+    frozen: bool,
+) -> TransientResult:
     from .integrators import _pack_forces
 
     asm, train = system.assembly, system.train
@@ -357,8 +453,9 @@ def build_result(system: TransientSystem, out: NDArray, t, rq, rv, ra, rom, *, s
         el = b.element
         if el.speed_dependent:
             sp_ = np.abs(rom[:, b.shaft])
-            c = np.column_stack([np.interp(sp_, el.table.speed, el.table.values[:, i])
-                                 for i in range(8)])
+            c = np.column_stack(
+                [np.interp(sp_, el.table.speed, el.table.values[:, i]) for i in range(8)]
+            )
         else:
             c = np.tile(el.coefficients(), (nt, 1))
         x, y = hist(rq, b.dofs[0]), hist(rq, b.dofs[1])
@@ -391,19 +488,36 @@ def build_result(system: TransientSystem, out: NDArray, t, rq, rv, ra, rom, *, s
 
     st = SolverStats(**{k: stats.get(k) for k in SolverStats.__dataclass_fields__})
     return TransientResult(
-        status="ok", time=np.asarray(t), shaft_names=tuple(s.name for s in train.shafts),
-        shaft_speed=np.asarray(rom), node_labels=tuple(node_label(g) for g, _ in node_list),
-        node_x=node_x, node_y=node_y, node_shaft=np.array([s for _, s in node_list], int),
+        status="ok",
+        time=np.asarray(t),
+        shaft_names=tuple(s.name for s in train.shafts),
+        shaft_speed=np.asarray(rom),
+        node_labels=tuple(node_label(g) for g, _ in node_list),
+        node_x=node_x,
+        node_y=node_y,
+        node_shaft=np.array([s for _, s in node_list], int),
         probe_names=tuple(p.name for p in train.probes),
         probes=np.column_stack(probes) if probes else np.zeros((nt, 0)),
-        mesh_names=tuple(m.name for m in asm.meshes), mesh_force=F,
-        mesh_torque_gear=-F * w[:, 5][None, :], mesh_torque_mate=-F * w[:, 11][None, :],
-        mesh_stiffness=mo[:, :, 1], dte=mo[:, :, 2], contact=mo[:, :, 4].astype(np.int8),
-        bearing_names=tuple(b.name for b in asm.bearings), bearing_force=bforce,
+        mesh_names=tuple(m.name for m in asm.meshes),
+        mesh_force=F,
+        mesh_torque_gear=-F * w[:, 5][None, :],
+        mesh_torque_mate=-F * w[:, 11][None, :],
+        mesh_stiffness=mo[:, :, 1],
+        dte=mo[:, :, 2],
+        contact=mo[:, :, 4].astype(np.int8),
+        bearing_names=tuple(b.name for b in asm.bearings),
+        bearing_force=bforce,
         whirl_names=tuple(whirl_names),
         whirl_power=np.column_stack(whirl) if whirl else np.zeros((nt, 0)),
-        recorded_dofs=gl.astype(np.int64), dof_labels=tuple(asm.dof_labels[g] for g in gl),
-        q=rq, qdot=rv, qddot=ra, final_q=final_state[0], final_qdot=final_state[1],
-        active_dofs=system.active, stats=st, model_json=train.model_dump_json(),
+        recorded_dofs=gl.astype(np.int64),
+        dof_labels=tuple(asm.dof_labels[g] for g in gl),
+        q=rq,
+        qdot=rv,
+        qddot=ra,
+        final_q=final_state[0],
+        final_qdot=final_state[1],
+        active_dofs=system.active,
+        stats=st,
+        model_json=train.model_dump_json(),
         frozen_speed=frozen,
     )

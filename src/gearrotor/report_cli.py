@@ -1,0 +1,116 @@
+"""``gearrotor report``: the HTML report of a model (registered in :mod:`gearrotor.cli` with
+``app.command("report")(report_command)``).
+
+A thin layer over :func:`gearrotor.plots.report.make_report`: rpm at the boundary, rad/s inside.
+Input errors print one line to stderr and exit with status 2; a missing optional dependency
+(plotly, matplotlib, xarray) exits with status 2 and names the extra to install; solver failures
+exit with status 3.
+"""
+
+from __future__ import annotations
+
+import shlex
+import sys
+from pathlib import Path
+from typing import Annotated
+
+import numpy as np
+import typer
+
+from .errors import ModelError, SolverError
+
+__all__ = ["report_command"]
+
+RPM = np.pi / 30  # rpm -> rad/s
+
+
+def _overrides(items: list[str] | None) -> dict[str, str]:
+    out = {}
+    for it in items or []:
+        if "=" not in it:
+            raise ModelError(
+                "--set needs PATH=VALUE",
+                value=it,
+                expected="e.g. 'meshes[0].stiffness=3e7 N/m'",
+            )
+        k, v = it.split("=", 1)
+        out[k.strip()] = v.strip()
+    return out
+
+
+def report_command(
+    model: Annotated[Path, typer.Argument(help="TOML model file")],
+    output: Annotated[
+        Path,
+        typer.Option(
+            "--output", "-o", help="report directory (report.html, PNG figures, report.json)"
+        ),
+    ],
+    analyses: Annotated[
+        str,
+        typer.Option(
+            help="comma-separated: modal, campbell, unbalance (transient: give --transient)"
+        ),
+    ] = "modal,campbell,unbalance",
+    speed: Annotated[
+        float | None,
+        typer.Option(help="operating speed of the reference shaft, rpm (default: the model's)"),
+    ] = None,
+    max_frequency: Annotated[
+        float | None,
+        typer.Option(help="highest damped frequency of modes and Campbell, cpm (default 5×speed)"),
+    ] = None,
+    transient: Annotated[
+        Path | None,
+        typer.Option(help="saved transient result (NetCDF) to add spectra, waterfall, whirl power"),
+    ] = None,
+    set_: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--set",
+            help="Override a model value: PATH=VALUE, e.g. 'meshes[0].stiffness=3e7 N/m' "
+            "(repeatable).",
+        ),
+    ] = None,
+) -> None:
+    """Self-contained HTML report: modes (3-D), stability, Campbell, Bode, orbits, API 684 checks,
+    and a saved transient result's spectra, waterfall and whirl power; plus PNG figures."""
+    from .io import load_model
+
+    try:
+        try:
+            from .plots.report import make_report
+        except ImportError as exc:
+            raise _missing(exc) from None
+        train = load_model(model, _overrides(set_))
+        try:
+            rep = make_report(
+                train,
+                output,
+                analyses=analyses,
+                speed=None if speed is None else speed * RPM,
+                max_frequency=None if max_frequency is None else max_frequency * RPM,
+                transient=transient,
+                source=str(model),
+                command=shlex.join(["gearrotor", *sys.argv[1:]]) if sys.argv else None,
+            )
+        except ImportError as exc:
+            raise _missing(exc) from None
+    except ModelError as exc:
+        typer.echo(f"error: {exc}", err=True)
+        raise typer.Exit(2) from None
+    except SolverError as exc:
+        typer.echo(f"solver error: {exc}", err=True)
+        raise typer.Exit(3) from None
+    typer.echo(f"report written to {rep.html}")
+    for v in rep.summary.get("verdicts", []):
+        typer.echo(f"  {'pass' if v['ok'] else 'FAIL'}  {v['check']}: {v['detail']}")
+
+
+def _missing(exc: ImportError) -> ModelError:
+    name = exc.name or str(exc)
+    extra = "results" if name in ("xarray", "h5netcdf", "pandas") else "report"
+    return ModelError(
+        f"the report needs the Python package {name!r}, which is not installed",
+        expected=f"pip install 'gearrotor[{extra}]'",
+    )

@@ -1,0 +1,167 @@
+"""Command-line functions of parametric studies, registered by ``gearrotor.cli`` as::
+
+    from .studies.cli import study_app
+    app.add_typer(study_app, name="study")
+
+giving ``gearrotor study run STUDY.toml [--scheduler ADDR|local] [--workers N]``,
+``gearrotor study status STUDY.toml`` and ``gearrotor study report STUDY.toml [--output DIR]``.
+Input errors print one message (file, field, value, expectation) and exit with status 2; a run
+in which some cases failed exits with status 1 after listing them.
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from ..errors import ModelError
+
+__all__ = ["study_app"]
+
+study_app = typer.Typer(
+    help="Parametric studies: a matrix of cases run in parallel (local processes or Dask).",
+    no_args_is_help=True,
+    add_completion=False,
+    pretty_exceptions_enable=False,
+)
+
+StudyArg = Annotated[Path, typer.Argument(help="study file (TOML)")]
+
+
+def _input_error(exc: ModelError) -> typer.Exit:
+    typer.echo(f"error: {exc}", err=True)
+    return typer.Exit(2)
+
+
+def _parse_cases(text: str | None) -> list[int] | None:
+    """``"0,3,5-7"`` → [0, 3, 5, 6, 7]."""
+    if text is None:
+        return None
+    out: list[int] = []
+    try:
+        for part in text.split(","):
+            part = part.strip()
+            if "-" in part:
+                a, b = part.split("-", 1)
+                out.extend(range(int(a), int(b) + 1))
+            elif part:
+                out.append(int(part))
+    except ValueError:
+        raise ModelError(
+            "cannot read the case list",
+            field="--cases",
+            value=text,
+            expected="indices and ranges such as 0,3,5-7",
+        ) from None
+    return out
+
+
+@study_app.command("run")
+def run_command(
+    study: StudyArg,
+    scheduler: Annotated[
+        str | None,
+        typer.Option(
+            "--scheduler",
+            help="Dask scheduler address (tcp://host:8786), or 'local' for a Dask "
+            "LocalCluster; default: local processes",
+        ),
+    ] = None,
+    workers: Annotated[
+        int | None,
+        typer.Option("--workers", "-j", help="worker processes (default: all cores)"),
+    ] = None,
+    cases: Annotated[
+        str | None,
+        typer.Option("--cases", help="run only these case indices, e.g. 0,3,5-7"),
+    ] = None,
+    retry_failed: Annotated[bool, typer.Option(help="run previously failed cases again")] = True,
+    progress: Annotated[bool, typer.Option(help="progress bar on stderr")] = True,
+) -> None:
+    """Run the cases of a study that have not finished (resumes an interrupted study)."""
+    from .execute import run_study
+    from .spec import load_study
+
+    try:
+        st = load_study(study)
+        summary = run_study(
+            st,
+            scheduler=scheduler,
+            workers=workers,
+            cases=_parse_cases(cases),
+            retry_failed=retry_failed,
+            progress=progress,
+        )
+    except ModelError as exc:
+        raise _input_error(exc) from None
+    typer.echo(
+        f"study {st.name}: {summary.n_cases} cases, {summary.n_runs} distinct runs, "
+        f"{summary.executed} executed, {summary.skipped} already finished, "
+        f"{len(summary.failed)} failed; {summary.wall_time_s:.1f} s on {summary.workers} "
+        f"workers ({summary.backend})"
+    )
+    typer.echo(f"results: {st.folder / 'results.nc'}")
+    if summary.failed:
+        for i, err in summary.failed.items():
+            typer.echo(f"case {i} failed: {err}", err=True)
+        sys.stdout.flush()
+        raise typer.Exit(1)
+
+
+@study_app.command("status")
+def status_command(study: StudyArg) -> None:
+    """List the cases of a study with their state (done, failed, pending)."""
+    from .execute import study_status
+    from .spec import load_study
+
+    try:
+        st = load_study(study)
+        rows = study_status(st)
+    except ModelError as exc:
+        raise _input_error(exc) from None
+    counts = {s: sum(r.state == s for r in rows) for s in ("done", "failed", "pending")}
+    typer.echo(
+        f"study {st.name} ({st.folder}): {len(rows)} cases, {counts['done']} done, "
+        f"{counts['failed']} failed, {counts['pending']} pending"
+    )
+    typer.echo(f"{'case':>4}  {'state':<8}{'key':<22}parameters")
+    for r in rows:
+        typer.echo(f"{r.index:>4}  {r.state:<8}{r.key:<22}{r.label}")
+        if r.error:
+            typer.echo(f"{'':>14}error: {r.error.splitlines()[0][:300]}")
+
+
+@study_app.command("report")
+def report_command(
+    study: StudyArg,
+    output: Annotated[
+        Path | None,
+        typer.Option(
+            "--output", "-o", help="directory for the PNGs (default: <study folder>/report)"
+        ),
+    ] = None,
+    cases: Annotated[
+        str | None, typer.Option("--cases", help="overlay only these cases, e.g. 0-3,7")
+    ] = None,
+    per_figure: Annotated[int, typer.Option("--per-figure", help="cases per overlay figure")] = 7,
+) -> None:
+    """Overlay spectra (1x, 2x, mesh-frequency zooms) and trend plots of a study, as PNG."""
+    from .collection import collect
+    from .plots import report
+    from .spec import load_study
+
+    try:
+        st = load_study(study)
+        if per_figure < 1:
+            raise ModelError(
+                "cases per figure must be positive", field="--per-figure", value=per_figure
+            )
+        collect(st)
+        paths = report(st, output, cases=_parse_cases(cases), per_figure=per_figure)
+    except ModelError as exc:
+        raise _input_error(exc) from None
+    for p in paths:
+        typer.echo(str(p))

@@ -1,0 +1,605 @@
+"""Running a study: plan (resolve every case, key it), execute (local processes or Dask), store.
+
+Each case's model is resolved in the calling process (:func:`gearrotor.io.load_model` with the
+case's overrides); a case whose overrides are invalid is recorded as failed with the error and
+the others run. A case is keyed by the SHA-256 of its resolved model (JSON), the analysis
+settings and the stored outputs, so a study that is interrupted or re-run skips the finished
+cases, and identical rows run once. The study folder holds::
+
+    study.json             the case table: index, parameter values, label, key
+    cases/<key>.nc         one finished case (histories + metrics), written atomically
+    cases/<key>.error.json a failed case: error text and traceback
+    results.nc             the combined dataset (:func:`gearrotor.studies.collect`)
+
+Workers run one case at a time with one BLAS/numba thread each (OMP_NUM_THREADS,
+OPENBLAS_NUM_THREADS, MKL_NUM_THREADS and NUMBA_NUM_THREADS = 1): local workers are spawned
+processes; a Dask ``LocalCluster`` gets the same environment. A remote Dask cluster must be
+started with these variables set, and every worker must be able to import gearrotor. Results come
+back to the calling process, which writes the files, so the study folder need not be shared.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import hashlib
+import json
+import os
+import sys
+import time
+import traceback
+from collections.abc import Callable, Iterator
+from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+from dataclasses import dataclass, field
+from multiprocessing import get_context
+from pathlib import Path
+from typing import Any, TextIO
+
+from ..errors import ModelError
+from .spec import Case, Study
+
+__all__ = [
+    "THREAD_ENV",
+    "CaseStatus",
+    "PlannedCase",
+    "RunSummary",
+    "case_path",
+    "plan",
+    "run_case",
+    "run_study",
+    "study_status",
+]
+
+THREAD_ENV = {
+    "OMP_NUM_THREADS": "1",
+    "OPENBLAS_NUM_THREADS": "1",
+    "MKL_NUM_THREADS": "1",
+    "NUMBA_NUM_THREADS": "1",
+}
+FORMAT_VERSION = 1
+
+
+@dataclass(frozen=True)
+class PlannedCase:
+    """A case with its key and resolved model (``model_json``), or the input error that
+    prevented resolving it (``error``)."""
+
+    case: Case
+    key: str
+    model_json: str | None
+    error: str | None = None
+
+
+@dataclass(frozen=True)
+class CaseStatus:
+    """State of one case in the study folder: ``"done"``, ``"failed"`` (error text in
+    ``error``) or ``"pending"``."""
+
+    index: int
+    key: str
+    label: str
+    state: str
+    error: str | None = None
+
+
+@dataclass(frozen=True)
+class RunSummary:
+    """Outcome of :func:`run_study`: cases in the table, distinct runs, runs skipped (already
+    finished), runs executed now, failed cases (index → error) and wall time (s)."""
+
+    n_cases: int
+    n_runs: int
+    skipped: int
+    executed: int
+    failed: dict[int, str] = field(default_factory=dict)
+    wall_time_s: float = 0.0
+    backend: str = "local"
+    workers: int = 1
+
+    @property
+    def ok(self) -> bool:
+        return not self.failed
+
+
+def _canonical(obj: Any) -> str:
+    return json.dumps(obj, sort_keys=True, separators=(",", ":"), default=str)
+
+
+def _settings(study: Study) -> dict:
+    return {
+        "format": FORMAT_VERSION,
+        "analysis": study.analysis.model_dump(),
+        "outputs": study.outputs.model_dump(),
+        "window": study.window,
+    }
+
+
+def plan(study: Study) -> tuple[PlannedCase, ...]:
+    """Resolve every case's model and compute its key (cheap: no analysis runs)."""
+    from ..io import load_model
+
+    settings = _settings(study)
+    out = []
+    for case in study.cases:
+        try:
+            train = load_model(study.model, case.overrides)
+        except ModelError as exc:
+            h = hashlib.sha256(_canonical({"invalid": case.overrides, **settings}).encode())
+            out.append(PlannedCase(case, h.hexdigest()[:20], None, str(exc)))
+            continue
+        mj = train.model_dump_json()
+        h = hashlib.sha256(_canonical({"model": json.loads(mj), **settings}).encode())
+        out.append(PlannedCase(case, h.hexdigest()[:20], mj))
+    return tuple(out)
+
+
+def case_path(study: Study, key: str, *, error: bool = False) -> Path:
+    """File of a finished (``<key>.nc``) or failed (``<key>.error.json``) case."""
+    return study.folder / "cases" / (f"{key}.error.json" if error else f"{key}.nc")
+
+
+def study_status(
+    study: Study, planned: tuple[PlannedCase, ...] | None = None
+) -> tuple[CaseStatus, ...]:
+    """State of every case of the study from the files in its folder."""
+    planned = plan(study) if planned is None else planned
+    out = []
+    for p in planned:
+        state, err = "pending", p.error
+        if p.error is not None:
+            state = "failed"
+        elif case_path(study, p.key).exists():
+            state = "done"
+        elif case_path(study, p.key, error=True).exists():
+            state = "failed"
+            err = json.loads(case_path(study, p.key, error=True).read_text())["error"]
+        out.append(CaseStatus(p.case.index, p.key, p.case.label, state, err))
+    return tuple(out)
+
+
+# ---- the worker ------------------------------------------------------------------------------
+def _payload(study: Study, p: PlannedCase) -> dict:
+    return {
+        "key": p.key,
+        "index": p.case.index,
+        "model_json": p.model_json,
+        "analysis": study.analysis.model_dump(),
+        "window": study.window,
+        "histories": study.outputs.histories,
+        "values": p.case.values,
+        "study": study.name,
+    }
+
+
+def run_case(payload: dict) -> dict:
+    """Run one case (in a worker). Never raises: returns ``{"key", "index", "status": "ok",
+    "dataset"}`` or ``{..., "status": "failed", "error", "traceback"}``, with ``wall_time_s``
+    and the worker's thread settings ``env``."""
+    for k, v in THREAD_ENV.items():
+        os.environ.setdefault(k, v)
+    t0 = time.perf_counter()
+    base = {
+        "key": payload["key"],
+        "index": payload["index"],
+        "env": {k: os.environ.get(k) for k in THREAD_ENV},
+        "pid": os.getpid(),
+    }
+    try:
+        from ..model import Train
+
+        train = Train.model_validate_json(payload["model_json"])
+        settings = payload["analysis"]
+        if settings["type"] == "transient":
+            ds = _run_transient(
+                train, settings, window=payload["window"], histories=payload["histories"]
+            )
+        else:
+            ds = _run_modal(train, settings)
+        wall = time.perf_counter() - t0
+        ds.attrs.update(
+            {
+                "gearrotor_study": payload["study"],
+                "case_key": payload["key"],
+                "case_index": int(payload["index"]),
+                "case_values": _canonical(payload["values"]),
+                "analysis": _canonical(settings),
+                "case_wall_time_s": wall,
+            }
+        )
+        return {**base, "status": "ok", "dataset": ds, "wall_time_s": wall}
+    except Exception as exc:  # a failing case is recorded, it must not stop the study
+        return {
+            **base,
+            "status": "failed",
+            "error": f"{type(exc).__name__}: {exc}",
+            "traceback": traceback.format_exc(),
+            "wall_time_s": time.perf_counter() - t0,
+        }
+
+
+def _run_transient(train, s: dict, *, window: float, histories: str):
+    import numpy as np
+
+    from ..analyses.transient import RK4, ModalRK4, Save, transient
+    from .metrics import transient_metrics
+
+    if s["integrator"] == "rk4":
+        integ = RK4(dt=s["dt"])
+    else:
+        integ = ModalRK4(
+            dt=s["dt"], cutoff=s["cutoff"], cutoff_factor=s["cutoff_factor"], accuracy=s["accuracy"]
+        )
+    res = transient(
+        train,
+        t_end=s["t_end"],
+        integrator=integ,
+        save=Save(dt=s["save_dt"]),
+        reactions=s["reactions"],
+        blowup=s["blowup"],
+    )
+    ds = res.to_xarray().drop_vars(["q", "qdot", "global_dof", "dof"], errors="ignore")
+    probe_shaft = np.array(
+        [train.node_index(p, f"probes[{k}]")[0] for k, p in enumerate(train.probes)], dtype=np.int64
+    )
+    mesh_shaft = np.array(
+        [
+            train.shaft_index(m.gear.shaft, f"meshes[{k}].gear.shaft")
+            for k, m in enumerate(train.meshes)
+        ],
+        dtype=np.int64,
+    )
+    mesh_teeth = np.array([m.gear.teeth for m in train.meshes], dtype=np.int64)
+    met = transient_metrics(
+        ds, window=window, probe_shaft=probe_shaft, mesh_teeth=mesh_teeth, mesh_shaft=mesh_shaft
+    )
+    if histories == "window":
+        t = ds["time"].values
+        ds = ds.isel(time=np.flatnonzero(t >= t[-1] - window - 1e-12))
+    elif histories == "none":
+        ds = ds.isel(time=slice(0, 0))
+    ds = ds.assign(
+        probe_shaft=("probe", probe_shaft),
+        mesh_shaft=("mesh", mesh_shaft),
+        mesh_teeth=("mesh", mesh_teeth),
+    )
+    ds = _merge(ds, met)
+    ds.attrs["metrics"] = json.dumps(list(met.data_vars))
+    ds.attrs["metric_window_s"] = float(window)
+    return ds
+
+
+def _merge(a, b):
+    """Merge the metric variables ``b`` into ``a`` (same coordinates)."""
+    for name, var in b.data_vars.items():
+        a[name] = var
+    return a
+
+
+def _run_modal(train, s: dict):
+    import numpy as np
+    import xarray as xr
+
+    from ..analyses import modal
+
+    res = modal(train, speed=s["speed"], max_frequency=s["max_frequency"])
+    keep = np.flatnonzero(~np.asarray(res.overdamped, bool))[: s["n_modes"]]
+    n = s["n_modes"]
+    fr = np.full(n, np.nan)
+    ld = np.full(n, np.nan)
+    mt = np.array([""] * n, dtype=object)
+    wh = np.array([""] * n, dtype=object)
+    fr[: len(keep)] = np.asarray(res.frequency_rpm)[keep]
+    ld[: len(keep)] = np.asarray(res.log_dec)[keep]
+    mt[: len(keep)] = [res.mode_type[i] for i in keep]
+    wh[: len(keep)] = [res.whirl[i] for i in keep]
+    ds = xr.Dataset(
+        {
+            "damped_frequency": ("mode", fr, {"units": "rpm"}),
+            "log_dec": ("mode", ld, {"units": "1"}),
+            "mode_type": ("mode", mt.astype(str)),
+            "whirl": ("mode", wh.astype(str)),
+        },
+        coords={"mode": np.arange(n)},
+        attrs={"title": "gearrotor modal", "speed_rad_s": float(res.speed)},
+    )
+    ds.attrs["metrics"] = json.dumps(["damped_frequency", "log_dec", "mode_type", "whirl"])
+    return ds
+
+
+# ---- storing ---------------------------------------------------------------------------------
+def _write_case(study: Study, out: dict) -> None:
+    key = out["key"]
+    err = case_path(study, key, error=True)
+    if out["status"] == "ok":
+        path = case_path(study, key)
+        tmp = path.with_name(f"{path.name}.tmp-{os.getpid()}")
+        out["dataset"].to_netcdf(tmp, engine="h5netcdf")
+        os.replace(tmp, path)
+        err.unlink(missing_ok=True)
+    else:
+        tmp = err.with_name(f"{err.name}.tmp-{os.getpid()}")
+        tmp.write_text(
+            json.dumps(
+                {k: out.get(k) for k in ("key", "index", "error", "traceback", "wall_time_s")},
+                indent=1,
+            )
+        )
+        os.replace(tmp, err)
+
+
+def _write_manifest(study: Study, planned: tuple[PlannedCase, ...]) -> None:
+    (study.folder / "cases").mkdir(parents=True, exist_ok=True)
+    doc = {
+        "name": study.name,
+        "study_file": str(study.file),
+        "model": str(study.model),
+        "parameters": {
+            k: {"paths": list(v.targets), "unit": v.unit} for k, v in study.parameters.items()
+        },
+        "analysis": study.analysis.model_dump(),
+        "outputs": study.outputs.model_dump(),
+        "window_s": study.window,
+        "cases": [
+            {
+                "index": p.case.index,
+                "values": p.case.values,
+                "label": p.case.label,
+                "key": p.key,
+                "input_error": p.error,
+            }
+            for p in planned
+        ],
+    }
+    path = study.folder / "study.json"
+    tmp = path.with_name(f"study.json.tmp-{os.getpid()}")
+    tmp.write_text(json.dumps(doc, indent=1, default=str))
+    os.replace(tmp, path)
+
+
+# ---- progress ----------------------------------------------------------------------------------
+class _Progress:
+    """A text progress bar on ``stream`` (redrawn in place on a terminal, one line per case
+    otherwise)."""
+
+    def __init__(self, total: int, *, enabled: bool, stream: TextIO | None = None) -> None:
+        self.total, self.enabled = total, enabled
+        self.stream = stream or sys.stderr
+        self.done = self.failed = 0
+        self.t0 = time.perf_counter()
+        self.tty = bool(getattr(self.stream, "isatty", lambda: False)())
+
+    def update(self, text: str, *, failed: bool = False) -> None:
+        self.done += 1
+        self.failed += failed
+        if not self.enabled:
+            return
+        el = time.perf_counter() - self.t0
+        eta = el / self.done * (self.total - self.done)
+        n = 30
+        fill = int(n * self.done / max(self.total, 1))
+        bar = f"[{'#' * fill}{'.' * (n - fill)}] {self.done}/{self.total}"
+        tail = f"{self.failed} failed, {el:.0f} s, ~{eta:.0f} s left"
+        if self.tty:
+            self.stream.write(f"\r{bar} {tail} ")
+            if self.done == self.total:
+                self.stream.write("\n")
+        else:
+            self.stream.write(f"{bar} {text}; {tail}\n")
+        self.stream.flush()
+
+
+@contextlib.contextmanager
+def _thread_env() -> Iterator[None]:
+    """Set the one-thread variables in this process's environment while workers are spawned
+    (they inherit it); restore the previous values afterwards."""
+    old = {k: os.environ.get(k) for k in THREAD_ENV}
+    os.environ.update(THREAD_ENV)
+    try:
+        yield
+    finally:
+        for k, v in old.items():
+            if v is None:
+                os.environ.pop(k, None)
+            else:
+                os.environ[k] = v
+
+
+# ---- execution ---------------------------------------------------------------------------------
+def _execute_local(payloads: list[dict], workers: int, on_done: Callable[[dict], None]) -> None:
+    with (
+        _thread_env(),
+        ProcessPoolExecutor(max_workers=workers, mp_context=get_context("spawn")) as pool,
+    ):
+        futs = {pool.submit(run_case, p): p for p in payloads}
+        try:
+            pending = set(futs)
+            while pending:
+                done, pending = wait(pending, return_when=FIRST_COMPLETED)
+                for f in done:
+                    p = futs[f]
+                    try:
+                        out = f.result()
+                    except Exception as exc:  # worker died (killed, out of memory)
+                        out = {
+                            "key": p["key"],
+                            "index": p["index"],
+                            "status": "failed",
+                            "error": f"worker failed: {type(exc).__name__}: {exc}",
+                        }
+                    on_done(out)
+        except BaseException:
+            for f in futs:
+                f.cancel()
+            raise
+
+
+def _execute_dask(
+    payloads: list[dict], scheduler: str, workers: int | None, on_done: Callable[[dict], None]
+) -> int:
+    try:
+        from distributed import Client, LocalCluster, as_completed
+    except ImportError:
+        raise ModelError(
+            "a Dask scheduler needs dask.distributed",
+            field="--scheduler",
+            value=scheduler,
+            expected="pip install 'gearrotor[dask]'",
+        ) from None
+    with contextlib.ExitStack() as stack:
+        if scheduler == "local":
+            n = workers or os.cpu_count() or 1
+            cluster = stack.enter_context(
+                LocalCluster(
+                    n_workers=n,
+                    threads_per_worker=1,
+                    processes=True,
+                    dashboard_address=None,
+                    env=dict(THREAD_ENV),
+                )
+            )
+            client = stack.enter_context(Client(cluster))
+        else:
+            try:
+                client = stack.enter_context(Client(scheduler, timeout="30s"))
+            except (OSError, TimeoutError, ValueError) as exc:
+                raise ModelError(
+                    f"cannot connect to the Dask scheduler: {exc}",
+                    field="--scheduler",
+                    value=scheduler,
+                    expected="an address such as tcp://host:8786, or 'local'",
+                ) from None
+            n = len(client.scheduler_info().get("workers", {}))
+        futs = {
+            client.submit(run_case, p, key=f"gearrotor-case-{p['key']}", pure=False): p
+            for p in payloads
+        }
+        try:
+            for f in as_completed(list(futs)):
+                p = futs[f]
+                try:
+                    out = f.result()
+                except Exception as exc:  # worker lost
+                    out = {
+                        "key": p["key"],
+                        "index": p["index"],
+                        "status": "failed",
+                        "error": f"worker failed: {type(exc).__name__}: {exc}",
+                    }
+                on_done(out)
+        except BaseException:
+            client.cancel(list(futs))
+            raise
+    return n
+
+
+def run_study(
+    study: Study,
+    *,
+    scheduler: str | None = None,
+    workers: int | None = None,
+    cases: list[int] | None = None,
+    retry_failed: bool = True,
+    progress: bool = True,
+    collect_results: bool = True,
+    stream: TextIO | None = None,
+) -> RunSummary:
+    """Run the cases of ``study`` that are not finished and store each as it completes.
+
+    scheduler : None (local processes), ``"local"`` (a Dask LocalCluster) or a Dask scheduler
+        address (``tcp://host:8786``)
+    workers : processes (local) or Dask workers (LocalCluster); default: all cores
+    cases : run only these case indices (the others are left as they are)
+    retry_failed : run previously failed cases again (default); False skips them
+    progress : a progress bar on ``stream`` (default stderr)
+    collect_results : write ``results.nc`` (:func:`collect`) at the end
+    """
+    t0 = time.perf_counter()
+    if workers is not None and workers < 1:
+        raise ModelError(
+            "the number of workers must be positive",
+            field="--workers",
+            value=workers,
+            expected="an integer >= 1",
+        )
+    planned = plan(study)
+    if cases is not None:
+        bad = [i for i in cases if not 0 <= i < len(planned)]
+        if bad:
+            raise ModelError(
+                "case index out of range",
+                field="cases",
+                value=bad,
+                expected=f"0 .. {len(planned) - 1}",
+            )
+        planned_sel = tuple(planned[i] for i in sorted(set(cases)))
+    else:
+        planned_sel = planned
+    _write_manifest(study, planned)
+    failed: dict[int, str] = {}
+    todo: dict[str, PlannedCase] = {}
+    skipped = 0
+    seen = set()
+    for p in planned_sel:
+        if p.error is not None:
+            failed[p.case.index] = p.error
+            continue
+        if p.key in seen:
+            continue
+        seen.add(p.key)
+        if case_path(study, p.key).exists():
+            skipped += 1
+        elif not retry_failed and case_path(study, p.key, error=True).exists():
+            skipped += 1
+        else:
+            todo[p.key] = p
+    by_key: dict[str, list[int]] = {}
+    for p in planned_sel:
+        by_key.setdefault(p.key, []).append(p.case.index)
+    for p in planned_sel:  # previously failed and not retried
+        ep = case_path(study, p.key, error=True)
+        if (
+            p.error is None
+            and p.key not in todo
+            and ep.exists()
+            and not case_path(study, p.key).exists()
+        ):
+            failed[p.case.index] = json.loads(ep.read_text())["error"]
+    bar = _Progress(len(todo), enabled=progress, stream=stream)
+
+    def on_done(out: dict) -> None:
+        _write_case(study, out)
+        idx = by_key[out["key"]]
+        ok = out["status"] == "ok"
+        if not ok:
+            for i in idx:
+                failed[i] = out["error"]
+        text = (
+            f"case {','.join(map(str, idx))} "
+            f"{'ok' if ok else 'FAILED: ' + out['error'][:200]}"
+            f" ({out.get('wall_time_s', 0.0):.1f} s)"
+        )
+        bar.update(text, failed=not ok)
+
+    payloads = [_payload(study, p) for p in todo.values()]
+    n_workers = workers or os.cpu_count() or 1
+    backend = "local"
+    if payloads:
+        if scheduler is None:
+            n_workers = min(n_workers, len(payloads))
+            _execute_local(payloads, n_workers, on_done)
+        else:
+            backend = "dask-local" if scheduler == "local" else f"dask:{scheduler}"
+            n_workers = _execute_dask(payloads, scheduler, workers, on_done)
+    if collect_results:
+        from .collection import collect
+
+        collect(study, planned=planned)
+    return RunSummary(
+        n_cases=len(planned_sel),
+        n_runs=len(seen),
+        skipped=skipped,
+        executed=len(payloads),
+        failed=dict(sorted(failed.items())),
+        wall_time_s=time.perf_counter() - t0,
+        backend=backend,
+        workers=n_workers,
+    )

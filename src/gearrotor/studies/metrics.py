@@ -1,0 +1,166 @@
+"""Summary metrics of one case, computed from its dataset over a steady-state window.
+
+Transient metrics (SPEC 3.4), all over the last ``window`` seconds of the run:
+
+========================== =========== ==========================================================
+variable (dims)            unit        meaning
+========================== =========== ==========================================================
+amp_1x (probe)             m           zero-to-peak amplitude at the mean speed of the probe's
+                                       shaft (least squares, :func:`amplitude_at`)
+amp_2x (probe)             m           the same at twice that speed
+dominant_frequency (probe) cpm         highest peak of the probe's amplitude spectrum (Hann
+                                       window, linear trend removed, DC bin excluded),
+                                       refined between bins (parabolic, log amplitude)
+speed_mean (shaft)         rpm         mean spin speed
+speed_fluctuation (shaft)  rpm         half peak-to-peak speed about its linear trend
+speed_dominant_frequency   cpm         highest peak of the speed spectrum
+(shaft)
+peak_mesh_force (mesh)     N           largest |normal tooth force|
+contact_loss_fraction      1           fraction of samples with the teeth separated
+(mesh)
+mesh_frequency (mesh)      cpm         tooth count × mean speed of the gear's shaft
+whirl_power_peak           W           largest |P|, P = Fx ẋ + Fy ẏ of the component
+(component)
+whirl_power_mean           W           mean P (> 0 feeds whirl energy, < 0 drains it)
+(component)
+========================== =========== ==========================================================
+
+Modal metrics: ``damped_frequency (mode)`` rpm, ``log_dec (mode)``, ``mode_type (mode)`` and
+``whirl (mode)`` of the lowest elastic modes (over-damped and rigid-body modes excluded).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import xarray as xr
+
+from ..analyses.transient import amplitude_at, spectrum
+
+__all__ = ["TRANSIENT_METRICS", "MODAL_METRICS", "transient_metrics", "window_of"]
+
+RPM = 30.0 / np.pi  # rad/s → rpm
+
+TRANSIENT_METRICS = (
+    "amp_1x",
+    "amp_2x",
+    "dominant_frequency",
+    "speed_mean",
+    "speed_fluctuation",
+    "speed_dominant_frequency",
+    "peak_mesh_force",
+    "contact_loss_fraction",
+    "mesh_frequency",
+    "whirl_power_peak",
+    "whirl_power_mean",
+)
+MODAL_METRICS = ("damped_frequency", "log_dec", "mode_type", "whirl")
+
+
+def window_of(ds: xr.Dataset, window: float) -> xr.Dataset:
+    """The samples of ``ds`` with time ≥ t_last − window (s)."""
+    t = ds["time"].values
+    return ds.isel(time=np.flatnonzero(t >= t[-1] - window - 1e-12))
+
+
+def _dominant(x: np.ndarray, dt: float) -> float:
+    """Frequency (cpm) of the highest spectral peak above DC, refined between bins by a
+    parabola through the log amplitudes of the peak bin and its neighbours."""
+    if len(x) < 8:
+        return float("nan")
+    f, a = spectrum(x, dt)
+    k = 1 + int(np.argmax(a[1:]))
+    if 1 < k < len(a) - 1 and np.all(a[k - 1 : k + 2] > 0):
+        al, be, ga = np.log(a[k - 1 : k + 2])
+        den = al - 2 * be + ga
+        shift = 0.5 * (al - ga) / den if den < 0 else 0.0
+        return float(f[k] + shift * (f[1] - f[0]))
+    return float(f[k])
+
+
+def transient_metrics(
+    ds: xr.Dataset,
+    *,
+    window: float,
+    probe_shaft: np.ndarray,
+    mesh_teeth: np.ndarray,
+    mesh_shaft: np.ndarray,
+) -> xr.Dataset:
+    """Metrics of a transient dataset (:meth:`TransientResult.to_xarray` layout) over the last
+    ``window`` s. ``probe_shaft`` (n_probe,), ``mesh_shaft`` (n_mesh,): shaft index of each
+    probe and of each mesh's gear; ``mesh_teeth`` (n_mesh,): the gear's tooth count."""
+    w = window_of(ds, window)
+    t = w["time"].values
+    dt = float(np.median(np.diff(t))) if len(t) > 1 else float("nan")
+    speed = w["shaft_speed"].values  # (nt, ns) rad/s
+    mean_speed = np.abs(speed).mean(axis=0)
+    probes = w["probe_signal"].values
+    n_probe = probes.shape[1]
+    amp1 = np.array(
+        [amplitude_at(t, probes[:, k], mean_speed[probe_shaft[k]]) for k in range(n_probe)]
+    )
+    amp2 = np.array(
+        [amplitude_at(t, probes[:, k], 2 * mean_speed[probe_shaft[k]]) for k in range(n_probe)]
+    )
+    dom = np.array([_dominant(probes[:, k], dt) for k in range(n_probe)])
+    fluct, sdom = [], []
+    for s in range(speed.shape[1]):
+        om = speed[:, s]
+        tt = t - t[0]
+        fluct.append(0.5 * np.ptp(om - np.polyval(np.polyfit(tt, om, 1), tt)) * RPM)
+        sdom.append(_dominant(om, dt))
+    force = w["mesh_force"].values
+    contact = w["contact"].values
+    wp = w["whirl_power"].values
+    out = xr.Dataset(
+        {
+            "amp_1x": ("probe", amp1, {"units": "m", "long_name": "1x amplitude (0-peak)"}),
+            "amp_2x": ("probe", amp2, {"units": "m", "long_name": "2x amplitude (0-peak)"}),
+            "dominant_frequency": (
+                "probe",
+                dom,
+                {"units": "cpm", "long_name": "dominant displacement frequency"},
+            ),
+            "speed_mean": (
+                "shaft",
+                mean_speed * RPM * np.sign(speed.mean(axis=0)),
+                {"units": "rpm", "long_name": "mean spin speed"},
+            ),
+            "speed_fluctuation": (
+                "shaft",
+                np.array(fluct),
+                {"units": "rpm", "long_name": "speed fluctuation (half peak-to-peak, detrended)"},
+            ),
+            "speed_dominant_frequency": (
+                "shaft",
+                np.array(sdom),
+                {"units": "cpm", "long_name": "dominant speed-fluctuation frequency"},
+            ),
+            "peak_mesh_force": (
+                "mesh",
+                np.abs(force).max(axis=0),
+                {"units": "N", "long_name": "peak normal tooth force"},
+            ),
+            "contact_loss_fraction": (
+                "mesh",
+                np.mean(contact == 0, axis=0),
+                {"units": "1", "long_name": "fraction of time with the teeth separated"},
+            ),
+            "mesh_frequency": (
+                "mesh",
+                np.asarray(mesh_teeth, float) * mean_speed[np.asarray(mesh_shaft, int)] * RPM,
+                {"units": "cpm", "long_name": "mesh frequency"},
+            ),
+            "whirl_power_peak": (
+                "component",
+                np.abs(wp).max(axis=0),
+                {"units": "W", "long_name": "peak |whirl-promoting power|"},
+            ),
+            "whirl_power_mean": (
+                "component",
+                wp.mean(axis=0),
+                {"units": "W", "long_name": "mean whirl-promoting power (>0 feeds whirl)"},
+            ),
+        },
+        coords={k: ds[k].values for k in ("probe", "shaft", "mesh", "component")},
+    )
+    return out

@@ -1,0 +1,274 @@
+"""Study figures: overlay spectra of several cases and trend plots (metric vs parameter).
+
+Every function returns the matplotlib ``Figure`` (the caller saves or closes it);
+:func:`report` writes them all as PNG files. Spectra are amplitude spectra (zero-to-peak, µm or
+rpm, in cpm) of each case's stored window (Hann window, linear trend removed).
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from .collection import collect
+from .execute import case_path, plan, study_status
+from .spec import Study, TransientSettings
+
+__all__ = ["overlay_spectra", "padded_spectrum", "report", "trend_figure", "trend_groups"]
+
+RPM = 30.0 / np.pi
+_AMP_METRICS = (
+    ("amp_1x", "1x amplitude, max over probes (µm)", "probe", 1e6),
+    ("amp_2x", "2x amplitude, max over probes (µm)", "probe", 1e6),
+    ("speed_fluctuation", "speed fluctuation, max over shafts (rpm)", "shaft", 1.0),
+    ("peak_mesh_force", "peak mesh force, max over meshes (N)", "mesh", 1.0),
+    ("contact_loss_fraction", "contact loss, max over meshes (%)", "mesh", 100.0),
+    ("dominant_frequency", "dominant displacement frequency, max over probes (cpm)", "probe", 1.0),
+)
+
+
+def _pyplot():
+    import matplotlib
+
+    matplotlib.use("Agg", force=False)
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def overlay_spectra(
+    cases: dict[str, xr.Dataset],
+    *,
+    channel: str,
+    name: str,
+    title: str = "",
+    orders: Sequence[float] = (1.0, 2.0),
+):
+    """One figure, four panels: the spectra of ``cases`` (label → case dataset) overlaid, in
+    full (0 to 1.3× the mesh frequency) and zoomed at 1x, 2x and the mesh frequency (± 6x, to
+    show the sidebands spaced at 1x). ``channel``: ``"probe"`` (probe ``name``, µm) or
+    ``"speed"`` (shaft ``name``, rpm)."""
+    plt = _pyplot()
+    fig, axes = plt.subplots(2, 2, figsize=(12, 8), constrained_layout=True)
+    ax_full, ax1, ax2, axm = axes.ravel()
+    x1 = fmesh = None
+    for k, (label, ds) in enumerate(cases.items()):
+        t = ds["time"].values
+        if len(t) < 16:
+            continue
+        dt = float(np.median(np.diff(t)))
+        if channel == "probe":
+            sig = ds["probe_signal"].sel(probe=name).values * 1e6
+            shaft = int(ds["probe_shaft"].sel(probe=name))
+        else:
+            sig = ds["shaft_speed"].sel(shaft=name).values * RPM
+            shaft = list(ds["shaft"].values).index(name)
+        f, a = padded_spectrum(sig, dt)
+        x1c = float(np.abs(ds["shaft_speed"].values[:, shaft]).mean() * RPM)
+        x1 = x1c if x1 is None else x1
+        if "mesh_frequency" in ds and ds.sizes.get("mesh", 0):
+            fmesh = float(ds["mesh_frequency"].values[0]) if fmesh is None else fmesh
+        color = f"C{k % 10}"
+        for ax in (ax_full, ax1, ax2, axm):
+            ax.semilogy(f, np.maximum(a, 1e-12), color=color, lw=1.0, label=label)
+    if x1 is None:
+        plt.close(fig)
+        raise ValueError("no case has stored time histories (outputs.histories = 'none'?)")
+    top = 1.3 * fmesh if fmesh else 12 * x1
+    ax_full.set_xlim(0, top)
+    ax1.set_xlim(0.5 * x1, 1.5 * x1)
+    ax2.set_xlim(1.5 * x1, 2.5 * x1)
+    ax_full.set_title("full spectrum")
+    ax1.set_title(f"zoom at 1x ({x1:.0f} cpm)")
+    ax2.set_title(f"zoom at 2x ({2 * x1:.0f} cpm)")
+    if fmesh:
+        axm.set_xlim(fmesh - 6 * x1, fmesh + 6 * x1)
+        axm.set_title(f"zoom at the mesh frequency ({fmesh:.0f} cpm) ± 6x")
+        for j in range(-6, 7):
+            axm.axvline(fmesh + j * x1, color="0.85", lw=0.6, zorder=0)
+    else:
+        axm.set_xlim(2.5 * x1, 10 * x1)
+        axm.set_title("3x to 10x")
+    unit = "µm" if channel == "probe" else "rpm"
+    for ax, dec in ((ax_full, 6.0), (ax1, 4.0), (ax2, 4.0), (axm, 4.0)):
+        ax.set_xlabel("frequency (cpm)")
+        ax.set_ylabel(f"amplitude 0-pk ({unit})")
+        ax.grid(True, which="both", alpha=0.3)
+        _autoscale_y(ax, dec)
+    for o in orders:
+        for ax in (ax_full,):
+            ax.axvline(o * x1, color="0.7", lw=0.6, ls="--", zorder=0)
+    ax_full.legend(fontsize=7, loc="upper right")
+    what = f"probe {name}" if channel == "probe" else f"speed of {name}"
+    fig.suptitle(f"{title}: {what}" if title else what)
+    return fig
+
+
+def padded_spectrum(x: np.ndarray, dt: float, *, pad: int = 4) -> tuple[np.ndarray, np.ndarray]:
+    """Amplitude spectrum (cpm, zero-to-peak) as :func:`~gearrotor.analyses.transient.spectrum`
+    (Hann window, linear trend removed) with ``pad``× zero padding, for drawing: the peaks keep
+    their height and the curve is interpolated between the bins."""
+    x = np.asarray(x, float)
+    n = len(x)
+    tt = np.arange(n)
+    x = x - np.polyval(np.polyfit(tt, x, 1), tt)
+    w = np.hanning(n)
+    amp = 2 * np.abs(np.fft.rfft((x - x.mean()) * w, n=pad * n)) / w.sum()
+    return np.fft.rfftfreq(pad * n, dt) * 60.0, amp
+
+
+def _autoscale_y(ax, decades: float = 4.0) -> None:
+    """Fit the y range to the data inside the x limits (log axis, ``decades`` at most)."""
+    lo_x, hi_x = ax.get_xlim()
+    ys = []
+    for line in ax.get_lines():
+        x, y = line.get_xdata(), line.get_ydata()
+        if len(np.shape(x)) and len(x) > 2:
+            sel = (np.asarray(x) >= lo_x) & (np.asarray(x) <= hi_x)
+            if sel.any():
+                ys.append(np.asarray(y)[sel])
+    if ys:
+        y = np.concatenate(ys)
+        top = float(y.max())
+        ax.set_ylim(max(float(y.min()), top * 10.0**-decades) * 0.8, top * 2.0)
+
+
+def trend_groups(
+    ds: xr.Dataset, parameter: str, parameters: Sequence[str]
+) -> list[tuple[str, np.ndarray]]:
+    """Cases along which only ``parameter`` varies: groups of case indices with equal values of
+    every other parameter and at least two distinct values of ``parameter`` (sorted by it);
+    each with a label naming the fixed values."""
+    others = [p for p in parameters if p != parameter]
+    groups: dict[tuple, list[int]] = {}
+    for i in range(ds.sizes["case"]):
+        key = tuple(str(ds[p].values[i]) for p in others)
+        groups.setdefault(key, []).append(i)
+    out = []
+    for key, idx in groups.items():
+        vals = ds[parameter].values[idx]
+        if len(set(np.asarray(vals).tolist())) < 2:
+            continue
+        order = np.argsort(vals, kind="stable")
+        label = ", ".join(f"{p}={v}" for p, v in zip(others, key, strict=True)) or "all"
+        out.append((label, np.asarray(idx)[order]))
+    return out
+
+
+def trend_figure(ds: xr.Dataset, parameter: str, parameters: Sequence[str]):
+    """Metrics vs ``parameter`` (one line per group of :func:`trend_groups`); None when no two
+    cases differ in ``parameter`` only."""
+    groups = trend_groups(ds, parameter, parameters)
+    if not groups or not np.issubdtype(ds[parameter].dtype, np.number):
+        return None
+    plt = _pyplot()
+    modal = "damped_frequency" in ds
+    if modal:
+        panels = [
+            ("damped_frequency", "damped natural frequency (rpm)", None, 1.0),
+            ("log_dec", "log decrement", None, 1.0),
+        ]
+    else:
+        panels = [p for p in _AMP_METRICS if p[0] in ds]
+    if not panels:
+        return None
+    ncol = 3 if len(panels) > 2 else 2
+    nrow = int(np.ceil(len(panels) / ncol))
+    fig, axes = plt.subplots(
+        nrow, ncol, figsize=(5 * ncol, 3.8 * nrow), squeeze=False, constrained_layout=True
+    )
+    unit = ds[parameter].attrs.get("units", "")
+    for ax, (var, ylabel, dim, scale) in zip(axes.ravel(), panels, strict=False):
+        for k, (label, idx) in enumerate(groups):
+            x = ds[parameter].values[idx]
+            da = ds[var].isel(case=idx)
+            if dim is None:  # modal: one line per mode
+                for m in range(min(da.sizes["mode"], 6)):
+                    ax.plot(
+                        x,
+                        da.isel(mode=m).values * scale,
+                        "o-",
+                        color=f"C{m}",
+                        ls=["-", "--", ":", "-."][k % 4],
+                        ms=4,
+                        label=f"mode {m}" if k == 0 else None,
+                    )
+            else:
+                y = da.max(dim=dim).values * scale
+                ax.plot(x, y, "o-", color=f"C{k % 10}", ms=4, label=label)
+        ax.set_xlabel(f"{parameter} ({unit})" if unit else parameter)
+        ax.set_ylabel(ylabel)
+        ax.grid(True, alpha=0.3)
+    for ax in axes.ravel()[len(panels) :]:
+        ax.set_visible(False)
+    axes.ravel()[0].legend(fontsize=7)
+    fig.suptitle(f"{ds.attrs.get('title', 'study')}: trends in {parameter}")
+    return fig
+
+
+def report(
+    study: Study,
+    output: str | Path | None = None,
+    *,
+    cases: Sequence[int] | None = None,
+    per_figure: int = 7,
+) -> list[Path]:
+    """Write the study's figures as PNG into ``output`` (default ``<study folder>/report``):
+    ``trend_<parameter>.png`` for every parameter, and for transient studies
+    ``spectra_<probe>_<first>-<last>.png`` and ``spectra_speed_<shaft>_<first>-<last>.png``
+    overlaying at most ``per_figure`` finished cases (``cases``: only these). Returns the
+    paths written."""
+    plt = _pyplot()
+    out = Path(output) if output is not None else study.folder / "report"
+    out.mkdir(parents=True, exist_ok=True)
+    planned = plan(study)
+    ds = collect(study, planned=planned, write=False)
+    params = list(study.parameters)
+    written: list[Path] = []
+    for p in params:
+        fig = trend_figure(ds, p, params)
+        if fig is not None:
+            path = out / f"trend_{p}.png"
+            fig.savefig(path, dpi=110)
+            plt.close(fig)
+            written.append(path)
+    if not isinstance(study.analysis, TransientSettings):
+        return written
+    status = study_status(study, planned)
+    done = [
+        s.index for s in status if s.state == "done" and (cases is None or s.index in set(cases))
+    ]
+    seen_keys: set[str] = set()
+    uniq = []
+    for i in done:  # identical rows share one result: plot it once
+        if planned[i].key not in seen_keys:
+            seen_keys.add(planned[i].key)
+            uniq.append(i)
+    for start in range(0, len(uniq), per_figure):
+        chunk = uniq[start : start + per_figure]
+        data = {}
+        for i in chunk:
+            with xr.open_dataset(case_path(study, planned[i].key), engine="h5netcdf") as d:
+                data[f"{i}: {planned[i].case.label}"] = d.load()
+        first = next(iter(data.values()))
+        if first.sizes.get("time", 0) < 16:
+            break
+        tag = f"{chunk[0]:02d}-{chunk[-1]:02d}"
+        for probe in first["probe"].values:
+            fig = overlay_spectra(data, channel="probe", name=str(probe), title=study.name)
+            path = out / f"spectra_{probe}_{tag}.png"
+            fig.savefig(path, dpi=110)
+            plt.close(fig)
+            written.append(path)
+        for shaft in first["shaft"].values:
+            fig = overlay_spectra(data, channel="speed", name=str(shaft), title=study.name)
+            path = out / f"spectra_speed_{shaft}_{tag}.png"
+            fig.savefig(path, dpi=110)
+            plt.close(fig)
+            written.append(path)
+    (out / "figures.json").write_text(json.dumps([p.name for p in written], indent=1))
+    return written
