@@ -137,3 +137,41 @@ def test_torsional_frequency_of_two_rigid_gears_on_a_mesh_spring():
     tors = res.damped_frequency[np.array(res.mode_type) == "T"]
     assert tors[0] == pytest.approx(expect, rel=1e-4)  # lateral compliance ~ k/1e14
     assert res.n_rigid_body == 2  # the free rotation of the geared pair (a Jordan pair)
+
+
+def test_driver_selects_the_loaded_flank(examples):
+    """With a driver named, the contact force (compressive δ > 0, generalised force −k δ w)
+    opposes the driver's rotation and drives the mate; the other flank mirrors the tangential
+    and axial cosines and keeps the separating radial component."""
+    from gearrotor.assembly import assemble
+    from gearrotor.io import load_model
+
+    for driver, speed in (("gear", 6500), ("gear", -6500), ("mate", 6500), ("mate", -6500)):
+        t = load_model(
+            examples / "unity_gearbox.toml",
+            {
+                "meshes[0].driver": driver,
+                "speed": f"{speed} rpm",
+                "shafts[0].speed": f"{speed} rpm",
+                "shafts[1].speed": f"{-speed} rpm",
+            },
+        )
+        asm = assemble(t)
+        w = asm.meshes[0].w
+        omega = asm.shaft_speeds(t.speed)
+        torque = -w[[5, 11]]  # θz generalised forces per unit compressive contact force
+        d = 0 if driver == "gear" else 1
+        assert torque[d] * omega[d] < 0  # resists the driver
+        assert torque[1 - d] * omega[1 - d] > 0  # drives the driven gear
+        assert w[0] == pytest.approx(np.sin(0.349))  # radial part unchanged: separating
+
+
+def test_flank_mirror_geometry():
+    g = geometry(0.1, 0.3, 0.349, 0.3, 0.7)
+    h = MeshGeometry(0.1, 0.3, 0.349, 0.3, 0.7, flank=-1)
+    cx, cy, cz = g.direction_cosines
+    assert h.direction_cosines == pytest.approx((-cx, cy, -cz))
+    # still a valid mesh: gear ratio and rigid motions give no approach
+    q = np.zeros(12)
+    q[5], q[11] = 1.0, -0.1 / 0.3
+    assert abs(h.w() @ q) < 1e-12

@@ -189,3 +189,23 @@ def test_cli_bad_input_is_one_clear_line(tmp_path, examples):
     assert "Traceback" not in r.stderr
     assert str(p) in r.stderr and "meshes[0].gear.node" in r.stderr and "99" in r.stderr
     assert r.stdout == ""  # nothing half-ran
+
+
+def test_cli_modal_json_with_shapes(examples):
+    r = _cli(
+        "modal",
+        str(examples / "unity_gearbox_single_shaft.toml"),
+        "--max-frequency",
+        "10000",
+        "--format",
+        "json",
+        "--shapes",
+    )
+    assert r.returncode == 0, r.stderr
+    m = [m for m in json.loads(r.stdout)["modes"] if not m["overdamped"]][0]
+    shape = m["shape"]["shaft1"]
+    x = np.array(shape["x"]["re"]) + 1j * np.array(shape["x"]["im"])
+    y = np.array(shape["y"]["re"]) + 1j * np.array(shape["y"]["im"])
+    # first bending mode of a symmetric shaft: largest at mid-span (node 10), normalised to 1
+    assert np.argmax(np.abs(x) + np.abs(y)) == 10
+    assert max(np.abs(x).max(), np.abs(y).max()) == pytest.approx(1.0)

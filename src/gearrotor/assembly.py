@@ -13,7 +13,9 @@ where C and K include speed-dependent bearings evaluated at each bearing's own s
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 import scipy.sparse as sp
@@ -219,28 +221,31 @@ def mesh_stiffness(train: Train, k: int) -> float:
 
 def _film_table(b, field: str, shaft) -> CoefficientTable:
     """Speed table of a bearing from a saved file or from the fluid-film solver."""
-    from .bearings import coefficients_table, load_bearing, load_table
+    from .bearings import load_bearing, load_table
 
     try:
         if b.table_file is not None:
             t = load_table(b.table_file)
+            speed = np.abs(np.asarray(t.speed_rpm)) * np.pi / 30
+            vals = np.column_stack([t.kxx, t.kxy, t.kyx, t.kyy, t.cxx, t.cxy, t.cyx, t.cyy])
         else:
             ff = b.fluid_film
-            case = load_bearing(ff.file)
             if ff.load is not None:
-                load = ff.load
-            elif ff.load_case < len(case.loads):
-                load = case.loads[ff.load_case]
+                load = tuple(ff.load)
             else:
-                raise ModelError(
-                    "no such load case in the bearing file",
-                    field=f"{field}.fluid_film.load_case",
-                    value=ff.load_case,
-                    expected=f"0..{len(case.loads) - 1} or a 'load'",
-                )
+                case = load_bearing(ff.file)
+                if ff.load_case >= len(case.loads):
+                    raise ModelError(
+                        "no such load case in the bearing file",
+                        field=f"{field}.fluid_film.load_case",
+                        value=ff.load_case,
+                        expected=f"0..{len(case.loads) - 1} or a 'load'",
+                    )
+                load = tuple(case.loads[ff.load_case])
             sign = 1.0 if shaft.speed_ratio >= 0 else -1.0  # the journal turns with its shaft
-            rpm = sign * np.sort(np.abs(ff.speeds)) * 30 / np.pi
-            t = coefficients_table(case.bearing, load, rpm, options=case.options)
+            rpm = tuple(sign * np.sort(np.abs(ff.speeds)) * 30 / np.pi)
+            mtime = Path(ff.file).stat().st_mtime_ns if Path(ff.file).exists() else 0
+            speed, vals = _solve_film_table(ff.file, mtime, load, rpm)
     except ModelError as exc:
         raise ModelError(
             exc.message,
@@ -249,10 +254,34 @@ def _film_table(b, field: str, shaft) -> CoefficientTable:
             expected=exc.expected,
             file=exc.file,
         ) from None
-    speed = np.abs(np.asarray(t.speed_rpm)) * np.pi / 30
     order = np.argsort(speed)
-    vals = np.column_stack([t.kxx, t.kxy, t.kyx, t.kyy, t.cxx, t.cxy, t.cyx, t.cyy])[order]
-    return CoefficientTable(speed[order], vals)
+    return CoefficientTable(speed[order], vals[order], b.extrapolate)
+
+
+@functools.lru_cache(maxsize=64)
+def _solve_film_table(file: str, mtime_ns: int, load: tuple, rpm: tuple):
+    """Solve a fluid-film table once per (file version, load, speeds): re-assembling a model
+    that only changes elsewhere (a destabiliser sweep, an override) reuses it."""
+    from .bearings import coefficients_table, load_bearing
+
+    case = load_bearing(file)
+    t = coefficients_table(case.bearing, load, list(rpm), options=case.options)
+    speed = np.abs(np.asarray(t.speed_rpm)) * np.pi / 30
+    vals = np.column_stack([t.kxx, t.kxy, t.kyx, t.kyy, t.cxx, t.cxy, t.cyx, t.cyy])
+    speed.setflags(write=False)
+    vals.setflags(write=False)
+    return speed, vals
+
+
+def _flank(train: Train, mesh, si: int, sj: int) -> int:
+    """+1 (SPEC 2.3 normal) or −1 so that the contact force opposes the driver's rotation."""
+    if mesh.driver is None:
+        return 1
+    shafts = train.layout().shafts
+    ratio = shafts[si if mesh.driver == "gear" else sj].speed_ratio
+    spin = np.sign(ratio * train.speed) if train.speed != 0 else np.sign(ratio)
+    # with flank +1 a compressive contact force puts +z torque on both gears
+    return 1 if spin < 0 else -1
 
 
 def assemble(train: Train) -> Assembly:
@@ -338,7 +367,9 @@ def assemble(train: Train) -> Assembly:
         si, di = node_dofs(m.gear, f"meshes[{k}].gear", range(6))
         sj, dj = node_dofs(m.mate, f"meshes[{k}].mate", range(6))
         ri, rj = train.pitch_radii(k)
-        geo = MeshGeometry(ri, rj, m.pressure_angle, m.helix_angle, m.orientation)
+        geo = MeshGeometry(
+            ri, rj, m.pressure_angle, m.helix_angle, m.orientation, _flank(train, m, si, sj)
+        )
         kg = mesh_stiffness(train, k)
         dofs = np.concatenate([di, dj])
         K.add(dofs, geo.K(kg))

@@ -105,6 +105,7 @@ def modal(
     plot: Annotated[
         Path | None, typer.Option(help="write mode-shape plots to this directory")
     ] = None,
+    shapes: Annotated[bool, typer.Option(help="include mode shapes in the JSON output")] = False,
     set_: SetOpt = None,
 ) -> None:
     """Damped eigenvalues at a speed: frequency, log dec, whirl per shaft, mode type."""
@@ -120,7 +121,7 @@ def modal(
         method=method,
     )
     if format == "json":
-        typer.echo(json.dumps(res.to_dict(), indent=1))
+        typer.echo(json.dumps(res.to_dict(shapes=shapes), indent=1))
     else:
         typer.echo(
             f"{train.name}: damped modes at {res.speed / RPM:.1f} rpm "

@@ -111,7 +111,22 @@ class ModalResult:
     def __len__(self) -> int:
         return len(self.eigenvalues)
 
-    def to_dict(self) -> dict:
+    def shape_dict(self, i: int) -> dict:
+        """Mode i along every shaft: node z (m) and each DOF's complex amplitude (re, im)."""
+        layout = self.assembly.train.layout()
+        out = {}
+        phi = self.mode_shapes[i]
+        for si, sl in enumerate(layout.shafts):
+            offs = self.assembly.node_offset[si]
+            d = {"z": sl.z.tolist()}
+            for k, name in enumerate(("x", "y", "z", "tx", "ty", "tz")):
+                v = phi[offs + k]
+                d[name] = {"re": v.real.tolist(), "im": v.imag.tolist()}
+            out[sl.name] = d
+        return out
+
+    def to_dict(self, shapes: bool = False) -> dict:
+        """JSON-ready summary; ``shapes=True`` adds each mode's shape (see :meth:`shape_dict`)."""
         modes = []
         for i in range(len(self)):
             d = {
@@ -131,6 +146,8 @@ class ModalResult:
                 "stable": not bool(self.unstable[i]),
                 "overdamped": bool(self.overdamped[i]),
             }
+            if shapes:
+                d["shape"] = self.shape_dict(i)
             modes.append(d)
         real = [
             {

@@ -48,7 +48,10 @@ class MeshGeometry:
     """Kinematics of one gear mesh.
 
     radius_i, radius_j : m, pitch radii; pressure_angle : rad, normal αn; helix_angle : rad,
-    signed β (the hand); orientation : rad, angle ϕ of the line of centres from gear i to gear j.
+    signed β (the hand); orientation : rad, angle ϕ of the line of centres from gear i to gear j;
+    flank : +1 for the tooth flank of SPEC 2.3 (a contact force puts +z torque on both gears),
+    −1 for the opposite flank (tangential and axial cosines reversed, radial kept: the contact
+    force still separates the gears).
     """
 
     radius_i: float
@@ -56,11 +59,12 @@ class MeshGeometry:
     pressure_angle: float
     helix_angle: float = 0.0
     orientation: float = 0.0
+    flank: int = 1
 
     @property
     def direction_cosines(self) -> tuple[float, float, float]:
-        a, b = self.pressure_angle, self.helix_angle
-        return np.cos(b) * np.cos(a), np.sin(a), np.sin(b) * np.cos(a)
+        a, b, f = self.pressure_angle, self.helix_angle, self.flank
+        return f * np.cos(b) * np.cos(a), np.sin(a), f * np.sin(b) * np.cos(a)
 
     @property
     def e(self) -> NDArray:
@@ -90,11 +94,11 @@ class MeshGeometry:
     @property
     def torque_arm_i(self) -> float:
         """|dδ/dθz_i| = r_i cos β cos αn (m): torque per unit normal force on gear i."""
-        return self.radius_i * self.direction_cosines[0]
+        return abs(self.radius_i * self.direction_cosines[0])
 
     @property
     def torque_arm_j(self) -> float:
-        return self.radius_j * self.direction_cosines[0]
+        return abs(self.radius_j * self.direction_cosines[0])
 
 
 def buckingham_stiffness(contact_ratio: float, face_width: float, E_i: float, E_j: float) -> float:

@@ -211,7 +211,9 @@ class Bearing(NodeRef):
     """Radial bearing or seal with 8 coefficients: constant (``k``/``c`` isotropic shortcuts or
     kxx..cyy), a ``table`` against speed, a saved table file ``table_file`` (CSV/TOML written by
     ``gearrotor.bearings.save_table``) or ``fluid_film`` (solved at assembly); optionally on a
-    ``support`` pedestal. Relative file paths are relative to the model file."""
+    ``support`` pedestal. Relative file paths are relative to the model file. Outside the
+    speeds of a ``table_file``/``fluid_film`` table, ``extrapolate = "hold"`` holds the end
+    values; the default is an error."""
 
     name: str | None = None
     k: Stiffness | None = None
@@ -227,6 +229,7 @@ class Bearing(NodeRef):
     table: BearingTable | None = None
     table_file: str | None = None
     fluid_film: FluidFilm | None = None
+    extrapolate: Literal["error", "hold"] = "error"
     support: Support | None = None
 
     @model_validator(mode="after")
@@ -340,7 +343,13 @@ class Backlash(Spec):
 
 
 class Mesh(Spec):
-    """A gear mesh between ``gear`` (i) and ``mate`` (j) (SPEC 2.3)."""
+    """A gear mesh between ``gear`` (i) and ``mate`` (j) (SPEC 2.3).
+
+    ``driver`` (``"gear"`` or ``"mate"``) selects the loaded tooth flank: the one on which the
+    driver's torque is transmitted at the nominal speeds (the contact force opposes the driver's
+    rotation). Without it the flank is SPEC 2.3's normal, which is the loaded flank when the
+    mate drives and the gear turns about +z.
+    """
 
     name: str | None = None
     gear: GearSide
@@ -349,6 +358,7 @@ class Mesh(Spec):
     pressure_angle: Angle = Field(gt=0, lt=1.5)
     helix_angle: Angle = 0.0
     orientation: Angle = 0.0
+    driver: Literal["gear", "mate"] | None = None
     face_width: Length | None = Field(default=None, gt=0)
     stiffness: Stiffness | MeshStiffness
     damping: Damping = Field(default=0.0, ge=0)
