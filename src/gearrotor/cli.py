@@ -17,6 +17,7 @@ import typer
 
 from .errors import ModelError, SolverError
 from .io import load_model
+from .report_cli import report_command
 
 __all__ = ["app", "main"]
 
@@ -300,6 +301,9 @@ def bearing(
     from .bearings.cli import bearing_command
 
     bearing_command(path, load=load, speed=speed, fmt=format, plot=plot)
+
+
+app.command("report")(report_command)
 
 
 def main() -> None:

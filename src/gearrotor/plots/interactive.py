@@ -106,7 +106,7 @@ def mode_shape_figure(
             dmin = float(np.min(d[np.triu_indices(len(shafts), 1)]))
             if dmin > 0:
                 scale = min(scale, 0.4 * dmin)
-    spoke = 0.6 * scale
+    spoke = 0.45 * scale
     swing = 0.8  # rad of spoke rotation for a unit normalised torsional displacement
 
     fig = go.Figure()
@@ -171,6 +171,19 @@ def mode_shape_figure(
         )
         n_static += 1
 
+    # fixed axes (no rescaling while the phase moves), box proportional to the ranges
+    reach = scale + spoke
+    zmin = min(float(s.z.min()) for s in shafts)
+    zmax = max(float(s.z.max()) for s in shafts)
+    ranges = [
+        [float(pos[:, 0].min()) - reach, float(pos[:, 0].max()) + reach],
+        [float(pos[:, 1].min()) - reach, float(pos[:, 1].max()) + reach],
+        [zmin - 0.02 * (zmax - zmin), zmax + 0.02 * (zmax - zmin)],
+    ]
+    span = np.array([r[1] - r[0] for r in ranges])
+    ratio = np.maximum(span / span.max(), 0.25)
+    aspect = dict(x=float(ratio[0]), y=float(ratio[1]), z=float(ratio[2]))
+
     phases = 2 * np.pi * np.arange(n_phase) / n_phase
     trace_index: dict[int, list[int]] = {}
     idx = n_static
@@ -202,7 +215,7 @@ def mode_shape_figure(
                         line=dict(color=_color(k), width=5),
                         name=s.name,
                         legendgroup=s.name,
-                        showlegend=p_i == 0,
+                        showlegend=True,  # only the visible phase appears in the legend
                         visible=(m == modes[0] and p_i == 0),
                         hovertemplate=f"{s.name}<br>z = %{{z:.3f}} m<extra></extra>",
                     )
@@ -247,28 +260,49 @@ def mode_shape_figure(
             )
         )
     fig.update_layout(
-        title=dict(text=_mode_title(result, modes[0]), font=dict(size=13)),
+        title=dict(
+            text=_mode_title(result, modes[0]),
+            font=dict(size=13),
+            x=0.01,
+            xanchor="left",
+            y=0.985,
+            yanchor="top",
+        ),
         updatemenus=[
             dict(
                 buttons=buttons,
                 direction="down",
                 x=0.0,
                 xanchor="left",
-                y=1.08,
-                yanchor="bottom",
+                y=1.0,
+                yanchor="top",
                 showactive=True,
+            )
+        ],
+        annotations=[
+            dict(
+                text="mode (dropdown) and phase (slider); spokes show torsion",
+                x=1.0,
+                xanchor="right",
+                y=0.0,
+                yanchor="bottom",
+                xref="paper",
+                yref="paper",
+                showarrow=False,
+                font=dict(size=10, color="#666666"),
             )
         ],
         sliders=[slider_for(modes[0])],
         scene=dict(
-            xaxis_title="x (m)",
-            yaxis_title="y (m)",
-            zaxis_title="z (m)",
-            aspectmode="data",
-            camera=dict(eye=dict(x=1.6, y=1.2, z=0.8), up=dict(x=0, y=1, z=0)),
+            xaxis=dict(title="x (m)", range=ranges[0], autorange=False),
+            yaxis=dict(title="y (m)", range=ranges[1], autorange=False),
+            zaxis=dict(title="z (m)", range=ranges[2], autorange=False),
+            aspectmode="manual",
+            aspectratio=aspect,
+            camera=dict(eye=dict(x=0.95, y=0.6, z=-0.8), up=dict(x=0, y=1, z=0)),
         ),
         height=620,
-        margin=dict(l=10, r=10, t=90, b=10),
+        margin=dict(l=10, r=10, t=50, b=10),
         legend=dict(x=1.0, xanchor="right", y=1.0),
         meta=dict(kind="mode-shapes", modes=modes, n_phase=n_phase, scale_m=scale),
     )
@@ -426,6 +460,13 @@ def bode_figure(result):
             row=1,
             col=1,
         )
+    amps = [p.amplitude[p.amplitude > 0] * 1e6 for p in result.probes]
+    amps = np.concatenate(amps) if amps else np.array([])
+    if amps.size:
+        lims = [v / 2 * 1e6 for v in np.atleast_1d(result.vibration_limit) if np.isfinite(v)]
+        lo = min(float(amps.min()), *lims) if lims else float(amps.min())
+        hi = max(float(amps.max()), *lims) if lims else float(amps.max())
+        fig.update_yaxes(range=[np.log10(lo) - 0.2, np.log10(hi) + 0.3], row=1, col=1)
     fig.update_yaxes(type="log", title_text="amplitude 0-pk (µm)", row=1, col=1)
     fig.update_yaxes(title_text="phase lag (deg)", row=2, col=1)
     fig.update_xaxes(title_text="reference shaft speed (rpm)", row=2, col=1)
@@ -562,7 +603,9 @@ def bearing_coefficient_figure(assembly):
                 col=1 if j < 4 else 2,
             )
     fig.update_xaxes(title_text="journal speed (rpm)")
-    fig.update_layout(title="Tabulated bearing coefficients", height=460, meta=dict(kind="bearings"))
+    fig.update_layout(
+        title="Tabulated bearing coefficients", height=460, meta=dict(kind="bearings")
+    )
     return fig
 
 
@@ -613,12 +656,12 @@ def transient_spectrum_figure(ds, *, segments: int = 4, window: str = "hann"):
             )
     lines = [(run, "1x"), (2 * run, "2x")]
     if mesh is not None:
-        lines += [(mesh - run, "mesh − 1x"), (mesh, "mesh"), (mesh + run, "mesh + 1x")]
+        lines += [(mesh - run, ""), (mesh, "mesh ± 1x"), (mesh + run, "")]
     for fr, lab in lines:
         fig.add_vline(
             x=fr,
-            line=dict(dash="dash", color="#888888", width=1),
-            annotation_text=lab,
+            line=dict(dash="dash" if lab else "dot", color="#888888", width=1),
+            annotation_text=lab or None,
             annotation_position="top",
         )
     top = (mesh + 3 * run) if mesh is not None else 10 * run
@@ -716,7 +759,10 @@ def whirl_power_figure(ds, *, smooth: float = 0.01):
     P = ds["whirl_power"].values
     stride = max(1, len(t) // 4000)  # keep the page light: at most ~4000 points per line
     fig = make_subplots(
-        rows=1, cols=2, column_widths=[0.68, 0.32], horizontal_spacing=0.12,
+        rows=1,
+        cols=2,
+        column_widths=[0.68, 0.32],
+        horizontal_spacing=0.12,
         subplot_titles=(f"{smooth * 1e3:.0f} ms moving average", "mean over the second half"),
     )
     means = []
@@ -749,6 +795,7 @@ def whirl_power_figure(ds, *, smooth: float = 0.01):
     fig.update_xaxes(title_text="time (s)", row=1, col=1)
     fig.update_yaxes(title_text="power (W)", row=1, col=1)
     fig.update_xaxes(title_text="W (red feeds whirl, blue drains)", row=1, col=2)
-    fig.update_layout(title="Whirl-promoting power by component", height=520,
-                      meta=dict(kind="whirl-power"))
+    fig.update_layout(
+        title="Whirl-promoting power by component", height=520, meta=dict(kind="whirl-power")
+    )
     return fig

@@ -124,8 +124,13 @@ def plot_waterfall(ds, *, node: int = 0, component: str = "x", n_slices: int = 2
     fig = _mpl_figure((10, 6))
     ax = fig.add_subplot(projection="3d")
     for i in range(len(tc)):
-        ax.plot(f[keep], np.full(int(keep.sum()), tc[i]), amps[i, keep] * 1e6, lw=0.7,
-                color=f"C{i % 10}")
+        ax.plot(
+            f[keep],
+            np.full(int(keep.sum()), tc[i]),
+            amps[i, keep] * 1e6,
+            lw=0.7,
+            color=f"C{i % 10}",
+        )
     ax.set_xlabel("frequency (cpm)")
     ax.set_ylabel("time (s)")
     ax.set_zlabel("amplitude 0-pk (µm)")
@@ -148,8 +153,14 @@ def plot_bearing_coefficients(assembly, path=None):
     for bi, b in enumerate(tab):
         t = b.element.table
         for j, nm in enumerate(names):
-            ax[j // 4].plot(t.speed * RPM, t.values[:, j], styles[bi % 4], marker=".",
-                            color=f"C{j % 4}", label=f"{b.name}: {nm}")
+            ax[j // 4].plot(
+                t.speed * RPM,
+                t.values[:, j],
+                styles[bi % 4],
+                marker=".",
+                color=f"C{j % 4}",
+                label=f"{b.name}: {nm}",
+            )
     for a, lab in zip(ax, ("stiffness (N/m)", "damping (N·s/m)"), strict=True):
         a.set_xlabel("journal speed (rpm)")
         a.set_ylabel(lab)
@@ -180,8 +191,11 @@ def _stability(res, camp) -> dict:
             "speed_rpm": float(res.speed * RPM),
             "stable": bool(res.stable),
             "unstable_modes": [int(i) for i in np.flatnonzero(res.unstable)],
-            "low_damping_modes": [int(i) for i in el if 0 <= res.log_dec[i] < LOG_DEC_THRESHOLD
-                                  and not res.unstable[i]],
+            "low_damping_modes": [
+                int(i)
+                for i in el
+                if 0 <= res.log_dec[i] < LOG_DEC_THRESHOLD and not res.unstable[i]
+            ],
         }
         if el:
             k = min(el, key=lambda i: res.log_dec[i])
@@ -350,8 +364,12 @@ def make_report(
         analyses = (*analyses, "transient")
     output = Path(output)
     if output.exists() and not output.is_dir():
-        raise ModelError("the report output is not a directory", field="--output",
-                         value=str(output), expected="a directory (new or existing)")
+        raise ModelError(
+            "the report output is not a directory",
+            field="--output",
+            value=str(output),
+            expected="a directory (new or existing)",
+        )
     asm = model if isinstance(model, Assembly) else assemble(model)
     train = asm.train
     nominal = abs(float(train.speed))
@@ -365,20 +383,32 @@ def make_report(
         )
     fmax = 5 * w if max_frequency is None else float(max_frequency)
     if not (np.isfinite(fmax) and fmax > 0):
-        raise ModelError("the maximum frequency must be positive", field="--max-frequency",
-                         value=f"{fmax * RPM:.6g} rpm", expected="a frequency > 0 rpm")
+        raise ModelError(
+            "the maximum frequency must be positive",
+            field="--max-frequency",
+            value=f"{fmax * RPM:.6g} rpm",
+            expected="a frequency > 0 rpm",
+        )
     if n_campbell < 2 or n_unbalance < 3:
-        raise ModelError("too few sweep speeds", value=(n_campbell, n_unbalance),
-                         expected="n_campbell >= 2 and n_unbalance >= 3")
+        raise ModelError(
+            "too few sweep speeds",
+            value=(n_campbell, n_unbalance),
+            expected="n_campbell >= 2 and n_unbalance >= 3",
+        )
     if "unbalance" in analyses:
         if not train.unbalances:
-            raise ModelError("the unbalance analysis needs an unbalance", field="unbalances",
-                             expected="at least one [[unbalances]] entry, or leave 'unbalance' "
-                             "out of --analyses")
+            raise ModelError(
+                "the unbalance analysis needs an unbalance",
+                field="unbalances",
+                expected="at least one [[unbalances]] entry, or leave 'unbalance' "
+                "out of --analyses",
+            )
         if not train.probes:
-            raise ModelError("the unbalance analysis needs probes", field="probes",
-                             expected="at least one [[probes]] entry, or leave 'unbalance' "
-                             "out of --analyses")
+            raise ModelError(
+                "the unbalance analysis needs probes",
+                field="probes",
+                expected="at least one [[probes]] entry, or leave 'unbalance' out of --analyses",
+            )
     ds = _read_transient(transient) if transient is not None else None
 
     sign = 1.0 if train.speed >= 0 else -1.0
@@ -390,7 +420,17 @@ def make_report(
     if "campbell" in analyses:
         speeds, note = _sweep(0.0, 1.25 * w, n_campbell, limits, "Campbell sweep")
         notes += [note] if note else []
-        camp = run_campbell(asm, speeds=speeds, max_frequency=fmax)
+        try:
+            camp = run_campbell(asm, speeds=speeds, max_frequency=fmax)
+        except ModelError:
+            raise
+        except ValueError as exc:  # e.g. no mode below max_frequency: an input problem
+            raise ModelError(
+                f"the Campbell diagram cannot be made: {exc}",
+                field="--max-frequency",
+                value=f"{fmax * RPM:.6g} cpm",
+                expected="a maximum frequency above the lowest modes of the train",
+            ) from None
     if "unbalance" in analyses:
         speeds, note = _sweep(0.02 * w, 1.5 * w, n_unbalance, limits, "unbalance sweep")
         notes += [note] if note else []
@@ -398,9 +438,21 @@ def make_report(
 
     output.parent.mkdir(parents=True, exist_ok=True)
     tmp = Path(tempfile.mkdtemp(prefix=f".{output.name}.tmp-", dir=output.parent))
+    umask = os.umask(0)
+    os.umask(umask)
+    os.chmod(tmp, 0o777 & ~umask)  # mkdtemp makes it private; the report is an ordinary folder
     try:
         figures, sections, summary = _write_contents(
-            tmp, asm, res, camp, unb, ds, fmax=fmax, w=w, notes=notes, transient=transient,
+            tmp,
+            asm,
+            res,
+            camp,
+            unb,
+            ds,
+            fmax=fmax,
+            w=w,
+            notes=notes,
+            transient=transient,
         )
         summary["inputs"] = {
             "model": source,
@@ -513,13 +565,17 @@ def _write_contents(tmp: Path, asm, res, camp, unb, ds, *, fmax, w, notes, trans
         if el:
             body += _figure_html(ix.mode_shape_figure(res), "fig-modes")
         else:
-            body += "<p>Every mode below the maximum frequency is over-damped: no shape to draw.</p>"
+            body += (
+                "<p>Every mode below the maximum frequency is over-damped: no shape to draw.</p>"
+            )
         sections.append(("modes", f"Modes at {res.speed * RPM:.0f} rpm", body))
     if res is not None or camp is not None:
         sections.append(("stability", "Stability margins", _stability_html(stab)))
     if camp is not None:
-        summary["campbell"] = {"crossings": camp.to_dict()["crossings"],
-                               "orders": camp.to_dict()["orders"]}
+        summary["campbell"] = {
+            "crossings": camp.to_dict()["crossings"],
+            "orders": camp.to_dict()["orders"],
+        }
         pyplot_png(plot_campbell, "campbell.png", camp, max_frequency=fmax)
         body = _figure_html(ix.campbell_figure(camp, max_frequency=fmax), "fig-campbell")
         body += _crossings_table(camp)
@@ -531,12 +587,18 @@ def _write_contents(tmp: Path, asm, res, camp, unb, ds, *, fmax, w, notes, trans
         summary["unbalance"] = {
             "operating_range_rpm": d["operating_range_rpm"],
             "unbalances": [
-                {"shaft": u.shaft, "node": asm.train.node_index(u, f"unbalances[{k}]")[1],
-                 "amount_g_mm": u.amount * 1e6, "phase_deg": float(np.rad2deg(u.phase))}
+                {
+                    "shaft": u.shaft,
+                    "node": asm.train.node_index(u, f"unbalances[{k}]")[1],
+                    "amount_g_mm": u.amount * 1e6,
+                    "phase_deg": float(np.rad2deg(u.phase)),
+                }
                 for k, u in enumerate(asm.train.unbalances)
             ],
-            "probes": [{k: v for k, v in p.items() if k not in ("amplitude_um", "phase_deg")}
-                       for p in d["probes"]],
+            "probes": [
+                {k: v for k, v in p.items() if k not in ("amplitude_um", "phase_deg")}
+                for p in d["probes"]
+            ],
         }
         pyplot_png(plot_bode, "bode.png", unb)
         k_op = int(np.argmin(np.abs(unb.speeds - unb.operating_range[1])))
@@ -554,8 +616,10 @@ def _write_contents(tmp: Path, asm, res, camp, unb, ds, *, fmax, w, notes, trans
     if ds is not None:
         from ..analyses.transient import plots as tplots
 
-        for name, fn in (("transient_spectra.png", tplots.plot_spectra),
-                         ("transient_whirl_power.png", tplots.plot_whirl_power)):
+        for name, fn in (
+            ("transient_spectra.png", tplots.plot_spectra),
+            ("transient_whirl_power.png", tplots.plot_whirl_power),
+        ):
             _savefig(fn(ds), tmp / name)
             figures.append(tmp / name)
         plot_waterfall(ds, path=tmp / "transient_waterfall.png")
@@ -576,9 +640,16 @@ def _transient_summary(ds) -> dict:
 
     t = ds["time"].values
     half = t >= t[0] + 0.5 * (t[-1] - t[0])
-    out: dict = {"t_start_s": float(t[0]), "t_end_s": float(t[-1]), "samples": int(len(t)),
-                 "status": ds.attrs.get("status"), "nodes": {}, "shafts": {}, "meshes": {},
-                 "whirl_power_mean_W": {}}
+    out: dict = {
+        "t_start_s": float(t[0]),
+        "t_end_s": float(t[-1]),
+        "samples": int(len(t)),
+        "status": ds.attrs.get("status"),
+        "nodes": {},
+        "shafts": {},
+        "meshes": {},
+        "whirl_power_mean_W": {},
+    }
     speed = ds["shaft_speed"].values
     for k, node in enumerate(ds["node"].values):
         si = int(ds["node_shaft"].values[k]) if "node_shaft" in ds else 0
@@ -590,8 +661,10 @@ def _transient_summary(ds) -> dict:
         }
     for k, name in enumerate(ds["shaft"].values):
         rpm = np.abs(speed[:, k]) * RPM
-        out["shafts"][str(name)] = {"speed_min_rpm": float(rpm.min()),
-                                    "speed_max_rpm": float(rpm.max())}
+        out["shafts"][str(name)] = {
+            "speed_min_rpm": float(rpm.min()),
+            "speed_max_rpm": float(rpm.max()),
+        }
     if "mesh" in ds.dims and "mesh_force" in ds:
         for k, name in enumerate(ds["mesh"].values):
             f = ds["mesh_force"].values[:, k]
@@ -610,26 +683,50 @@ def _verdicts(stab: dict, api: dict | None) -> list[dict]:
     m = stab.get("modal")
     if m is not None:
         low = m.get("lowest_log_dec")
-        txt = (f"lowest log dec {low['log_dec']:.3g} (mode {low['mode']}, "
-               f"{low['frequency_rpm']:.0f} cpm)" if low else "no lightly damped mode")
-        out.append({"check": f"stability at {m['speed_rpm']:.0f} rpm", "ok": m["ok"],
-                    "detail": ("stable; " if m["stable"] else
-                               f"UNSTABLE modes {m['unstable_modes']}; ") + txt})
+        txt = (
+            f"lowest log dec {low['log_dec']:.3g} (mode {low['mode']}, "
+            f"{low['frequency_rpm']:.0f} cpm)"
+            if low
+            else "no lightly damped mode"
+        )
+        out.append(
+            {
+                "check": f"stability at {m['speed_rpm']:.0f} rpm",
+                "ok": m["ok"],
+                "detail": ("stable; " if m["stable"] else f"UNSTABLE modes {m['unstable_modes']}; ")
+                + txt,
+            }
+        )
     c = stab.get("campbell")
     if c is not None and c["lowest"] is not None:
         lo = c["lowest"]
-        out.append({"check": "stability over the Campbell speed range", "ok": c["ok"],
-                    "detail": f"lowest log dec {lo['min_log_dec']:.3g} (mode {lo['mode']} at "
-                    f"{lo['at_speed_rpm']:.0f} rpm)"})
+        out.append(
+            {
+                "check": "stability over the Campbell speed range",
+                "ok": c["ok"],
+                "detail": f"lowest log dec {lo['min_log_dec']:.3g} (mode {lo['mode']} at "
+                f"{lo['at_speed_rpm']:.0f} rpm)",
+            }
+        )
     if api is not None:
         nf = sum(x["result"] == "fail" for x in api["criticals"])
-        out.append({"check": "API 684 separation margins", "ok": nf == 0,
-                    "detail": f"{len(api['criticals'])} critical peaks, {nf} fail, "
-                    f"{api['undetermined']} with AF not determined"})
+        out.append(
+            {
+                "check": "API 684 separation margins",
+                "ok": nf == 0,
+                "detail": f"{len(api['criticals'])} critical peaks, {nf} fail, "
+                f"{api['undetermined']} with AF not determined",
+            }
+        )
         na = sum(x["result"] == "fail" for x in api["amplitudes"])
-        out.append({"check": "API 617 vibration limit in the operating range", "ok": na == 0,
-                    "detail": f"{len(api['amplitudes'])} probes, {na} above the limit "
-                    "(with the model's unbalance)"})
+        out.append(
+            {
+                "check": "API 617 vibration limit in the operating range",
+                "ok": na == 0,
+                "detail": f"{len(api['amplitudes'])} probes, {na} above the limit "
+                "(with the model's unbalance)",
+            }
+        )
     return out
 
 
@@ -694,9 +791,12 @@ def _figure_html(fig, div_id: str) -> str:
 
 
 def _modes_table(res) -> str:
-    head = ("<table><tr><th>#</th><th>frequency (cpm)</th><th>frequency (Hz)</th>"
-            "<th>log dec</th><th>damping ratio</th><th>whirl " + _e("/".join(res.shaft_names))
-            + "</th><th>type</th><th>energy L / T / A (%)</th><th class='l'>status</th></tr>")
+    head = (
+        "<table><tr><th>#</th><th>frequency (cpm)</th><th>frequency (Hz)</th>"
+        "<th>log dec</th><th>damping ratio</th><th>whirl "
+        + _e("/".join(res.shaft_names))
+        + "</th><th>type</th><th>energy L / T / A (%)</th><th class='l'>status</th></tr>"
+    )
     rows = [head]
     for i in range(len(res)):
         st = _mode_status(res, i)
@@ -711,18 +811,22 @@ def _modes_table(res) -> str:
         )
     rows.append("</table>")
     nr = int(np.sum(res.rigid_body))
-    extra = (f"<p>{len(res)} damped modes up to the maximum frequency; "
-             f"{len(res.real_eigenvalues)} real eigenvalues ({nr} rigid-body, "
-             f"{len(res.real_eigenvalues) - nr} over-damped) are not listed. Whirl per shaft "
-             "relative to that shaft's spin (F forward, B backward, – no lateral motion); type "
-             "from kinetic-energy fractions (L lateral, T torsional, A axial).</p>")
+    extra = (
+        f"<p>{len(res)} damped modes up to the maximum frequency; "
+        f"{len(res.real_eigenvalues)} real eigenvalues ({nr} rigid-body, "
+        f"{len(res.real_eigenvalues) - nr} over-damped) are not listed. Whirl per shaft "
+        "relative to that shaft's spin (F forward, B backward, – no lateral motion); type "
+        "from kinetic-energy fractions (L lateral, T torsional, A axial).</p>"
+    )
     return "\n".join(rows) + extra
 
 
 def _stability_html(stab: dict) -> str:
-    parts = [f"<p>Acceptance threshold: log dec ≥ {LOG_DEC_THRESHOLD} for every mode that is not "
-             "over-damped (API 617 Level II criterion); a negative log dec is an unstable "
-             "mode.</p>"]
+    parts = [
+        f"<p>Acceptance threshold: log dec ≥ {LOG_DEC_THRESHOLD} for every mode that is not "
+        "over-damped (API 617 Level II criterion); a negative log dec is an unstable "
+        "mode.</p>"
+    ]
     m = stab.get("modal")
     if m is not None:
         low = m.get("lowest_log_dec")
@@ -733,26 +837,36 @@ def _stability_html(stab: dict) -> str:
             parts.append(
                 f"<tr><td class='l'>lowest log dec</td><td>{low['log_dec']:.4g} (mode "
                 f"{low['mode']}, {low['frequency_rpm']:.0f} cpm, {_e(low['type'])}, "
-                f"{_e(low['whirl'])})</td></tr>")
+                f"{_e(low['whirl'])})</td></tr>"
+            )
             parts.append(
                 f"<tr><td class='l'>margin to threshold</td>"
-                f"<td>{low['log_dec'] - LOG_DEC_THRESHOLD:+.4g}</td></tr>")
-        parts.append(f"<tr><td class='l'>unstable modes</td><td>{m['unstable_modes'] or '–'}"
-                     f"</td></tr><tr><td class='l'>low-damping modes</td>"
-                     f"<td>{m['low_damping_modes'] or '–'}</td></tr></table>")
+                f"<td>{low['log_dec'] - LOG_DEC_THRESHOLD:+.4g}</td></tr>"
+            )
+        parts.append(
+            f"<tr><td class='l'>unstable modes</td><td>{m['unstable_modes'] or '–'}"
+            f"</td></tr><tr><td class='l'>low-damping modes</td>"
+            f"<td>{m['low_damping_modes'] or '–'}</td></tr></table>"
+        )
     c = stab.get("campbell")
     if c is not None:
         lo, hi = c["speed_range_rpm"]
-        parts.append(f"<p>Over the Campbell sweep {lo:.0f}..{hi:.0f} rpm, lowest log dec of each "
-                     "tracked mode:</p><table><tr><th>mode</th><th>min log dec</th>"
-                     "<th>at speed (rpm)</th><th>frequency there (cpm)</th><th>check</th></tr>")
+        parts.append(
+            f"<p>Over the Campbell sweep {lo:.0f}..{hi:.0f} rpm, lowest log dec of each "
+            "tracked mode:</p><table><tr><th>mode</th><th>min log dec</th>"
+            "<th>at speed (rpm)</th><th>frequency there (cpm)</th><th>check</th></tr>"
+        )
         for d in c["modes"]:
-            cls = "bad" if d["min_log_dec"] < 0 else (
-                "warn" if d["min_log_dec"] < LOG_DEC_THRESHOLD else "")
+            cls = (
+                "bad"
+                if d["min_log_dec"] < 0
+                else ("warn" if d["min_log_dec"] < LOG_DEC_THRESHOLD else "")
+            )
             parts.append(
                 f"<tr class='{cls}'><td>{d['mode']}</td><td>{d['min_log_dec']:.4g}</td>"
                 f"<td>{d['at_speed_rpm']:.0f}</td><td>{d['frequency_rpm']:.0f}</td>"
-                f"<td>{_badge(d['min_log_dec'] >= LOG_DEC_THRESHOLD)}</td></tr>")
+                f"<td>{_badge(d['min_log_dec'] >= LOG_DEC_THRESHOLD)}</td></tr>"
+            )
         parts.append("</table>")
     return "\n".join(parts)
 
@@ -760,14 +874,17 @@ def _stability_html(stab: dict) -> str:
 def _crossings_table(camp) -> str:
     if not camp.crossings:
         return "<p>No mode crosses an excitation line in the speed range.</p>"
-    rows = ["<h3>Crossing speeds</h3><table><tr><th>mode</th><th class='l'>excitation</th>"
-            "<th>speed (rpm)</th><th>frequency (cpm)</th><th>log dec</th><th>whirl</th>"
-            "<th>type</th></tr>"]
+    rows = [
+        "<h3>Crossing speeds</h3><table><tr><th>mode</th><th class='l'>excitation</th>"
+        "<th>speed (rpm)</th><th>frequency (cpm)</th><th>log dec</th><th>whirl</th>"
+        "<th>type</th></tr>"
+    ]
     for c in camp.crossings:
         rows.append(
             f"<tr><td>{c.mode}</td><td class='l'>{_e(c.order)}</td><td>{c.speed * RPM:.0f}</td>"
             f"<td>{c.frequency * RPM:.0f}</td><td>{c.log_dec:.3g}</td><td>{_e(c.whirl)}</td>"
-            f"<td>{_e(c.mode_type)}</td></tr>")
+            f"<td>{_e(c.mode_type)}</td></tr>"
+        )
     rows.append("</table>")
     return "\n".join(rows)
 
@@ -779,9 +896,11 @@ def _unbalance_intro(asm, unb) -> str:
         f"{train.node_index(u, f'unbalances[{k}]')[1]} at {np.rad2deg(u.phase):.0f}°</li>"
         for k, u in enumerate(train.unbalances)
     )
-    return (f"<p>Sweep {unb.speeds[0] * RPM:.0f}..{unb.speeds[-1] * RPM:.0f} rpm "
-            f"({len(unb.speeds)} speeds) with the model's unbalance:</p><ul>{items}</ul>"
-            "<p>Amplitudes are zero-to-peak, synchronous with each probe's own shaft.</p>")
+    return (
+        f"<p>Sweep {unb.speeds[0] * RPM:.0f}..{unb.speeds[-1] * RPM:.0f} rpm "
+        f"({len(unb.speeds)} speeds) with the model's unbalance:</p><ul>{items}</ul>"
+        "<p>Amplitudes are zero-to-peak, synchronous with each probe's own shaft.</p>"
+    )
 
 
 def _api_html(api: dict) -> str:
@@ -806,50 +925,70 @@ def _api_html(api: dict) -> str:
             f"<td>{c['probe_shaft_speed_rpm']:.0f}</td><td>{c['amplitude_um']:.4g}</td>"
             f"<td>{_fmt(c['amplification_factor'], '.2f')}</td>"
             f"<td>{_fmt(c['separation_margin_pct'], '.1f')}</td>"
-            f"<td>{_fmt(c['required_margin_pct'], '.1f')}</td><td>{_badge(ok)}</td></tr>")
+            f"<td>{_fmt(c['required_margin_pct'], '.1f')}</td><td>{_badge(ok)}</td></tr>"
+        )
     parts.append("</table>")
     if api["undetermined"]:
-        parts.append("<p class='note'>n/a: a half-power point lies outside the sweep, so the "
-                     "amplification factor (and the required margin) is not determined.</p>")
-    parts.append("<table><tr><th class='l'>probe</th><th>max pk-pk in operating range (µm)</th>"
-                 "<th>API 617 limit pk-pk (µm)</th><th>result</th></tr>")
+        parts.append(
+            "<p class='note'>n/a: a half-power point lies outside the sweep, so the "
+            "amplification factor (and the required margin) is not determined.</p>"
+        )
+    parts.append(
+        "<table><tr><th class='l'>probe</th><th>max pk-pk in operating range (µm)</th>"
+        "<th>API 617 limit pk-pk (µm)</th><th>result</th></tr>"
+    )
     for a in api["amplitudes"]:
         ok = a["result"] == "pass"
         parts.append(
             f"<tr class='{'' if ok else 'bad'}'><td class='l'>{_e(a['probe'])}</td>"
             f"<td>{a['max_pp_in_operating_range_um']:.4g}</td><td>{a['limit_pp_um']:.2f}</td>"
-            f"<td>{_badge(ok)}</td></tr>")
-    parts.append("</table><p>The amplitude check uses the model's unbalance; the API 617 "
-                 "procedure applies 4× the allowable unbalance (<code>gearrotor unbalance "
-                 "--api</code>).</p>")
+            f"<td>{_badge(ok)}</td></tr>"
+        )
+    parts.append(
+        "</table><p>The amplitude check uses the model's unbalance; the API 617 "
+        "procedure applies 4× the allowable unbalance (<code>gearrotor unbalance "
+        "--api</code>).</p>"
+    )
     return "\n".join(parts)
 
 
 def _transient_html(tsum: dict, path) -> str:
-    parts = [f"<p>Result file <code>{_e(Path(path).name)}</code>: "
-             f"{tsum['t_start_s']:.4g}..{tsum['t_end_s']:.4g} s, {tsum['samples']} samples, "
-             f"status {_e(tsum['status'])}. Amplitudes by least squares over the second half "
-             "of the run at each node's mean shaft speed.</p>",
-             "<table><tr><th class='l'>node</th><th>x 1x (µm)</th><th>y 1x (µm)</th>"
-             "<th>x 2x (µm)</th><th>y 2x (µm)</th></tr>"]
+    parts = [
+        f"<p>Result file <code>{_e(Path(path).name)}</code>: "
+        f"{tsum['t_start_s']:.4g}..{tsum['t_end_s']:.4g} s, {tsum['samples']} samples, "
+        f"status {_e(tsum['status'])}. Amplitudes by least squares over the second half "
+        "of the run at each node's mean shaft speed.</p>",
+        "<table><tr><th class='l'>node</th><th>x 1x (µm)</th><th>y 1x (µm)</th>"
+        "<th>x 2x (µm)</th><th>y 2x (µm)</th></tr>",
+    ]
     for n, a in tsum["nodes"].items():
-        parts.append(f"<tr><td class='l'>{_e(n)}</td><td>{a['x_1x_um']:.4g}</td>"
-                     f"<td>{a['y_1x_um']:.4g}</td><td>{a['x_2x_um']:.4g}</td>"
-                     f"<td>{a['y_2x_um']:.4g}</td></tr>")
-    parts.append("</table><table><tr><th class='l'>shaft</th><th>min speed (rpm)</th>"
-                 "<th>max speed (rpm)</th></tr>")
+        parts.append(
+            f"<tr><td class='l'>{_e(n)}</td><td>{a['x_1x_um']:.4g}</td>"
+            f"<td>{a['y_1x_um']:.4g}</td><td>{a['x_2x_um']:.4g}</td>"
+            f"<td>{a['y_2x_um']:.4g}</td></tr>"
+        )
+    parts.append(
+        "</table><table><tr><th class='l'>shaft</th><th>min speed (rpm)</th>"
+        "<th>max speed (rpm)</th></tr>"
+    )
     for n, a in tsum["shafts"].items():
-        parts.append(f"<tr><td class='l'>{_e(n)}</td><td>{a['speed_min_rpm']:.2f}</td>"
-                     f"<td>{a['speed_max_rpm']:.2f}</td></tr>")
+        parts.append(
+            f"<tr><td class='l'>{_e(n)}</td><td>{a['speed_min_rpm']:.2f}</td>"
+            f"<td>{a['speed_max_rpm']:.2f}</td></tr>"
+        )
     parts.append("</table>")
     if tsum["meshes"]:
-        parts.append("<table><tr><th class='l'>mesh</th><th>min force (N)</th>"
-                     "<th>max force (N)</th><th>contact loss (%)</th></tr>")
+        parts.append(
+            "<table><tr><th class='l'>mesh</th><th>min force (N)</th>"
+            "<th>max force (N)</th><th>contact loss (%)</th></tr>"
+        )
         for n, a in tsum["meshes"].items():
             cl = a.get("contact_loss_fraction")
-            parts.append(f"<tr><td class='l'>{_e(n)}</td><td>{a['force_min_N']:.1f}</td>"
-                         f"<td>{a['force_max_N']:.1f}</td>"
-                         f"<td>{_fmt(None if cl is None else 100 * cl, '.2f')}</td></tr>")
+            parts.append(
+                f"<tr><td class='l'>{_e(n)}</td><td>{a['force_min_N']:.1f}</td>"
+                f"<td>{a['force_max_N']:.1f}</td>"
+                f"<td>{_fmt(None if cl is None else 100 * cl, '.2f')}</td></tr>"
+            )
         parts.append("</table>")
     return "\n".join(parts)
 
@@ -864,8 +1003,10 @@ def _page(train, sections, summary, figures, notes, *, source, command) -> str:
     verdicts = summary.get("verdicts", [])
     vt = ["<table><tr><th class='l'>check</th><th>result</th><th class='l'>detail</th></tr>"]
     for v in verdicts:
-        vt.append(f"<tr class='{'' if v['ok'] else 'bad'}'><td class='l'>{_e(v['check'])}</td>"
-                  f"<td>{_badge(v['ok'])}</td><td class='l'>{_e(v['detail'])}</td></tr>")
+        vt.append(
+            f"<tr class='{'' if v['ok'] else 'bad'}'><td class='l'>{_e(v['check'])}</td>"
+            f"<td>{_badge(v['ok'])}</td><td class='l'>{_e(v['detail'])}</td></tr>"
+        )
     vt.append("</table>")
     if not verdicts:
         vt = ["<p>No stability or API check was requested.</p>"]
@@ -882,18 +1023,36 @@ def _page(train, sections, summary, figures, notes, *, source, command) -> str:
         f"<p>{len(train.bearings)} bearings, {len(train.meshes)} gear meshes, "
         f"{len(train.unbalances)} unbalances, {len(train.probes)} probes.</p>"
     )
-    secs = [("summary", "Summary", "".join(vt)
-             + "".join(f"<p class='note'>{_e(n)}</p>" for n in notes)),
-            ("model", "Model", model_html), *sections]
+    secs = [
+        (
+            "summary",
+            "Summary",
+            "".join(vt) + "".join(f"<p class='note'>{_e(n)}</p>" for n in notes),
+        ),
+        ("model", "Model", model_html),
+        *sections,
+    ]
     files = "".join(f"<li><a href='{_e(p.name)}'>{_e(p.name)}</a></li>" for p in figures)
-    secs.append(("files", "Static figures and data",
-                 "<p>Files written next to this report (PNG, and the numbers as "
-                 "<a href='report.json'>report.json</a>):</p><ul>" + files + "</ul>"))
+    secs.append(
+        (
+            "files",
+            "Static figures and data",
+            "<p>Files written next to this report (PNG, and the numbers as "
+            "<a href='report.json'>report.json</a>):</p><ul>" + files + "</ul>",
+        )
+    )
     nav = "".join(f"<a href='#{i}'>{_e(t)}</a>" for i, t, _ in secs)
     body = "\n".join(f"<section id='{i}'><h2>{_e(t)}</h2>\n{h}\n</section>" for i, t, h in secs)
-    sub = " · ".join(x for x in (
-        f"model {_e(source)}" if source else "", f"gearrotor {__version__}",
-        f"plotly {plotly.__version__}", now) if x)
+    sub = " · ".join(
+        x
+        for x in (
+            f"model {_e(source)}" if source else "",
+            f"gearrotor {__version__}",
+            f"plotly {plotly.__version__}",
+            now,
+        )
+        if x
+    )
     cmd = f"<p>Command: <code>{_e(command)}</code></p>" if command else ""
     return (
         "<!DOCTYPE html>\n<html lang='en'><head><meta charset='utf-8'>"
