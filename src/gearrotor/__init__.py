@@ -23,5 +23,15 @@ __all__ = [
     "assemble",
     "load_model",
     "modal",
+    "transient",
     "__version__",
 ]
+
+
+def __getattr__(name: str):
+    # the transient solver compiles numba kernels: import it only when it is used
+    if name == "transient":
+        from .analyses.transient import transient
+
+        return transient
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -18,6 +18,7 @@ import typer
 from .errors import ModelError, SolverError
 from .io import load_model
 from .report_cli import report_command
+from .transient_cli import plot_command, transient_command
 
 __all__ = ["app", "main"]
 
@@ -303,6 +304,8 @@ def bearing(
     bearing_command(path, load=load, speed=speed, fmt=format, plot=plot)
 
 
+app.command("transient")(transient_command)
+app.command("transient-plot")(plot_command)
 app.command("report")(report_command)
 
 

@@ -19,7 +19,7 @@ from gearrotor.analyses.transient import (
     spectrum,
     transient,
 )
-from gearrotor.analyses.transient.cli import plot_command, transient_command
+from gearrotor.transient_cli import plot_command, transient_command
 
 EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "unity_gearbox.toml"
 

@@ -5,7 +5,7 @@
 :mod:`.kernels`, and returns a :class:`TransientResult`.
 """
 
-from .equations import TransientSystem, build_system, mesh_damping_from_ratio
+from .equations import TransientSystem, build_system, mesh_damping_from_ratio, static_state
 from .integrators import RK4, Checkpoint, ModalRK4, Save, transient
 from .mesh import MeshLaw, backlash_h, fourier_coefficients, stiffness
 from .results import SolverStats, TransientResult, amplitude_at, load_result, spectrum
@@ -26,6 +26,7 @@ __all__ = [
     "load_result",
     "mesh_damping_from_ratio",
     "spectrum",
+    "static_state",
     "stiffness",
     "transient",
 ]

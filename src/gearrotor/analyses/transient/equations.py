@@ -156,13 +156,14 @@ def build_system(
     initial_q: NDArray | None = None,
     stiffness_tables: dict[int, tuple[NDArray, NDArray]] | None = None,
     transmission_error: dict[int, NDArray] | None = None,
+    back_flank: str = "same",
 ) -> TransientSystem:
     """Resolve a train to the arrays of the transient equations.
 
     frozen_speed : θz prescribed as nominal rigid rotation (constant speed); the torsional DOFs
         are then still in the state but their accelerations are zero.
     initial_q : (n_dof,) global initial displacement (makes its DOFs active).
-    stiffness_tables, transmission_error : see :func:`.mesh.mesh_laws`.
+    stiffness_tables, transmission_error, back_flank : see :func:`.mesh.mesh_laws`.
     """
     asm = model if isinstance(model, Assembly) else assemble(model)
     train = asm.train
@@ -270,7 +271,11 @@ def build_system(
         a_w.append(a / a.sum())
 
     laws = mesh_laws(
-        train, asm, stiffness_tables=stiffness_tables, transmission_error=transmission_error
+        train,
+        asm,
+        stiffness_tables=stiffness_tables,
+        transmission_error=transmission_error,
+        back_flank=back_flank,
     )
     mesh_dofs = np.array([pos[m.dofs] for m in asm.meshes], int).reshape(-1, 12)
     brg = []
@@ -333,3 +338,75 @@ def mesh_damping_from_ratio(
     i = int(np.argmax(frac))
     om = float(np.sqrt(w2[i]))
     return 2.0 * ratio * om / wphi[i] ** 2, om
+
+
+def static_state(system: TransientSystem) -> tuple[NDArray, float]:
+    """Static deflection under the external torques at t = 0 (the users' usual initial state).
+
+    Solves ``K q + M r α = f``, ``rᵀ M q = 0``: the deflection in a frame that follows the rigid
+    rotation r of the train (θz_s = ratio_s·α) with its uniform angular acceleration α (rad/s²,
+    of the reference shaft) when the torques do not balance (d'Alembert). The meshes carry their
+    stiffness at φ_m = 0, backlash and transmission error; the contact flank is found by
+    iteration. Unbalance is left out (its load rotates). Returns (q over active DOFs, α).
+    """
+    from .mesh import stiffness as mesh_k
+
+    train = system.train
+    f = np.zeros(system.n)
+    for j, tq in enumerate(train.torques):
+        dof = system.torque_dof[j]
+        sh = system.shaft_of_row[dof]
+        val = tq.value if tq.time is None else float(np.interp(0.0, tq.time, tq.values))
+        if tq.speed_exponent:
+            val *= (abs(system.nominal_speeds[sh]) / tq.reference_speed) ** tq.speed_exponent
+        f[dof] += val
+    if not f.any():
+        return np.zeros(system.n), 0.0
+    M, K, _ = system.linear_matrices(meshes=False)
+    M = system.M.toarray()
+    ratio = system.assembly.speed_ratio
+    r = np.zeros(system.n)
+    for s, a in enumerate(system.a_weights):
+        r[a != 0] = ratio[s]
+    Mr = M @ r
+    laws = system.meshes
+    k0 = [float(mesh_k(law, 0.0)) for law in laws]
+    e0 = [float(law.te[:, 0].sum()) if len(law.te) else 0.0 for law in laws]
+    side = [1] * len(laws)
+    for _ in range(2 * len(laws) + 2):
+        Kc = K.copy()
+        fc = f.copy()
+        for k, law in enumerate(laws):
+            d = system.mesh_dofs[k]
+            ok = d >= 0
+            if side[k] == 1:  # F_d = k (w·q − e − b) along −w
+                Kc[np.ix_(d[ok], d[ok])] += k0[k] * np.outer(law.w[ok], law.w[ok])
+                fc[d[ok]] += k0[k] * (e0[k] + law.backlash) * law.w[ok]
+            elif side[k] == -1:  # F_b = k (w_b·q + e − b) along −w_b
+                wb = law.w_back[ok]
+                Kc[np.ix_(d[ok], d[ok])] += k0[k] * np.outer(wb, wb)
+                fc[d[ok]] += k0[k] * (law.backlash - e0[k]) * wb
+        A = np.block([[Kc, Mr[:, None]], [Mr[None, :], np.zeros((1, 1))]])
+        try:
+            sol = la.solve(A, np.append(fc, 0.0))
+        except la.LinAlgError:
+            raise ModelError(
+                "no static initial state: with the teeth separated the torques spin the shafts "
+                "apart",
+                field="torques",
+                expected="torques that load the meshes",
+            ) from None
+        q = sol[:-1]
+        new = []
+        for k, law in enumerate(laws):
+            d = system.mesh_dofs[k]
+            ok = d >= 0
+            de = law.w[ok] @ q[d[ok]] - e0[k]
+            db = law.w_back[ok] @ q[d[ok]] + e0[k]
+            new.append(1 if de > law.backlash else (-1 if db > law.backlash else 0))
+        if new == side:
+            return q, float(sol[-1])
+        side = new
+    raise ModelError(
+        "no static initial state: the mesh contact flank does not settle", field="torques"
+    )

@@ -6,7 +6,8 @@ nonlinear forces (gathered from q or from Φ_sel η); ``−1`` marks an inactive
 
 Parameter packs (all float64 / int64):
 
-* meshes: ``m_sel (nm,12)``, ``m_w (nm,12)``, ``m_par (nm,7)`` = kg, ka, b, c, teeth, kg_lin
+* meshes: ``m_sel (nm,12)``, ``m_w (nm,2,12)`` (drive line w, back-flank line w_b),
+  ``m_par (nm,7)`` = kg, ka, b, c, teeth, kg_lin
   (stiffness already in the linear part, subtracted), c_lin; ``m_ab (nm,S,2)``, ``m_ns (nm,)``;
   tables ``m_tptr (nm+1)``, ``m_tphi``, ``m_tk``; transmission error ``m_te (nm,Se,2)``,
   ``m_nte (nm,)``;
@@ -62,24 +63,37 @@ def _interp(x, xp, fp, lo, hi):
 
 @njit(cache=_CACHE)
 def mesh_eval(k, qs, vs, m_sel, m_w, m_par, m_ab, m_ns, m_tptr, m_tphi, m_tk, m_te, m_nte):
-    """Mesh k: returns (F, stiffness, δ, δ̇, state, φ_m); F in N along the line of action."""
+    """Mesh k: returns (F_d, F_b, stiffness, δ_e, δ̇_e, state, φ_m).
+
+    ``m_w[k, 0]`` is the drive line w (δ = w·q), ``m_w[k, 1]`` the back-flank line w_b
+    (``−w`` for SPEC 2.4's law, the mirrored line of action otherwise). F_d ≥ 0 acts along
+    −w, F_b ≥ 0 along −w_b (both N, damping included while in contact); state +1 drive,
+    −1 back, +2 both flanks, 0 separated."""
     delta = 0.0
     ddelta = 0.0
+    db = 0.0
+    ddb = 0.0
     for j in range(12):
         i = m_sel[k, j]
         if i >= 0:
-            delta += m_w[k, j] * qs[i]
-            ddelta += m_w[k, j] * vs[i]
+            delta += m_w[k, 0, j] * qs[i]
+            ddelta += m_w[k, 0, j] * vs[i]
+            db += m_w[k, 1, j] * qs[i]
+            ddb += m_w[k, 1, j] * vs[i]
     teeth = m_par[k, 4]
     it = m_sel[k, 5]
     phi = teeth * qs[it] if it >= 0 else 0.0
     dphi = teeth * vs[it] if it >= 0 else 0.0
-    # transmission error
+    # transmission error: δ → δ − e on the drive line, δ_b → δ_b + e on the back line
     for s in range(m_nte[k]):
         sp = (s + 1) * phi
         c, sn = np.cos(sp), np.sin(sp)
-        delta -= m_te[k, s, 0] * c + m_te[k, s, 1] * sn
-        ddelta -= (s + 1) * dphi * (-m_te[k, s, 0] * sn + m_te[k, s, 1] * c)
+        e = m_te[k, s, 0] * c + m_te[k, s, 1] * sn
+        de = (s + 1) * dphi * (-m_te[k, s, 0] * sn + m_te[k, s, 1] * c)
+        delta -= e
+        ddelta -= de
+        db += e
+        ddb += de
     lo, hi = m_tptr[k], m_tptr[k + 1]
     if hi > lo:
         ph = phi - 2.0 * np.pi * np.floor(phi / (2.0 * np.pi))
@@ -95,16 +109,16 @@ def mesh_eval(k, qs, vs, m_sel, m_w, m_par, m_ab, m_ns, m_tptr, m_tphi, m_tk, m_
                 stiff += ka2 * (m_ab[k, s, 0] * sn + m_ab[k, s, 1] * cn)
                 sn, cn = sn * c1 + cn * s1, cn * c1 - sn * s1
     b = m_par[k, 2]
+    state = 0
+    Fd = 0.0
+    Fb = 0.0
     if delta > b:
         state = 1
-        F = stiff * (delta - b) + m_par[k, 3] * ddelta
-    elif delta < -b:
-        state = -1
-        F = stiff * (delta + b) + m_par[k, 3] * ddelta
-    else:
-        state = 0
-        F = 0.0
-    return F, stiff, delta, ddelta, state, phi
+        Fd = stiff * (delta - b) + m_par[k, 3] * ddelta
+    if db > b:
+        state = 2 if state == 1 else -1
+        Fb = stiff * (db - b) + m_par[k, 3] * ddb
+    return Fd, Fb, stiff, delta, ddelta, state, phi
 
 
 @njit(cache=_CACHE)
@@ -145,7 +159,7 @@ def nl_forces(
     for i in range(fs.shape[0]):
         fs[i] = 0.0
     for k in range(m_sel.shape[0]):
-        F, stiff, delta, ddelta, state, phi = mesh_eval(
+        Fd, Fb, stiff, delta, ddelta, state, phi = mesh_eval(
             k, qs, vs, m_sel, m_w, m_par, m_ab, m_ns, m_tptr, m_tphi, m_tk, m_te, m_nte
         )
         # the linear part kept in the modal basis uses the geometric δ (no TE)
@@ -154,13 +168,13 @@ def nl_forces(
         for j in range(12):
             i = m_sel[k, j]
             if i >= 0:
-                dl += m_w[k, j] * qs[i]
-                vl += m_w[k, j] * vs[i]
-        F -= m_par[k, 5] * dl + m_par[k, 6] * vl
+                dl += m_w[k, 0, j] * qs[i]
+                vl += m_w[k, 0, j] * vs[i]
+        Fd -= m_par[k, 5] * dl + m_par[k, 6] * vl
         for j in range(12):
             i = m_sel[k, j]
             if i >= 0:
-                fs[i] -= F * m_w[k, j]
+                fs[i] -= Fd * m_w[k, 0, j] + Fb * m_w[k, 1, j]
     for u in range(u_sel.shape[0]):
         it = u_sel[u, 2]
         th = qs[it] + u_ph[u]
@@ -762,11 +776,11 @@ def rk4_modal(
 def outputs_kernel(
     rec_q, rec_v, m_sel, m_w, m_par, m_ab, m_ns, m_tptr, m_tphi, m_tk, m_te, m_nte, mesh_out
 ):
-    """Per record and mesh: F (N), k (N/m), δ_e (m), δ̇_e, state, φ_m into mesh_out (nt,nm,6).
-    ``m_sel`` indexes the recorded output DOFs here."""
+    """Per record and mesh: F = F_d − F_b (N), k (N/m), δ_e (m), δ̇_e, state, φ_m, F_d, F_b
+    into mesh_out (nt, nm, 8). ``m_sel`` indexes the recorded output DOFs here."""
     for j in range(rec_q.shape[0]):
         for k in range(m_sel.shape[0]):
-            F, stiff, delta, ddelta, state, phi = mesh_eval(
+            Fd, Fb, stiff, delta, ddelta, state, phi = mesh_eval(
                 k,
                 rec_q[j],
                 rec_v[j],
@@ -781,7 +795,9 @@ def outputs_kernel(
                 m_te,
                 m_nte,
             )
-            mesh_out[j, k, 0] = F
+            mesh_out[j, k, 0] = Fd - Fb
+            mesh_out[j, k, 6] = Fd
+            mesh_out[j, k, 7] = Fb
             mesh_out[j, k, 1] = stiff
             mesh_out[j, k, 2] = delta
             mesh_out[j, k, 3] = ddelta

@@ -21,12 +21,14 @@ clearance 2b with ``convention = "total"``). With the effective approach ``δ_e 
 and the normal force is ``F = k h + c δ̇_e`` in contact, 0 when separated. The generalised
 force on the 12 gear DOFs is ``−F w`` (δ > 0 is approach of the tooth surfaces along n), so the
 torque on gear i's θz is ``−F w[5] = F r_i cos β cos αn``. Back-side contact acts along the same
-line of action (the mirrored line of action is not modelled).
+line of action (SPEC 2.4), or with ``back_flank="mirrored"`` along the mirrored line of action
+``n_b = −cx t + cy e − cz z`` (pressure angle reflected about the line of centres; the gap
+``δ_b = w_b·q`` closes at ``δ_b > b``, force ``F_b = k (δ_b − b) + c δ̇_b`` along ``−w_b``).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from numpy.typing import NDArray
@@ -45,7 +47,7 @@ class MeshLaw:
     w : (12,) kinematic vector; kg : N/m; ka : N/m (Ka = ka_ratio·Kg); coef_a, coef_b : (S,)
     series coefficients; backlash : m, one-side b; damping : N·s/m in contact; teeth : N_i of gear
     i; table_phi, table_k : optional k(φ_m) table (rad, N/m); te : (S_e, 2) transmission-error
-    cos/sin amplitudes (m) per mesh harmonic.
+    cos/sin amplitudes (m) per mesh harmonic; w_back : (12,) kinematic vector of the back flank.
     """
 
     name: str
@@ -61,6 +63,7 @@ class MeshLaw:
     table_phi: NDArray
     table_k: NDArray
     te: NDArray
+    w_back: NDArray  # (12,) back-flank line: −w (SPEC 2.4) or the mirrored line of action
 
     @property
     def has_table(self) -> bool:
@@ -101,10 +104,21 @@ def mesh_laws(
     *,
     stiffness_tables: dict[int, tuple[NDArray, NDArray]] | None = None,
     transmission_error: dict[int, NDArray] | None = None,
+    back_flank: str = "same",
 ) -> tuple[MeshLaw, ...]:
     """Mesh laws from the model; ``stiffness_tables[k] = (φ_m, k)`` over one mesh cycle (rad,
     N/m) replaces mesh k's Fourier series; ``transmission_error[k]`` is an (S_e, 2) array of
-    cos/sin amplitudes (m) of e(φ_m)."""
+    cos/sin amplitudes (m) of e(φ_m); ``back_flank`` = ``"same"`` (SPEC 2.4: back-flank contact
+    along the drive line, δ < −b) or ``"mirrored"`` (along the line of action mirrored about the
+    line of centres: tangential and axial direction cosines reversed, the radial one kept;
+    contact when w_b·q > b)."""
+    if back_flank not in ("same", "mirrored"):
+        raise ModelError(
+            "unknown back-flank law",
+            field="back_flank",
+            value=back_flank,
+            expected="'same' or 'mirrored'",
+        )
     stiffness_tables = stiffness_tables or {}
     transmission_error = transmission_error or {}
     out = []
@@ -169,6 +183,11 @@ def mesh_laws(
                 table_phi=phi_t,
                 table_k=k_t,
                 te=te,
+                w_back=(
+                    -np.asarray(m.w, float)
+                    if back_flank == "same"
+                    else replace(m.geometry, helix_angle=m.geometry.helix_angle + np.pi).w()
+                ),
             )
         )
     return tuple(out)

@@ -14,7 +14,7 @@ from typing import Annotated
 import numpy as np
 import typer
 
-from ...errors import ModelError, SolverError
+from .errors import ModelError, SolverError
 
 __all__ = ["transient_command", "plot_command", "parse_overrides"]
 
@@ -68,6 +68,9 @@ def transient_command(
         ),
     ] = True,
     progress: Annotated[bool, typer.Option(help="progress on stderr")] = True,
+    initial: Annotated[
+        str, typer.Option("--initial", help="'zero' or 'static' (deflection under the torques)")
+    ] = "zero",
     checkpoint: Annotated[
         Path | None,
         typer.Option(
@@ -76,9 +79,16 @@ def transient_command(
     ] = None,
 ) -> None:
     """Nonlinear transient (time-varying mesh, backlash, free speed) of a train."""
-    from .equations import build_system
-    from .integrators import RK4, RK4_STABILITY, Checkpoint, ModalRK4, omega_max, transient
-    from .plots import standard_figures
+    from .analyses.transient.equations import build_system
+    from .analyses.transient.integrators import (
+        RK4,
+        RK4_STABILITY,
+        Checkpoint,
+        ModalRK4,
+        omega_max,
+        transient,
+    )
+    from .analyses.transient.plots import standard_figures
 
     if format not in ("table", "json"):
         raise _fail(
@@ -91,7 +101,7 @@ def transient_command(
             2,
         )
     try:
-        from ...io import load_model
+        from .io import load_model
 
         train = load_model(model, parse_overrides(set_))
         if method == "rk4":
@@ -113,6 +123,7 @@ def transient_command(
             integrator=integ,
             reactions=reactions,
             progress=progress,
+            initial=initial,
             checkpoint=Checkpoint(checkpoint) if checkpoint is not None else None,
         )
     except ModelError as exc:
@@ -144,8 +155,8 @@ def plot_command(
     ] = None,
 ) -> None:
     """Standard figures of a saved transient result."""
-    from .plots import standard_figures
-    from .results import load_result
+    from .analyses.transient.plots import standard_figures
+    from .analyses.transient.results import load_result
 
     try:
         ds = load_result(file)
