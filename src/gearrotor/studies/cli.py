@@ -72,7 +72,12 @@ def run_command(
     ] = None,
     workers: Annotated[
         int | None,
-        typer.Option("--workers", "-j", help="worker processes (default: all cores)"),
+        typer.Option(
+            "--workers",
+            "-j",
+            help="worker processes, local or Dask LocalCluster (default: all cores); "
+            "ignored with a remote scheduler",
+        ),
     ] = None,
     cases: Annotated[
         str | None,
@@ -146,6 +151,10 @@ def report_command(
     cases: Annotated[
         str | None, typer.Option("--cases", help="overlay only these cases, e.g. 0-3,7")
     ] = None,
+    probes: Annotated[
+        str | None,
+        typer.Option("--probes", help="spectra of these probes only, e.g. gear1_x,gear2_x"),
+    ] = None,
     per_figure: Annotated[int, typer.Option("--per-figure", help="cases per overlay figure")] = 7,
 ) -> None:
     """Overlay spectra (1x, 2x, mesh-frequency zooms) and trend plots of a study, as PNG."""
@@ -160,7 +169,13 @@ def report_command(
                 "cases per figure must be positive", field="--per-figure", value=per_figure
             )
         collect(st)
-        paths = report(st, output, cases=_parse_cases(cases), per_figure=per_figure)
+        paths = report(
+            st,
+            output,
+            cases=_parse_cases(cases),
+            probes=None if probes is None else [p.strip() for p in probes.split(",")],
+            per_figure=per_figure,
+        )
     except ModelError as exc:
         raise _input_error(exc) from None
     for p in paths:

@@ -5,7 +5,9 @@ not run).
 Coordinates along ``case``: ``case`` (row index), ``label``, ``key``, ``status`` (``done``,
 ``failed``, ``pending``), ``error`` (text, empty when none) and one coordinate per study
 parameter (the values as written in the study file; ``units`` attribute when the parameter has a
-unit). Metric variables: see :mod:`gearrotor.studies.metrics`.
+unit). Metric variables: see :mod:`gearrotor.studies.metrics`; also ``wall_time`` (s) of each
+run and, for transient runs, ``solver_dt`` (s), ``solver_steps``, ``solver_n_modes`` and
+``solver_harmonic_error`` (when the integrator reports them).
 """
 
 from __future__ import annotations
@@ -61,6 +63,16 @@ def collect(
         with xr.open_dataset(case_path(study, p.key), engine="h5netcdf") as ds:
             names = json.loads(ds.attrs["metrics"])
             part = ds[names].load()
+            part["wall_time"] = (
+                (),
+                float(ds.attrs.get("case_wall_time_s", np.nan)),
+                {"units": "s", "long_name": "wall time of the run"},
+            )
+            stats = json.loads(ds.attrs.get("solver_stats", "{}"))
+            for k, unit in (("dt", "s"), ("steps", "1"), ("n_modes", "1"), ("harmonic_error", "1")):
+                if k in stats:
+                    v = np.nan if stats[k] is None else float(stats[k])
+                    part[f"solver_{k}"] = ((), v, {"units": unit})
         part.attrs = {}
         parts.append(part.expand_dims(case=[p.case.index]))
     idx = np.array([p.case.index for p in planned], dtype=np.int64)

@@ -173,9 +173,7 @@ def _payload(study: Study, p: PlannedCase) -> dict:
 def run_case(payload: dict) -> dict:
     """Run one case (in a worker). Never raises: returns ``{"key", "index", "status": "ok",
     "dataset"}`` or ``{..., "status": "failed", "error", "traceback"}``, with ``wall_time_s``
-    and the worker's thread settings ``env``."""
-    for k, v in THREAD_ENV.items():
-        os.environ.setdefault(k, v)
+    and the worker's thread settings ``env`` as the worker process was started with."""
     t0 = time.perf_counter()
     base = {
         "key": payload["key"],
@@ -203,6 +201,7 @@ def run_case(payload: dict) -> dict:
                 "case_values": _canonical(payload["values"]),
                 "analysis": _canonical(settings),
                 "case_wall_time_s": wall,
+                "worker_env": _canonical(base["env"]),
             }
         )
         return {**base, "status": "ok", "dataset": ds, "wall_time_s": wall}
@@ -222,12 +221,8 @@ def _run_transient(train, s: dict, *, window: float, histories: str):
     from ..analyses.transient import RK4, ModalRK4, Save, transient
     from .metrics import transient_metrics
 
-    if s["integrator"] == "rk4":
-        integ = RK4(dt=s["dt"])
-    else:
-        integ = ModalRK4(
-            dt=s["dt"], cutoff=s["cutoff"], cutoff_factor=s["cutoff_factor"], accuracy=s["accuracy"]
-        )
+    cls = RK4 if s["integrator"] == "rk4" else ModalRK4
+    integ = cls(dt=s["dt"], **s["integrator_options"])
     res = transient(
         train,
         t_end=s["t_end"],
@@ -426,9 +421,8 @@ def _execute_local(payloads: list[dict], workers: int, on_done: Callable[[dict],
                             "error": f"worker failed: {type(exc).__name__}: {exc}",
                         }
                     on_done(out)
-        except BaseException:
-            for f in futs:
-                f.cancel()
+        except BaseException:  # interrupted: drop the queued cases, keep what is stored
+            pool.shutdown(wait=False, cancel_futures=True)
             raise
 
 
@@ -491,6 +485,19 @@ def _execute_dask(
     return n
 
 
+def _require(*modules: str) -> None:
+    """Fail early, with the install command, when an optional dependency is missing."""
+    import importlib.util
+
+    missing = [m for m in modules if importlib.util.find_spec(m) is None]
+    if missing:
+        raise ModelError(
+            f"parametric studies need {', '.join(missing)}",
+            expected="pip install 'gearrotor[results]' (add [dask] for --scheduler, [plot] "
+            "for study report)",
+        )
+
+
 def run_study(
     study: Study,
     *,
@@ -513,6 +520,7 @@ def run_study(
     collect_results : write ``results.nc`` (:func:`collect`) at the end
     """
     t0 = time.perf_counter()
+    _require("xarray", "h5netcdf")
     if workers is not None and workers < 1:
         raise ModelError(
             "the number of workers must be positive",

@@ -14,6 +14,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from ..errors import ModelError
 from .collection import collect
 from .execute import case_path, plan, study_status
 from .spec import Study, TransientSettings
@@ -53,7 +54,7 @@ def overlay_spectra(
     show the sidebands spaced at 1x). ``channel``: ``"probe"`` (probe ``name``, µm) or
     ``"speed"`` (shaft ``name``, rpm)."""
     plt = _pyplot()
-    fig, axes = plt.subplots(2, 2, figsize=(12, 8), constrained_layout=True)
+    fig, axes = plt.subplots(2, 2, figsize=(12, 9.5), constrained_layout=True)
     ax_full, ax1, ax2, axm = axes.ravel()
     x1 = fmesh = None
     for k, (label, ds) in enumerate(cases.items()):
@@ -102,7 +103,9 @@ def overlay_spectra(
     for o in orders:
         for ax in (ax_full,):
             ax.axvline(o * x1, color="0.7", lw=0.6, ls="--", zorder=0)
-    ax_full.legend(fontsize=7, loc="upper right")
+    fig.legend(
+        *ax_full.get_legend_handles_labels(), loc="outside lower center", ncols=2, fontsize=8
+    )
     what = f"probe {name}" if channel == "probe" else f"speed of {name}"
     fig.suptitle(f"{title}: {what}" if title else what)
     return fig
@@ -137,6 +140,11 @@ def _autoscale_y(ax, decades: float = 4.0) -> None:
         ax.set_ylim(max(float(y.min()), top * 10.0**-decades) * 0.8, top * 2.0)
 
 
+def _fmt(value, unit: str | None) -> str:
+    text = f"{value:g}" if isinstance(value, float | np.floating) else str(value)
+    return f"{text} {unit}" if unit else text
+
+
 def trend_groups(
     ds: xr.Dataset, parameter: str, parameters: Sequence[str]
 ) -> list[tuple[str, np.ndarray]]:
@@ -146,7 +154,7 @@ def trend_groups(
     others = [p for p in parameters if p != parameter]
     groups: dict[tuple, list[int]] = {}
     for i in range(ds.sizes["case"]):
-        key = tuple(str(ds[p].values[i]) for p in others)
+        key = tuple(_fmt(ds[p].values[i], ds[p].attrs.get("units")) for p in others)
         groups.setdefault(key, []).append(i)
     out = []
     for key, idx in groups.items():
@@ -179,7 +187,7 @@ def trend_figure(ds: xr.Dataset, parameter: str, parameters: Sequence[str]):
     ncol = 3 if len(panels) > 2 else 2
     nrow = int(np.ceil(len(panels) / ncol))
     fig, axes = plt.subplots(
-        nrow, ncol, figsize=(5 * ncol, 3.8 * nrow), squeeze=False, constrained_layout=True
+        nrow, ncol, figsize=(5 * ncol, 3.8 * nrow + 1.2), squeeze=False, constrained_layout=True
     )
     unit = ds[parameter].attrs.get("units", "")
     for ax, (var, ylabel, dim, scale) in zip(axes.ravel(), panels, strict=False):
@@ -191,7 +199,7 @@ def trend_figure(ds: xr.Dataset, parameter: str, parameters: Sequence[str]):
                     ax.plot(
                         x,
                         da.isel(mode=m).values * scale,
-                        "o-",
+                        marker="o",
                         color=f"C{m}",
                         ls=["-", "--", ":", "-."][k % 4],
                         ms=4,
@@ -205,7 +213,12 @@ def trend_figure(ds: xr.Dataset, parameter: str, parameters: Sequence[str]):
         ax.grid(True, alpha=0.3)
     for ax in axes.ravel()[len(panels) :]:
         ax.set_visible(False)
-    axes.ravel()[0].legend(fontsize=7)
+    fig.legend(
+        *axes.ravel()[0].get_legend_handles_labels(),
+        loc="outside lower center",
+        ncols=2,
+        fontsize=8,
+    )
     fig.suptitle(f"{ds.attrs.get('title', 'study')}: trends in {parameter}")
     return fig
 
@@ -215,13 +228,14 @@ def report(
     output: str | Path | None = None,
     *,
     cases: Sequence[int] | None = None,
+    probes: Sequence[str] | None = None,
     per_figure: int = 7,
 ) -> list[Path]:
     """Write the study's figures as PNG into ``output`` (default ``<study folder>/report``):
     ``trend_<parameter>.png`` for every parameter, and for transient studies
     ``spectra_<probe>_<first>-<last>.png`` and ``spectra_speed_<shaft>_<first>-<last>.png``
-    overlaying at most ``per_figure`` finished cases (``cases``: only these). Returns the
-    paths written."""
+    overlaying at most ``per_figure`` finished cases (``cases``: only these; ``probes``: only
+    these probes). Returns the paths written."""
     plt = _pyplot()
     out = Path(output) if output is not None else study.folder / "report"
     out.mkdir(parents=True, exist_ok=True)
@@ -258,7 +272,15 @@ def report(
         if first.sizes.get("time", 0) < 16:
             break
         tag = f"{chunk[0]:02d}-{chunk[-1]:02d}"
-        for probe in first["probe"].values:
+        names = [str(p) for p in first["probe"].values]
+        if probes is not None:
+            unknown = sorted(set(probes) - set(names))
+            if unknown:
+                raise ModelError(
+                    "unknown probe", field="--probes", value=unknown, expected=f"some of {names}"
+                )
+            names = [p for p in names if p in set(probes)]
+        for probe in names:
             fig = overlay_spectra(data, channel="probe", name=str(probe), title=study.name)
             path = out / f"spectra_{probe}_{tag}.png"
             fig.savefig(path, dpi=110)

@@ -32,8 +32,10 @@ the field, the value and what was expected. See ``docs/studies.md`` for the form
 
 from __future__ import annotations
 
+import dataclasses
 import itertools
 import math
+import re
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -59,6 +61,41 @@ __all__ = [
 ]
 
 Scalar = float | int | bool | str
+# names used by the collected dataset (dimensions, coordinates, metrics)
+RESERVED = frozenset(
+    {
+        "case",
+        "label",
+        "key",
+        "status",
+        "error",
+        "time",
+        "probe",
+        "shaft",
+        "mesh",
+        "component",
+        "mode",
+        "node",
+        "bearing",
+        "direction",
+        "wall_time",
+        "amp_1x",
+        "amp_2x",
+        "dominant_frequency",
+        "speed_mean",
+        "speed_fluctuation",
+        "speed_dominant_frequency",
+        "peak_mesh_force",
+        "contact_loss_fraction",
+        "mesh_frequency",
+        "whirl_power_peak",
+        "whirl_power_mean",
+        "damped_frequency",
+        "log_dec",
+        "mode_type",
+        "whirl",
+    }
+)
 
 
 class _Spec(BaseModel):
@@ -109,28 +146,45 @@ class CasesSpec(_Spec):
 
 
 class TransientSettings(_Spec):
-    """Transient analysis (SPEC 3.3). t_end, dt, save_dt : s; cutoff : Hz (modal-rk4).
+    """Transient analysis (SPEC 3.3). t_end, dt, save_dt : s; blowup : m.
 
-    ``integrator = "modal-rk4"`` (default, :class:`~gearrotor.analyses.transient.ModalRK4` with
-    ``dt``/``cutoff``/``cutoff_factor``/``accuracy``) or ``"rk4"`` (the full-model reference,
-    ``dt`` required). ``reactions`` as in :func:`~gearrotor.analyses.transient.transient`."""
+    ``integrator = "modal-rk4"`` (default: :class:`~gearrotor.analyses.transient.ModalRK4`,
+    ``dt`` optional) or ``"rk4"`` (:class:`~gearrotor.analyses.transient.RK4`, the full-model
+    reference, ``dt`` required). ``integrator_options`` are passed to the integrator's
+    constructor by name (e.g. ``cutoff`` in Hz, ``cutoff_factor``, ``accuracy``,
+    ``static_correction``, ``tolerance`` for ModalRK4); unknown names are errors.
+    ``save_dt``, ``reactions`` and ``blowup`` as in
+    :func:`~gearrotor.analyses.transient.transient`."""
 
     type: Literal["transient"]
     t_end: Time = Field(gt=0)
     integrator: Literal["modal-rk4", "rk4"] = "modal-rk4"
     dt: Time | None = Field(default=None, gt=0)
-    cutoff: float | None = Field(default=None, gt=0)
-    cutoff_factor: float = Field(default=1.25, gt=0)
-    accuracy: float = Field(default=0.9, gt=0)
+    integrator_options: dict[str, float | int | bool | None] = Field(default_factory=dict)
     save_dt: Time | None = Field(default=None, gt=0)
     reactions: bool = True
     blowup: float = Field(default=0.05, gt=0)
 
     @model_validator(mode="after")
-    def _rk4_step(self) -> TransientSettings:
+    def _integrator(self) -> TransientSettings:
         if self.integrator == "rk4" and self.dt is None:
             raise ValueError("integrator 'rk4' needs 'dt' (e.g. dt = \"8e-6 s\")")
+        cls = integrator_class(self.integrator)
+        names = {f.name for f in dataclasses.fields(cls) if f.init} - {"dt"}
+        bad = sorted(set(self.integrator_options) - names)
+        if bad:
+            raise ValueError(
+                f"unknown integrator_options {bad} for {self.integrator!r}; "
+                f"expected some of {sorted(names)}"
+            )
         return self
+
+
+def integrator_class(name: str) -> type:
+    """The integrator option class of a study's ``integrator`` name."""
+    from ..analyses.transient import RK4, ModalRK4
+
+    return RK4 if name == "rk4" else ModalRK4
 
 
 class ModalSettings(_Spec):
@@ -231,6 +285,16 @@ def _expand(spec: StudyFile, file: str) -> tuple[Case, ...]:
         columns = list(cs.product or {})
         rows = [list(r) for r in itertools.product(*(cs.product or {}).values())]
         row_field = "cases.product"
+    for name in spec.parameters:
+        if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", name) or name in RESERVED:
+            raise ModelError(
+                "unusable parameter name",
+                field=f"parameters.{name}",
+                value=name,
+                expected="a name of letters, digits and _, not one of the result names "
+                f"{sorted(RESERVED)}",
+                file=file,
+            )
     for k, name in enumerate(columns):
         where = f"cases.columns[{k}]" if cs.rows is not None else f"cases.product.{name}"
         if name not in spec.parameters:
@@ -310,8 +374,7 @@ def study_from_dict(data: dict, *, file: str | Path) -> Study:
     except ValidationError as exc:
         err = format_validation_error(exc, data, name)
         # the analysis table is a tagged union: drop the tag from the field paths
-        msg = err.message.replace("analysis.transient.", "analysis.")
-        msg = msg.replace("analysis.modal.", "analysis.")
+        msg = re.sub(r"analysis\.(?:transient|modal)(?=[.:\s])", "analysis", err.message)
         raise ModelError(msg, file=err.file) from None
     model = (file.parent / spec.model).resolve()
     if not model.exists():
@@ -320,6 +383,18 @@ def study_from_dict(data: dict, *, file: str | Path) -> Study:
             field="model",
             value=spec.model,
             expected="a model file (TOML) path relative to the study file",
+            file=name,
+        )
+    if (
+        isinstance(spec.analysis, TransientSettings)
+        and spec.outputs.window is not None
+        and spec.outputs.window >= spec.analysis.t_end
+    ):
+        raise ModelError(
+            "the metric window must be shorter than the run",
+            field="outputs.window",
+            value=spec.outputs.window,
+            expected=f"less than analysis.t_end = {spec.analysis.t_end} s",
             file=name,
         )
     folder = (file.parent / (spec.output or f"{file.stem}.study")).resolve()
