@@ -154,3 +154,27 @@ def test_back_flank_line_of_action(make_gearbox, back_flank):
         assert xs[0] == pytest.approx(xs[1], rel=1e-9)
     else:
         assert xs[0] * xs[1] < 0
+
+
+def test_model_file_table_and_transmission_error(make_gearbox):
+    """`stiffness_table` and `transmission_error` in the model file drive the same laws as the
+    API arguments."""
+    phi = [0.0, 1.0, 3.0, 5.0]
+    k = [2e7, 4e7, 3e7, 3.5e7]
+    train = make_gearbox(
+        {
+            "meshes[0].stiffness_table": {"angle": phi, "stiffness": k},
+            "meshes[0].transmission_error": {"cos": ["2 um", "0.5 um"], "sin": ["0 um", "1 um"]},
+        },
+        elements=4,
+    )
+    law_file = build_system(train).meshes[0]
+    plain = make_gearbox(elements=4)
+    law_api = build_system(
+        plain,
+        stiffness_tables={0: (np.array(phi), np.array(k))},
+        transmission_error={0: np.array([[2e-6, 0.0], [0.5e-6, 1e-6]])},
+    ).meshes[0]
+    x = np.linspace(0, 4 * np.pi, 77)
+    np.testing.assert_allclose(stiffness(law_file, x), stiffness(law_api, x))
+    np.testing.assert_allclose(law_file.te, law_api.te)

@@ -47,6 +47,8 @@ __all__ = [
     "GearSide",
     "MeshStiffness",
     "MeshVariation",
+    "StiffnessTable",
+    "TransmissionError",
     "Backlash",
     "Mesh",
     "Unbalance",
@@ -342,6 +344,37 @@ class Backlash(Spec):
         return self.value / 2 if self.convention == "total" else self.value
 
 
+class StiffnessTable(Spec):
+    """Measured or computed mesh stiffness over one mesh cycle (transient): ``angle`` is the mesh
+    angle φ_m = N_i θ_i in [0, 2π) (rad, or with units), ``stiffness`` the total k(φ_m) (N/m);
+    it replaces the Fourier series of ``variation``."""
+
+    angle: list[Angle] = Field(min_length=2)
+    stiffness: list[Stiffness] = Field(min_length=2)
+
+    @model_validator(mode="after")
+    def _lengths(self) -> StiffnessTable:
+        if len(self.angle) != len(self.stiffness):
+            raise ValueError("'angle' and 'stiffness' must have the same length")
+        if any(b <= a for a, b in zip(self.angle, self.angle[1:], strict=False)):
+            raise ValueError("'angle' must be strictly increasing")
+        return self
+
+
+class TransmissionError(Spec):
+    """Transmission error e(φ_m) = Σ_s [cos_s cos(sφ_m) + sin_s sin(sφ_m)] (m), s = 1, 2, ...;
+    the mesh deflection becomes δ − e (transient)."""
+
+    cos: list[Length] = Field(default_factory=list)
+    sin: list[Length] = Field(default_factory=list)
+
+    @model_validator(mode="after")
+    def _lengths(self) -> TransmissionError:
+        if len(self.cos) != len(self.sin):
+            raise ValueError("'cos' and 'sin' must have the same number of harmonics")
+        return self
+
+
 class Mesh(Spec):
     """A gear mesh between ``gear`` (i) and ``mate`` (j) (SPEC 2.3).
 
@@ -364,6 +397,8 @@ class Mesh(Spec):
     damping: Damping = Field(default=0.0, ge=0)
     damping_ratio: Dimensionless | None = Field(default=None, ge=0, lt=1)
     variation: MeshVariation = MeshVariation()
+    stiffness_table: StiffnessTable | None = None
+    transmission_error: TransmissionError | None = None
     backlash: Backlash = Backlash()
 
 

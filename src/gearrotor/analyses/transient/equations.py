@@ -270,11 +270,24 @@ def build_system(
             )
         a_w.append(a / a.sum())
 
+    # model-file tables and transmission errors; explicit arguments take precedence
+    tables = {
+        k: (np.asarray(m.stiffness_table.angle), np.asarray(m.stiffness_table.stiffness))
+        for k, m in enumerate(train.meshes)
+        if m.stiffness_table is not None
+    }
+    tables.update(stiffness_tables or {})
+    errors = {
+        k: np.column_stack([m.transmission_error.cos, m.transmission_error.sin])
+        for k, m in enumerate(train.meshes)
+        if m.transmission_error is not None and m.transmission_error.cos
+    }
+    errors.update(transmission_error or {})
     laws = mesh_laws(
         train,
         asm,
-        stiffness_tables=stiffness_tables,
-        transmission_error=transmission_error,
+        stiffness_tables=tables,
+        transmission_error=errors,
         back_flank=back_flank,
     )
     mesh_dofs = np.array([pos[m.dofs] for m in asm.meshes], int).reshape(-1, 12)
