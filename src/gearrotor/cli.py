@@ -16,7 +16,7 @@ import numpy as np
 import typer
 
 from .errors import ModelError, SolverError
-from .io import load_model
+from .io import load_model, parse_overrides
 from .report_cli import report_command
 from .transient_cli import plot_command, transient_command
 
@@ -40,20 +40,6 @@ SetOpt = Annotated[
     ),
 ]
 FormatOpt = Annotated[str, typer.Option("--format", help="table or json")]
-
-
-def _overrides(items: list[str] | None) -> dict[str, str]:
-    out = {}
-    for it in items or []:
-        if "=" not in it:
-            raise ModelError(
-                "--set needs PATH=VALUE",
-                value=it,
-                expected="e.g. 'meshes[0].variation.ka_ratio=0.2'",
-            )
-        k, v = it.split("=", 1)
-        out[k.strip()] = v.strip()
-    return out
 
 
 def handle_errors(fn):
@@ -114,7 +100,7 @@ def modal(
     from .analyses import modal as run_modal
 
     _check_format(format)
-    train = load_model(model, _overrides(set_))
+    train = load_model(model, parse_overrides(set_))
     res = run_modal(
         train,
         speed=None if speed is None else speed * RPM,
@@ -161,7 +147,7 @@ def campbell(
     from .analyses import campbell as run_campbell
 
     _check_format(format)
-    train = load_model(model, _overrides(set_))
+    train = load_model(model, parse_overrides(set_))
     hi = max_speed if max_speed is not None else 1.25 * abs(train.speed) / RPM
     speeds = _speeds(min_speed, hi, n_speeds, "--min-speed/--max-speed")
     fmax = (max_frequency if max_frequency is not None else 3 * hi) * RPM
@@ -221,7 +207,7 @@ def unbalance(
     from .assembly import assemble
 
     _check_format(format)
-    train = load_model(model, _overrides(set_))
+    train = load_model(model, parse_overrides(set_))
     hi = max_speed if max_speed is not None else 1.5 * abs(train.speed) / RPM
     speeds = _speeds(min_speed, hi, n_speeds, "--min-speed/--max-speed")
     op = None

@@ -24,20 +24,6 @@ __all__ = ["report_command"]
 RPM = np.pi / 30  # rpm -> rad/s
 
 
-def _overrides(items: list[str] | None) -> dict[str, str]:
-    out = {}
-    for it in items or []:
-        if "=" not in it:
-            raise ModelError(
-                "--set needs PATH=VALUE",
-                value=it,
-                expected="e.g. 'meshes[0].stiffness=3e7 N/m'",
-            )
-        k, v = it.split("=", 1)
-        out[k.strip()] = v.strip()
-    return out
-
-
 def report_command(
     model: Annotated[Path, typer.Argument(help="TOML model file")],
     output: Annotated[
@@ -75,14 +61,14 @@ def report_command(
 ) -> None:
     """Self-contained HTML report: modes (3-D), stability, Campbell, Bode, orbits, API 684 checks,
     and a saved transient result's spectra, waterfall and whirl power; plus PNG figures."""
-    from .io import load_model
+    from .io import load_model, parse_overrides
 
     try:
         try:
             from .plots.report import make_report
         except ImportError as exc:
             raise _missing(exc) from None
-        train = load_model(model, _overrides(set_))
+        train = load_model(model, parse_overrides(set_))
         try:
             rep = make_report(
                 train,

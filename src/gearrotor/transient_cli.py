@@ -16,23 +16,7 @@ import typer
 
 from .errors import ModelError, SolverError
 
-__all__ = ["transient_command", "plot_command", "parse_overrides"]
-
-
-def parse_overrides(items: list[str] | None) -> dict[str, str]:
-    """``["meshes[0].variation.ka_ratio=0.2", ...]`` → {path: value}."""
-    out = {}
-    for item in items or []:
-        if "=" not in item:
-            raise ModelError(
-                "a --set option needs PATH=VALUE",
-                field="--set",
-                value=item,
-                expected="e.g. meshes[0].variation.ka_ratio=0.2",
-            )
-        key, value = item.split("=", 1)
-        out[key.strip()] = value.strip()
-    return out
+__all__ = ["transient_command", "plot_command"]
 
 
 def _fail(exc: Exception, code: int) -> typer.Exit:
@@ -101,7 +85,7 @@ def transient_command(
             2,
         )
     try:
-        from .io import load_model
+        from .io import load_model, parse_overrides
 
         train = load_model(model, parse_overrides(set_))
         if method == "rk4":

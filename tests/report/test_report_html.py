@@ -390,7 +390,7 @@ def test_cli_writes_the_report(examples, tmp_path):
         (["--analyses", "modal,bogus"], "unknown analysis"),
         (["--analyses", "transient"], "needs a saved transient result"),
         (["--speed", "0"], "positive operating speed"),
-        (["--set", "meshes[0].stiffness"], "--set needs PATH=VALUE"),
+        (["--set", "meshes[0].stiffness"], "--set option needs PATH=VALUE"),
     ],
 )
 def test_cli_bad_input_exits_2(examples, tmp_path, args, message):

@@ -1,5 +1,17 @@
 """Input and output: TOML model files, overrides by dotted path."""
 
-from .model_file import apply_overrides, format_validation_error, load_model, model_from_dict
+from .model_file import (
+    apply_overrides,
+    format_validation_error,
+    load_model,
+    model_from_dict,
+    parse_overrides,
+)
 
-__all__ = ["apply_overrides", "format_validation_error", "load_model", "model_from_dict"]
+__all__ = [
+    "apply_overrides",
+    "format_validation_error",
+    "load_model",
+    "model_from_dict",
+    "parse_overrides",
+]

@@ -19,7 +19,13 @@ from pydantic import ValidationError
 from ..errors import ModelError
 from ..model import Train
 
-__all__ = ["load_model", "model_from_dict", "apply_overrides", "format_validation_error"]
+__all__ = [
+    "load_model",
+    "model_from_dict",
+    "apply_overrides",
+    "format_validation_error",
+    "parse_overrides",
+]
 
 _PATH_TOKEN = re.compile(r"([^.\[\]]+)|\[(\d+)\]")
 
@@ -104,6 +110,22 @@ def _coerce(value: str) -> Any:
         return tomllib.loads(f"v = {value}")["v"]
     except tomllib.TOMLDecodeError:
         return value
+
+
+def parse_overrides(items: list[str] | None) -> dict[str, str]:
+    """``--set`` options ``["meshes[0].variation.ka_ratio=0.2", ...]`` → {path: value}."""
+    out = {}
+    for item in items or []:
+        if "=" not in item:
+            raise ModelError(
+                "a --set option needs PATH=VALUE",
+                field="--set",
+                value=item,
+                expected="e.g. meshes[0].variation.ka_ratio=0.2",
+            )
+        key, value = item.split("=", 1)
+        out[key.strip()] = value.strip()
+    return out
 
 
 def apply_overrides(data: dict, overrides: dict[str, Any] | None) -> dict:
