@@ -18,6 +18,7 @@ import typer
 from .errors import ModelError, SolverError
 from .io import load_model, parse_overrides
 from .report_cli import report_command
+from .studies.cli import study_app
 from .transient_cli import plot_command, transient_command
 
 __all__ = ["app", "main"]
@@ -293,6 +294,7 @@ def bearing(
 app.command("transient")(transient_command)
 app.command("transient-plot")(plot_command)
 app.command("report")(report_command)
+app.add_typer(study_app, name="study")
 
 
 def main() -> None:
