@@ -636,7 +636,7 @@ def _write_contents(tmp: Path, asm, res, camp, unb, ds, *, fmax, w, notes, trans
 
 
 def _transient_summary(ds) -> dict:
-    from ..analyses.transient import amplitude_at
+    from ..analyses.transient import order_amplitudes
 
     t = ds["time"].values
     half = t >= t[0] + 0.5 * (t[-1] - t[0])
@@ -653,11 +653,10 @@ def _transient_summary(ds) -> dict:
     speed = ds["shaft_speed"].values
     for k, node in enumerate(ds["node"].values):
         si = int(ds["node_shaft"].values[k]) if "node_shaft" in ds else 0
-        om = float(np.mean(np.abs(speed[half, si])))
+        amps = {c: order_amplitudes(t[half], ds[c].values[half, k], speed[half, si])
+                for c in ("x", "y")}
         out["nodes"][str(node)] = {
-            f"{c}_{n}x_um": amplitude_at(t[half], ds[c].values[half, k], n * om) * 1e6
-            for c in ("x", "y")
-            for n in (1, 2)
+            f"{c}_{n}x_um": float(amps[c][n - 1]) * 1e6 for c in ("x", "y") for n in (1, 2)
         }
     for k, name in enumerate(ds["shaft"].values):
         rpm = np.abs(speed[:, k]) * RPM

@@ -5,9 +5,9 @@ Transient metrics (SPEC 3.4), all over the last ``window`` seconds of the run:
 ========================== =========== ==========================================================
 variable (dims)            unit        meaning
 ========================== =========== ==========================================================
-amp_1x (probe)             m           zero-to-peak amplitude at the mean speed of the probe's
-                                       shaft (least squares, :func:`amplitude_at`)
-amp_2x (probe)             m           the same at twice that speed
+amp_1x (probe)             m           zero-to-peak 1x amplitude of the probe's shaft, tracked
+                                       in the shaft-angle domain (:func:`order_amplitudes`)
+amp_2x (probe)             m           the same for the 2x order (fitted jointly with 1x)
 dominant_frequency (probe) cpm         highest peak of the probe's amplitude spectrum (Hann
                                        window, linear trend removed, DC bin excluded),
                                        refined between bins (parabolic, log amplitude)
@@ -34,7 +34,7 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-from ..analyses.transient import amplitude_at, spectrum
+from ..analyses.transient import order_amplitudes, spectrum
 
 __all__ = ["TRANSIENT_METRICS", "MODAL_METRICS", "transient_metrics", "window_of"]
 
@@ -95,12 +95,10 @@ def transient_metrics(
     mean_speed = np.abs(speed).mean(axis=0)
     probes = w["probe_signal"].values
     n_probe = probes.shape[1]
-    amp1 = np.array(
-        [amplitude_at(t, probes[:, k], mean_speed[probe_shaft[k]]) for k in range(n_probe)]
-    )
-    amp2 = np.array(
-        [amplitude_at(t, probes[:, k], 2 * mean_speed[probe_shaft[k]]) for k in range(n_probe)]
-    )
+    orders = np.array(
+        [order_amplitudes(t, probes[:, k], speed[:, probe_shaft[k]]) for k in range(n_probe)]
+    ).reshape(n_probe, 2)
+    amp1, amp2 = orders[:, 0], orders[:, 1]
     dom = np.array([_dominant(probes[:, k], dt) for k in range(n_probe)])
     fluct, sdom = [], []
     for s in range(speed.shape[1]):

@@ -8,7 +8,14 @@
 from .equations import TransientSystem, build_system, mesh_damping_from_ratio, static_state
 from .integrators import RK4, Checkpoint, ModalRK4, Save, transient
 from .mesh import MeshLaw, backlash_h, fourier_coefficients, stiffness
-from .results import SolverStats, TransientResult, amplitude_at, load_result, spectrum
+from .results import (
+    SolverStats,
+    TransientResult,
+    amplitude_at,
+    load_result,
+    order_amplitudes,
+    spectrum,
+)
 
 __all__ = [
     "RK4",
@@ -25,6 +32,7 @@ __all__ = [
     "fourier_coefficients",
     "load_result",
     "mesh_damping_from_ratio",
+    "order_amplitudes",
     "spectrum",
     "static_state",
     "stiffness",
