@@ -17,47 +17,21 @@ the model has no other approximation that varies between runs); 1x changes with 
 from __future__ import annotations
 
 import json
-import os
-import re
-import shlex
-import subprocess
 import sys
-from pathlib import Path
 
 import pytest
 
-ROOT = Path(__file__).resolve().parents[2]
+from doc_examples import ROOT, doc_commands, find_run, run
+
 DOC = ROOT / "docs" / "examples" / "compressor_gearbox.md"
-ENV = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1", MKL_NUM_THREADS="1")
 T_END = "0.05"
-
-
-def run(args: list[str], timeout: float = 600, status: int = 0) -> subprocess.CompletedProcess:
-    out = subprocess.run(args, cwd=ROOT, env=ENV, capture_output=True, text=True, timeout=timeout)
-    assert out.returncode == status, f"{args}\n{out.stderr[-3000:]}"
-    return out
-
-
-def doc_commands() -> list[tuple[list[str], str]]:
-    """(argv after ``gearrotor``, trailing comment) of the doc's bash blocks."""
-    text = DOC.read_text()
-    cmds = []
-    for block in re.findall(r"```bash\n(.*?)```", text, flags=re.S):
-        joined = re.sub(r"\\\n\s*", " ", block)
-        for line in joined.splitlines():
-            line = line.strip()
-            if not line.startswith("gearrotor "):
-                continue
-            cmd, _, comment = line.partition("#")
-            cmds.append((shlex.split(cmd)[1:], comment.strip()))
-    return cmds
 
 
 @pytest.fixture(scope="module")
 def doc_runs(tmp_path_factory) -> list[tuple[list[str], dict | None]]:
     tmp = tmp_path_factory.mktemp("compressor")
     out = []
-    for c, comment in doc_commands():
+    for c, comment in doc_commands(DOC):
         c = [str(tmp / a[4:]) if a.startswith("out/") else a for a in c]
         if "--t-end" in c:
             c[c.index("--t-end") + 1] = T_END
@@ -75,18 +49,6 @@ def doc_runs(tmp_path_factory) -> list[tuple[list[str], dict | None]]:
         r = run([sys.executable, "-m", "gearrotor", *c, "--format", "json"])
         out.append((c, json.loads(r.stdout)))
     return out
-
-
-def find_run(runs, kind: str, *words: str, without: tuple[str, ...] = ()) -> dict:
-    hits = [
-        r
-        for c, r in runs
-        if c[0] == kind
-        and all(any(w in a for a in c) for w in words)
-        and not any(any(w in a for a in c) for w in without)
-    ]
-    assert len(hits) == 1, (kind, words, [c for c, _ in runs])
-    return hits[0]
 
 
 def test_doc_commands_run(doc_runs):
@@ -141,7 +103,7 @@ def test_modal_integrator_matches_rk4(doc_runs):
 @pytest.mark.slow
 def test_no_mesh_damping_diverges():
     """The doc's undamped command, as written (0.5 s; diverges at 0.21 s, about 15 s)."""
-    cmds = [c for c, comment in doc_commands() if "diverges" in comment]
+    cmds = [c for c, comment in doc_commands(DOC) if "diverges" in comment]
     assert len(cmds) == 1
     c = cmds[0]
     assert "damping_ratio=0" in " ".join(c) and c[c.index("--t-end") + 1] == "0.5"

@@ -20,25 +20,19 @@ multithreaded dense eigensolve of this 192-DOF model can take 50x longer.
 from __future__ import annotations
 
 import json
-import os
-import re
-import shlex
-import subprocess
 import sys
-from pathlib import Path
 
 import pytest
 
-ROOT = Path(__file__).resolve().parents[2]
+from doc_examples import ROOT, doc_commands, find_run
+from doc_examples import run as run_process
+
 DOC = ROOT / "docs" / "examples" / "steam_turbine_gearbox.md"
 SCRIPT = ROOT / "examples" / "scripts" / "steam_turbine_stability.py"
-ENV = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1", MKL_NUM_THREADS="1")
 
 
 def run(args: list[str], timeout: float = 300) -> str:
-    out = subprocess.run(args, cwd=ROOT, env=ENV, capture_output=True, text=True, timeout=timeout)
-    assert out.returncode == 0, f"{args}\n{out.stderr[-3000:]}"
-    return out.stdout
+    return run_process(args, timeout).stdout
 
 
 def cli(*args: str) -> str:
@@ -61,26 +55,13 @@ def pinion_mode(modes: list[dict], lo: float, hi: float) -> dict:
     return min(found, key=lambda m: m["log_dec"])
 
 
-def doc_commands() -> list[list[str]]:
-    """The ``gearrotor ...`` commands of the doc's bash blocks (continuation lines joined)."""
-    text = DOC.read_text()
-    cmds = []
-    for block in re.findall(r"```bash\n(.*?)```", text, flags=re.S):
-        joined = re.sub(r"\\\n\s*", " ", block)
-        for line in joined.splitlines():
-            line = line.split("#")[0].strip() if line.strip().startswith("gearrotor ") else ""
-            if line:
-                cmds.append(shlex.split(line)[1:])
-    return cmds
-
-
 @pytest.fixture(scope="module")
 def doc_runs() -> list[tuple[list[str], dict]]:
     """Every doc command, run once with ``--format json`` (plots left out: the study script's
     test covers them; sweeps coarsened to 141 (unbalance) and 13 (Campbell) speeds for the
     time budget)."""
     out = []
-    for c in doc_commands():
+    for c, _ in doc_commands(DOC):
         if "--plot" in c:
             k = c.index("--plot")
             c = c[:k] + c[k + 2 :]
@@ -88,18 +69,6 @@ def doc_runs() -> list[tuple[list[str], dict]]:
             c[c.index("--n-speeds") + 1] = "141" if c[0] == "unbalance" else "13"
         out.append((c, json.loads(cli(*c, "--format", "json"))))
     return out
-
-
-def find_run(runs, kind: str, *words: str, without: tuple[str, ...] = ()) -> dict:
-    hits = [
-        r
-        for c, r in runs
-        if c[0] == kind
-        and all(any(w in a for a in c) for w in words)
-        and not any(any(w in a for a in c) for w in without)
-    ]
-    assert len(hits) == 1, (kind, words, [c for c, _ in runs])
-    return hits[0]
 
 
 def test_doc_commands_run(doc_runs):

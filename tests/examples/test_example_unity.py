@@ -20,18 +20,14 @@ the modal integrator are within 0.5 % of RK4 and of the linear response (docs/tr
 from __future__ import annotations
 
 import json
-import os
-import re
-import shlex
-import subprocess
 import sys
-from pathlib import Path
 
 import pytest
 
-ROOT = Path(__file__).resolve().parents[2]
+from doc_examples import ROOT, doc_commands, find_run
+from doc_examples import run as run_process
+
 DOC = ROOT / "docs" / "examples" / "unity_gearbox.md"
-ENV = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1", MKL_NUM_THREADS="1")
 
 SPEC_ELASTIC = [  # rpm, log dec, whirl (SPEC 6.1, single shaft at 6500 rpm)
     (6243, 0.76, "B"),
@@ -44,28 +40,14 @@ SPEC_ELASTIC = [  # rpm, log dec, whirl (SPEC 6.1, single shaft at 6500 rpm)
 
 
 def run(args: list[str], timeout: float = 600) -> str:
-    out = subprocess.run(args, cwd=ROOT, env=ENV, capture_output=True, text=True, timeout=timeout)
-    assert out.returncode == 0, f"{args}\n{out.stderr[-3000:]}"
-    return out.stdout
-
-
-def doc_commands() -> list[list[str]]:
-    text = DOC.read_text()
-    cmds = []
-    for block in re.findall(r"```bash\n(.*?)```", text, flags=re.S):
-        joined = re.sub(r"\\\n\s*", " ", block)
-        for line in joined.splitlines():
-            line = line.strip()
-            if line.startswith("gearrotor "):
-                cmds.append(shlex.split(line.split("#")[0])[1:])
-    return cmds
+    return run_process(args, timeout).stdout
 
 
 @pytest.fixture(scope="module")
 def doc_runs(tmp_path_factory) -> list[tuple[list[str], dict | None]]:
     tmp = tmp_path_factory.mktemp("unity")
     out = []
-    for c in doc_commands():
+    for c, _ in doc_commands(DOC):
         c = [str(tmp / a[4:]) if a.startswith("out/") else a for a in c]
         if "--t-end" in c:
             c[c.index("--t-end") + 1] = "1"
@@ -82,18 +64,6 @@ def doc_runs(tmp_path_factory) -> list[tuple[list[str], dict | None]]:
             (c, json.loads(run([sys.executable, "-m", "gearrotor", *c, "--format", "json"])))
         )
     return out
-
-
-def find_run(runs, kind: str, *words: str, without: tuple[str, ...] = ()) -> dict:
-    hits = [
-        r
-        for c, r in runs
-        if c[0] == kind
-        and all(any(w in a for a in c) for w in words)
-        and not any(any(w in a for a in c) for w in without)
-    ]
-    assert len(hits) == 1, (kind, words, [c for c, _ in runs])
-    return hits[0]
 
 
 def test_doc_commands_run(doc_runs):
