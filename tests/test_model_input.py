@@ -209,3 +209,12 @@ def test_cli_modal_json_with_shapes(examples):
     # first bending mode of a symmetric shaft: largest at mid-span (node 10), normalised to 1
     assert np.argmax(np.abs(x) + np.abs(y)) == 10
     assert max(np.abs(x).max(), np.abs(y).max()) == pytest.approx(1.0)
+
+
+def test_failed_layout_check_raises_every_time(base):
+    """A model whose node check failed must not return a cached, unchecked layout later."""
+    base["meshes"][0]["gear"]["node"] = 25
+    t = Train.model_validate(base)
+    for _ in range(2):
+        with pytest.raises(ModelError, match="meshes\\[0\\].gear.node"):
+            t.layout()

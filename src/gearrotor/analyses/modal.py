@@ -317,8 +317,6 @@ def _classify(lam, V, asm, speeds, K, *, rigid_tol, overdamped_zeta, type_thresh
     # kinetic-energy fractions by DOF kind
     Md = asm.M
     kind = asm.dof_kind()
-    if asm.support_offset:
-        pass  # pedestal DOFs are lateral (kind 0) already
     frac = np.zeros((len(idx), 3))
     for k in range(3):
         mask = (kind == k).astype(float)

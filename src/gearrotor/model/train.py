@@ -177,11 +177,17 @@ class Train(Spec):
             ShaftLayout(s.name, i, nodes[i][0], positions[i], ratios[i], nodes[i][1])
             for i, s in enumerate(self.shafts)
         )
-        # write before node checks (they use the layout)
-        self.__dict__["_resolved"] = Layout(shafts)
-        self._check_nodes()
-        self._check_speeds(ratios)
-        return Layout(shafts)
+        layout = Layout(shafts)
+        # provisionally cached: the node checks read it; withdrawn if a check fails, so a second
+        # call raises again instead of returning an unchecked layout
+        self.__dict__["_resolved"] = layout
+        try:
+            self._check_nodes()
+            self._check_speeds(ratios)
+        except ModelError:
+            del self.__dict__["_resolved"]
+            raise
+        return layout
 
     def _edges(self):
         """Graph edges: (shaft a, shaft b, ratio Ω_b/Ω_a, kind, index, field)."""
