@@ -24,6 +24,21 @@ def timoshenko_simply_supported(n: int, L: float, d: float) -> float:
     return float(np.sqrt((-b - np.sqrt(b * b - 4 * a * c)) / (2 * a)))
 
 
+def simply_supported_bending(L: float, d: float, n_el: int, k: float = 1e18) -> np.ndarray:
+    """Bending frequencies (rad/s, one per x/y pair, ascending) of a beam on very stiff lateral
+    supports at both ends (pinned: the tilts are free)."""
+    t = single_shaft(
+        length=L,
+        diameter=d,
+        elements=n_el,
+        E=E,
+        density=RHO,
+        bearings=[{"node": 0, "k": k}, {"node": n_el, "k": k}],
+    )
+    res = modal(t, speed=0.0)
+    return np.sort(res.damped_frequency[np.array(res.mode_type) == "L"])[::2]
+
+
 def element(L=0.1, d=0.06, di=0.0, **kw):
     return ShaftElement(L, d, di, E, G, RHO, **kw)
 
@@ -105,17 +120,7 @@ def test_pinned_pinned_and_mesh_convergence_order():
     L, d = 2.0, 0.02
 
     def first(n_el):
-        t = single_shaft(
-            length=L,
-            diameter=d,
-            elements=n_el,
-            E=E,
-            density=RHO,
-            bearings=[{"node": 0, "k": 1e16}, {"node": n_el, "k": 1e16}],
-        )
-        res = modal(t, speed=0.0)
-        lat = np.sort(res.damped_frequency[np.array(res.mode_type) == "L"])
-        return lat[4]  # 3rd bending mode (pairs)
+        return simply_supported_bending(L, d, n_el, k=1e16)[2]  # 3rd bending mode
 
     exact = timoshenko_simply_supported(3, L, d)
     errs = [abs(first(n) - exact) / exact for n in (6, 12, 24)]
@@ -129,17 +134,7 @@ def test_timoshenko_shear_effect_thick_beam():
     vs FE; Euler–Bernoulli overestimates by ~10 % here, so a 0.2 % match shows the shear terms."""
     L, d = 0.5, 0.1
     A, I = np.pi * d**2 / 4, np.pi * d**4 / 64
-    n_el = 40
-    t = single_shaft(
-        length=L,
-        diameter=d,
-        elements=n_el,
-        E=E,
-        density=RHO,
-        bearings=[{"node": 0, "k": 1e18}, {"node": n_el, "k": 1e18}],
-    )
-    res = modal(t, speed=0.0)
-    lat = np.sort(res.damped_frequency[np.array(res.mode_type) == "L"])[::2]
+    lat = simply_supported_bending(L, d, 40)
     for n, got in zip((1, 2), lat[:2], strict=True):
         k = n * np.pi / L
         timo = timoshenko_simply_supported(n, L, d)
@@ -168,16 +163,7 @@ def test_convergence_rate_depends_on_element_slenderness():
         ex = timoshenko_simply_supported(2, L, d)
         errs = []
         for n in (n0, 2 * n0):
-            t = single_shaft(
-                length=L,
-                diameter=d,
-                elements=n,
-                E=E,
-                density=RHO,
-                bearings=[{"node": 0, "k": 1e18}, {"node": n, "k": 1e18}],
-            )
-            r = modal(t, speed=0.0)
-            lat = np.sort(r.damped_frequency[np.array(r.mode_type) == "L"])[::2]
+            lat = simply_supported_bending(L, d, n)
             errs.append(abs(lat[1] - ex) / ex)
         return np.log2(errs[0] / errs[1])
 
