@@ -153,3 +153,16 @@ def test_input_errors_name_the_field():
         floquet(train, ka_ratio=1.5)
     with pytest.raises(ModelError, match="one Ka/Kg per mesh"):
         floquet(train, ka_ratio=[0.1, 0.2])
+
+
+def test_lawson_and_magnus_agree_on_a_train():
+    """The two transition-matrix schemes on the SPEC 6.1 gearbox at Ka/Kg = 0.2 (both 4th
+    order, each converged to 1e-6 in the multipliers): the same exponents to 1e-6 of the mesh
+    frequency's scale (1/T)."""
+    train = load_model(EXAMPLES / "unity_gearbox.toml")
+    a = floquet(train, ka_ratio=0.2, method="lawson")
+    b = floquet(train, ka_ratio=0.2, method="magnus")
+    d = np.abs(a.multipliers[:, None] - b.multipliers[None, :]).min(axis=1)
+    assert d.max() < 2e-6
+    with pytest.raises(ModelError, match="method"):
+        floquet(train, method="euler")

@@ -146,6 +146,7 @@ def floquet(
     slices: int = 32,
     tol: float = 1e-6,
     max_slices: int = 4096,
+    method: str = "auto",
 ) -> FloquetResult:
     """Floquet exponents of the train at its model speed (constant speeds, teeth in contact).
 
@@ -159,8 +160,18 @@ def floquet(
     slices : initial Magnus slices per period, doubled until the multipliers change by less
         than ``tol`` (absolute; the multipliers of interest have |μ| ≈ 1) or ``max_slices``.
 
+    method : ``"lawson"``, ``"magnus"`` or ``"auto"`` (Lawson unless the mean system's
+        eigenvector matrix has a condition number above 1e8).
+
     Backlash is ignored (the teeth are taken in contact); mesh damping acts at all times.
     """
+    if method not in ("auto", "lawson", "magnus"):
+        raise ModelError(
+            "unknown Floquet method",
+            field="method",
+            value=method,
+            expected="'auto', 'lawson' or 'magnus'",
+        )
     system = model if isinstance(model, TransientSystem) else build_system(model)
     if speed is not None:
         if not speed > 0:
@@ -236,8 +247,7 @@ def floquet(
         )
 
     Lam, S = la.eig(A0)
-    cond = np.linalg.cond(S)
-    if cond < 1e8:
+    if method == "lawson" or (method == "auto" and np.linalg.cond(S) < 1e8):
         # the variation −kv w wᵀ in the lower-left block is rank one per mesh: in the
         # eigen-coordinates of the mean system it is u_k v_kᵀ
         Si = la.inv(S)
