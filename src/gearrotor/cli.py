@@ -1,12 +1,12 @@
 """Command-line interface: a thin layer over the functions a Python user calls.
 
-Input errors print one clear message (file, field, value, expectation) and exit with status 2,
-without a traceback; solver failures exit with status 3.
+Every command maps errors to exit statuses through :func:`gearrotor.cli_errors.cli_errors`:
+input errors print one clear message (file, field, value, expectation) and exit with status 2,
+without a traceback; solver failures exit with status 3 (see :mod:`gearrotor.cli_errors`).
 """
 
 from __future__ import annotations
 
-import functools
 import json
 import sys
 from pathlib import Path
@@ -15,7 +15,8 @@ from typing import Annotated
 import numpy as np
 import typer
 
-from .errors import ModelError, SolverError
+from .cli_errors import EXIT_CODES_HELP, cli_errors
+from .errors import ModelError
 from .io import load_model, parse_overrides
 from .report_cli import report_command
 from .studies.cli import study_app
@@ -26,6 +27,7 @@ __all__ = ["app", "main"]
 app = typer.Typer(
     name="gearrotor",
     help="Dynamics of geared rotor-bearing trains: modal, Campbell, unbalance response.",
+    epilog=EXIT_CODES_HELP,
     no_args_is_help=True,
     add_completion=False,
     pretty_exceptions_enable=False,
@@ -41,23 +43,6 @@ SetOpt = Annotated[
     ),
 ]
 FormatOpt = Annotated[str, typer.Option("--format", help="table or json")]
-
-
-def handle_errors(fn):
-    """Print gearrotor errors without a traceback and exit non-zero."""
-
-    @functools.wraps(fn)
-    def wrapper(*args, **kwargs):
-        try:
-            return fn(*args, **kwargs)
-        except ModelError as exc:
-            typer.echo(f"error: {exc}", err=True)
-            raise typer.Exit(2) from None
-        except SolverError as exc:
-            typer.echo(f"solver error: {exc}", err=True)
-            raise typer.Exit(3) from None
-
-    return wrapper
 
 
 def _check_format(fmt: str) -> None:
@@ -78,8 +63,8 @@ def _speeds(lo: float, hi: float, n: int, field: str) -> np.ndarray:
     return np.linspace(lo, hi, n) * RPM
 
 
-@app.command()
-@handle_errors
+@app.command(epilog=EXIT_CODES_HELP)
+@cli_errors()
 def modal(
     model: Annotated[Path, typer.Argument(help="TOML model file")],
     speed: Annotated[
@@ -128,8 +113,8 @@ def modal(
         typer.echo(f"plots written to {plot}/", err=format == "json")
 
 
-@app.command()
-@handle_errors
+@app.command(epilog=EXIT_CODES_HELP)
+@cli_errors()
 def campbell(
     model: Annotated[Path, typer.Argument(help="TOML model file")],
     min_speed: Annotated[float, typer.Option(help="rpm")] = 0.0,
@@ -179,8 +164,8 @@ def campbell(
         typer.echo(f"plot written to {plot}", err=format == "json")
 
 
-@app.command()
-@handle_errors
+@app.command(epilog=EXIT_CODES_HELP)
+@cli_errors()
 def unbalance(
     model: Annotated[Path, typer.Argument(help="TOML model file")],
     min_speed: Annotated[float, typer.Option(help="rpm")] = 100.0,
@@ -204,7 +189,7 @@ def unbalance(
 ) -> None:
     """Steady-state unbalance response: Bode, peaks, critical speeds, API 684 AF and margins."""
     from .analyses import unbalance_response
-    from .analyses.unbalance import api617_unbalance, shaft_masses
+    from .analyses.api617 import api617_unbalances
     from .assembly import assemble
 
     _check_format(format)
@@ -226,17 +211,7 @@ def unbalance(
     asm = assemble(train)
     unb = list(train.unbalances)
     if api:
-        masses = shaft_masses(asm)
-        mcs = op[1] if op else abs(train.speed)
-        counts = {}
-        for u in unb:
-            counts[u.shaft] = counts.get(u.shaft, 0) + 1
-        new = []
-        for u in unb:
-            si = train.shaft_index(u.shaft, "unbalances.shaft")
-            amount = api617_unbalance(masses[si] / counts[u.shaft], abs(asm.speed_ratio[si]) * mcs)
-            new.append(u.model_copy(update={"amount": amount}))
-        unb = new
+        unb = api617_unbalances(asm, op[1] if op else abs(train.speed))
     res = unbalance_response(asm, speeds=speeds, unbalances=unb, operating_range=op)
     if format == "json":
         d = res.to_dict()
@@ -267,8 +242,8 @@ def unbalance(
         typer.echo(f"plots written to {plot}/", err=format == "json")
 
 
-@app.command()
-@handle_errors
+@app.command(epilog=EXIT_CODES_HELP)
+@cli_errors()
 def bearing(
     path: Annotated[Path, typer.Argument(help="bearing TOML file")],
     load: Annotated[
@@ -291,9 +266,9 @@ def bearing(
     bearing_command(path, load=load, speed=speed, fmt=format, plot=plot)
 
 
-app.command("transient")(transient_command)
-app.command("transient-plot")(plot_command)
-app.command("report")(report_command)
+app.command("transient", epilog=EXIT_CODES_HELP)(transient_command)
+app.command("transient-plot", epilog=EXIT_CODES_HELP)(plot_command)
+app.command("report", epilog=EXIT_CODES_HELP)(report_command)
 app.add_typer(study_app, name="study")
 
 

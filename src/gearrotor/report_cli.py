@@ -2,9 +2,9 @@
 ``app.command("report")(report_command)``).
 
 A thin layer over :func:`gearrotor.plots.report.make_report`: rpm at the boundary, rad/s inside.
-Input errors print one line to stderr and exit with status 2; a missing optional dependency
-(plotly, matplotlib, xarray) exits with status 2 and names the extra to install; solver failures
-exit with status 3.
+Exit statuses are those of :mod:`gearrotor.cli_errors`: input errors print one line to stderr
+and exit with status 2 (a missing optional dependency, plotly, matplotlib, xarray, too, naming
+the extra to install); solver failures exit with status 3.
 """
 
 from __future__ import annotations
@@ -17,13 +17,14 @@ from typing import Annotated
 import numpy as np
 import typer
 
-from .errors import ModelError, SolverError
+from .cli_errors import cli_errors
 
 __all__ = ["report_command"]
 
 RPM = np.pi / 30  # rpm -> rad/s
 
 
+@cli_errors()
 def report_command(
     model: Annotated[Path, typer.Argument(help="TOML model file")],
     output: Annotated[
@@ -46,6 +47,13 @@ def report_command(
         float | None,
         typer.Option(help="highest damped frequency of modes and Campbell, cpm (default 5×speed)"),
     ] = None,
+    api: Annotated[
+        bool,
+        typer.Option(
+            help="unbalance section with the API 617 unbalance (4 × 6350 W/N g·mm per plane at "
+            "the operating speed) instead of the model's amounts"
+        ),
+    ] = False,
     transient: Annotated[
         Path | None,
         typer.Option(help="saved transient result (NetCDF) to add spectra, waterfall, whirl power"),
@@ -62,41 +70,20 @@ def report_command(
     """Self-contained HTML report: modes (3-D), stability, Campbell, Bode, orbits, API 684 checks,
     and a saved transient result's spectra, waterfall and whirl power; plus PNG figures."""
     from .io import load_model, parse_overrides
+    from .plots.report import make_report
 
-    try:
-        try:
-            from .plots.report import make_report
-        except ImportError as exc:
-            raise _missing(exc) from None
-        train = load_model(model, parse_overrides(set_))
-        try:
-            rep = make_report(
-                train,
-                output,
-                analyses=analyses,
-                speed=None if speed is None else speed * RPM,
-                max_frequency=None if max_frequency is None else max_frequency * RPM,
-                transient=transient,
-                source=str(model),
-                command=shlex.join(["gearrotor", *sys.argv[1:]]) if sys.argv else None,
-            )
-        except ImportError as exc:
-            raise _missing(exc) from None
-    except ModelError as exc:
-        typer.echo(f"error: {exc}", err=True)
-        raise typer.Exit(2) from None
-    except SolverError as exc:
-        typer.echo(f"solver error: {exc}", err=True)
-        raise typer.Exit(3) from None
+    train = load_model(model, parse_overrides(set_))
+    rep = make_report(
+        train,
+        output,
+        analyses=analyses,
+        speed=None if speed is None else speed * RPM,
+        max_frequency=None if max_frequency is None else max_frequency * RPM,
+        transient=transient,
+        api=api,
+        source=str(model),
+        command=shlex.join(["gearrotor", *sys.argv[1:]]) if sys.argv else None,
+    )
     typer.echo(f"report written to {rep.html}")
     for v in rep.summary.get("verdicts", []):
         typer.echo(f"  {'pass' if v['ok'] else 'FAIL'}  {v['check']}: {v['detail']}")
-
-
-def _missing(exc: ImportError) -> ModelError:
-    name = exc.name or str(exc)
-    extra = "results" if name in ("xarray", "h5netcdf", "pandas") else "report"
-    return ModelError(
-        f"the report needs the Python package {name!r}, which is not installed",
-        expected=f"pip install 'gearrotor[{extra}]'",
-    )

@@ -2,6 +2,9 @@
 
 app.command("transient")(transient_command)
 app.command("transient-plot")(plot_command)
+
+Exit statuses are those of :mod:`gearrotor.cli_errors`: 2 invalid input, 3 solver failure
+(a diverging run, a step above the stability limit).
 """
 
 from __future__ import annotations
@@ -14,14 +17,10 @@ from typing import Annotated
 import numpy as np
 import typer
 
-from .errors import ModelError, SolverError
+from .cli_errors import cli_errors
+from .errors import ModelError
 
 __all__ = ["transient_command", "plot_command"]
-
-
-def _fail(exc: Exception, code: int) -> typer.Exit:
-    typer.echo(f"error: {exc}", err=True)
-    return typer.Exit(code)
 
 
 def transient_command(
@@ -74,17 +73,14 @@ def transient_command(
     )
     from .analyses.transient.plots import standard_figures
 
-    if format not in ("table", "json"):
-        raise _fail(
-            ModelError(
+    with cli_errors():
+        if format not in ("table", "json"):
+            raise ModelError(
                 "unknown output format",
                 field="--format",
                 value=format,
                 expected="'table' or 'json'",
-            ),
-            2,
-        )
-    try:
+            )
         from .io import load_model, parse_overrides
 
         train = load_model(model, parse_overrides(set_))
@@ -110,14 +106,10 @@ def transient_command(
             initial=initial,
             checkpoint=Checkpoint(checkpoint) if checkpoint is not None else None,
         )
-    except ModelError as exc:
-        raise _fail(exc, 2) from None
-    except SolverError as exc:
-        raise _fail(exc, 1) from None
-    if output is not None:
-        res.save(output)
-    if plot is not None:
-        standard_figures(res, plot)
+        if output is not None:
+            res.save(output)
+        if plot is not None:
+            standard_figures(res, plot)
     if format == "json":
         typer.echo(json.dumps(res.summary(), default=_jsonable))
     else:
@@ -131,6 +123,7 @@ def _jsonable(x):
     raise TypeError(type(x))
 
 
+@cli_errors()
 def plot_command(
     file: Annotated[Path, typer.Argument(help="a transient result (NetCDF)")],
     output: Annotated[
@@ -144,10 +137,14 @@ def plot_command(
 
     try:
         ds = load_result(file)
-    except ModelError as exc:
-        raise _fail(exc, 2) from None
+    except ModelError:
+        raise
     except (OSError, ValueError) as exc:
-        raise _fail(ModelError(f"cannot read the result file: {exc}", file=str(file)), 2) from None
+        raise ModelError(
+            f"cannot read the result file: {exc}",
+            file=str(file),
+            expected="a NetCDF file written by 'gearrotor transient --output'",
+        ) from None
     out = output if output is not None else file.with_name(file.stem + "_plots")
     for p in standard_figures(ds, out, prefix=file.stem):
         typer.echo(str(p))

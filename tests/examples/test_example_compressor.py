@@ -107,7 +107,7 @@ def test_no_mesh_damping_diverges():
     assert len(cmds) == 1
     c = cmds[0]
     assert "damping_ratio=0" in " ".join(c) and c[c.index("--t-end") + 1] == "0.5"
-    r = run([sys.executable, "-m", "gearrotor", *c, "--format", "json"], status=1)
+    r = run([sys.executable, "-m", "gearrotor", *c, "--format", "json"], status=3)
     assert "diverged at t = 0.2" in r.stderr
 
 

@@ -67,25 +67,25 @@ FIGURES = (
     "fig-spectra",
     "fig-waterfall",
     "fig-whirl-power",
+    "fig-waterfall-speed",
 )
 GL_FIGURES = ("fig-modes", "fig-waterfall")
 SHAFT_COLORS = ((0x1F, 0x77, 0xB4), (0xD6, 0x27, 0x28))  # shaft1, shaft2 in the 3-D modes
 
 
 @pytest.fixture(scope="module")
-def report(tmp_path_factory, examples):
-    from gearrotor.analyses.transient import ModalRK4, transient
+def report(tmp_path_factory, examples, runup_result):
+    """The unity gearbox's report with a saved run-up (tests/report/conftest.py), so that the
+    transient section has the waterfall against speed too."""
     from gearrotor.io import load_model
     from gearrotor.plots.report import make_report
 
     train = load_model(examples / "unity_gearbox.toml")
-    run = transient(train, t_end=0.1, integrator=ModalRK4())
-    nc = run.save(tmp_path_factory.mktemp("transient") / "run.nc")
     return make_report(
         train,
         tmp_path_factory.mktemp("browser") / "unity",
         max_frequency=32500 * RPM,
-        transient=nc,
+        transient=runup_result[1],
         n_campbell=8,
         n_unbalance=150,
     )
@@ -188,6 +188,44 @@ def test_page_loads_offline_and_every_plot_renders(browser, report, tmp_path):
     _save_shot(png, "modes.png", tmp_path)
     for rgb in SHAFT_COLORS:
         assert _color_pixels(png, rgb) > 200, rgb
+    page.close()
+
+
+def test_waterfall_against_speed_renders(browser, report, tmp_path):
+    """Every window's spectrum and the order lines are drawn (one SVG path per trace), the
+    spectra in their colour and the 1x line in its own, with the speed axis labelled."""
+    from gearrotor.plots.waterfall import speed_waterfall
+
+    wf = speed_waterfall(report.transient)
+    pg = Page(browser, report.html.as_uri())
+    page = pg.page
+    fig = page.locator("#fig-waterfall-speed")
+    fig.scroll_into_view_if_needed()
+    page.wait_for_timeout(500)
+    st = page.evaluate(
+        """() => { const g = document.querySelector('#fig-waterfall-speed');
+            const n = t => g.querySelectorAll(t).length;
+            return { data: g._fullData.length,
+                     traces: n('.scatterlayer .trace'),
+                     lines: Array.from(g.querySelectorAll('.scatterlayer .trace path.js-line'))
+                        .filter(p => (p.getAttribute('d') || '').length > 20).length,
+                     fills: n('.scatterlayer .trace path.js-fill'),
+                     ytitle: g._fullLayout.yaxis.title.text,
+                     legend: Array.from(g.querySelectorAll('.legend .legendtext'))
+                        .map(e => e.textContent) }; }"""
+    )
+    n_spectra = 2 * len(wf.time)  # two panels
+    assert st["traces"] == st["data"] and st["data"] >= n_spectra + 3, st
+    assert st["lines"] == st["data"], st  # every trace drew its line
+    assert st["fills"] == n_spectra, st  # and every spectrum its hiding fill
+    assert st["ytitle"] == "speed of shaft1 (rpm)"
+    assert any(t.startswith("1x") for t in st["legend"]), st["legend"]
+    assert any(t.startswith("mesh (") for t in st["legend"]), st["legend"]
+    png = fig.screenshot()
+    _save_shot(png, "waterfall_speed.png", tmp_path)
+    assert _color_pixels(png, (0x1F, 0x77, 0xB4)) > 2000  # spectra (COLORS[0])
+    assert _color_pixels(png, (0xD6, 0x27, 0x28), tol=30) > 50  # 1x order line (COLORS[1])
+    assert pg.errors == []
     page.close()
 
 

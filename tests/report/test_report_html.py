@@ -108,6 +108,8 @@ def test_page_has_the_sections(page, report):
         assert f'id="{div}"' in page, div
     assert "Crossing speeds" in page
     assert "separation margin" in page
+    # a 0.1 s coast-down changes the speed by ~0.1 %: no waterfall against speed
+    assert 'id="fig-waterfall-speed"' not in page
 
 
 def test_png_figures_and_json_are_written(report):

@@ -15,6 +15,8 @@ Units on the axes: speeds in rpm, frequencies in cpm, amplitudes in µm zero-to-
 * :func:`bearing_coefficient_figure`: tabulated (fluid-film) bearing coefficients against speed.
 * :func:`transient_spectrum_figure`, :func:`waterfall_figure`, :func:`whirl_power_figure`: a saved
   transient result (the ``xarray.Dataset`` of ``gearrotor.analyses.transient.load_result``).
+* :func:`speed_waterfall_figure`: the waterfall against speed of a run-up or coast-down
+  (:func:`gearrotor.plots.waterfall.speed_waterfall`) with the shaft-order lines.
 """
 
 from __future__ import annotations
@@ -28,6 +30,7 @@ __all__ = [
     "campbell_figure",
     "mode_shape_figure",
     "orbit_figure",
+    "speed_waterfall_figure",
     "transient_spectrum_figure",
     "waterfall_figure",
     "whirl_power_figure",
@@ -797,5 +800,113 @@ def whirl_power_figure(ds, *, smooth: float = 0.01):
     fig.update_xaxes(title_text="W (red feeds whirl, blue drains)", row=1, col=2)
     fig.update_layout(
         title="Whirl-promoting power by component", height=520, meta=dict(kind="whirl-power")
+    )
+    return fig
+
+
+def speed_waterfall_figure(wf, *, max_frequency: float | None = None):
+    """Waterfall against speed of a run-up or coast-down (a
+    :class:`~gearrotor.plots.waterfall.SpeedWaterfall`): each window's spectrum on a baseline
+    at its speed (rpm), amplitude upwards (µm 0-pk, the scale is in each panel's corner and in
+    the hover text), front spectra hiding those behind; shaft orders (1x, 2x, mesh) as dashed
+    lines f = order × speed. A panel for 1x/2x and one near the mesh frequency, as
+    :func:`~gearrotor.plots.waterfall.plot_speed_waterfall`."""
+    go = _go()
+    from plotly.subplots import make_subplots
+
+    from .waterfall import _bands, _gain, _order_lines
+
+    bands = _bands(wf, max_frequency)
+    fig = make_subplots(
+        rows=1,
+        cols=len(bands),
+        shared_yaxes=True,
+        horizontal_spacing=0.05,
+        subplot_titles=[b[0] for b in bands],
+    )
+    f = wf.frequency_cpm
+    back_to_front = np.argsort(wf.speed_rpm)[::-1]
+    s = np.sort(wf.speed_rpm)
+    shown: set[str] = set()
+    for col, (_, lo, hi) in enumerate(bands, start=1):
+        m = (f >= lo) & (f <= hi)
+        fm = f[m]
+        gain, peak = _gain(wf, m)
+        for i in back_to_front:
+            base = float(wf.speed_rpm[i])
+            a = wf.amplitude[i, m]
+            fig.add_trace(
+                go.Scatter(
+                    x=np.concatenate([fm, [fm[-1], fm[0]]]),
+                    y=np.concatenate([base + gain * a, [base, base]]),
+                    customdata=np.concatenate([a * 1e6, [0.0, 0.0]]),
+                    mode="lines",
+                    fill="toself",
+                    fillcolor="white",
+                    line=dict(color=COLORS[0], width=1),
+                    showlegend=False,
+                    hovertemplate=(
+                        f"{base:.0f} rpm (t = {wf.time[i]:.3f} s)<br>%{{x:.0f}} cpm: "
+                        "%{customdata:.3g} µm<extra></extra>"
+                    ),
+                ),
+                row=1,
+                col=col,
+            )
+        for k, lab, o, side in _order_lines(wf, lo, hi):
+            group = wf.orders[k][0] + (" ± 1x" if side else "")
+            fig.add_trace(
+                go.Scatter(
+                    x=o * s,
+                    y=s,
+                    mode="lines",
+                    line=dict(
+                        dash="dot" if side else "dash",
+                        width=1 if side else 1.5,
+                        color=_color(k + 1),
+                    ),
+                    name=lab if side else f"{lab} ({o:.4g} × {wf.shaft})",
+                    legendgroup=group,
+                    showlegend=bool(lab) and group not in shown,
+                    hovertemplate=f"{o:.4g}x: %{{x:.0f}} cpm at %{{y:.0f}} rpm<extra></extra>",
+                ),
+                row=1,
+                col=col,
+            )
+            shown.add(group)
+        fig.update_xaxes(title_text="frequency (cpm)", range=[lo, hi], row=1, col=col)
+        if gain > 0:
+            xref = "x" if col == 1 else f"x{col}"
+            yref = "y" if col == 1 else f"y{col}"
+            xb = hi - 0.04 * (hi - lo)
+            fig.add_shape(
+                type="line",
+                x0=xb,
+                x1=xb,
+                y0=float(s[-1]),
+                y1=float(s[-1]) + gain * peak,
+                xref=xref,
+                yref=yref,
+                line=dict(color="black", width=3),
+            )
+            fig.add_annotation(
+                x=xb,
+                y=float(s[-1]) + gain * peak,
+                xref=xref,
+                yref=yref,
+                text=f"{peak * 1e6:.3g} µm",
+                showarrow=False,
+                xanchor="right",
+                yanchor="bottom",
+                font=dict(size=11),
+            )
+    fig.update_yaxes(title_text=f"speed of {wf.shaft} (rpm)", row=1, col=1)
+    fig.update_layout(
+        title=f"Waterfall against speed: {wf.signal} ({len(wf.time)} windows of "
+        f"{wf.window_s * 1e3:.0f} ms, bin {wf.bin_cpm:.0f} cpm)",
+        height=650,
+        legend=dict(orientation="h", x=0.0, y=-0.14, yanchor="top"),
+        margin=dict(b=110),
+        meta=dict(kind="waterfall-speed"),
     )
     return fig

@@ -318,6 +318,7 @@ def make_report(
     speed: float | None = None,
     max_frequency: float | None = None,
     transient: str | Path | None = None,
+    api: bool = False,
     n_campbell: int = 40,
     n_unbalance: int = 400,
     source: str | None = None,
@@ -337,6 +338,10 @@ def make_report(
     max_frequency : rad/s, highest damped frequency of the modes and the Campbell diagram
         (default: 5 × speed)
     transient : path of a transient result (NetCDF written by ``TransientResult.save``)
+    api : the unbalance section uses the API 617 unbalance, 4 × 6350 W/N g·mm per plane of the
+        model's unbalances (W the plane's share of its shaft's mass, kg; N its shaft's speed at
+        the operating speed, rpm; phases as in the model) instead of the model's amounts
+        (:func:`gearrotor.analyses.api617.api617_unbalances`)
     n_campbell, n_unbalance : number of speeds of the Campbell and unbalance sweeps
     source, command : the model file and the command line, quoted in the report
 
@@ -349,6 +354,7 @@ def make_report(
     from ..analyses import campbell as run_campbell
     from ..analyses import modal as run_modal
     from ..analyses import unbalance_response
+    from ..analyses.api617 import api617_unbalances
     from ..assembly import Assembly, assemble
 
     analyses = parse_analyses(analyses)
@@ -414,7 +420,7 @@ def make_report(
     sign = 1.0 if train.speed >= 0 else -1.0
     limits = _table_limits(asm)
     notes: list[str] = []
-    res = camp = unb = None
+    res = camp = unb = unbalances = None
     if "modal" in analyses:
         res = run_modal(asm, speed=sign * w, max_frequency=fmax)
     if "campbell" in analyses:
@@ -434,7 +440,8 @@ def make_report(
     if "unbalance" in analyses:
         speeds, note = _sweep(0.02 * w, 1.5 * w, n_unbalance, limits, "unbalance sweep")
         notes += [note] if note else []
-        unb = unbalance_response(asm, speeds=speeds, operating_range=(w, w))
+        unbalances = api617_unbalances(asm, w) if api else list(train.unbalances)
+        unb = unbalance_response(asm, speeds=speeds, unbalances=unbalances, operating_range=(w, w))
 
     output.parent.mkdir(parents=True, exist_ok=True)
     tmp = Path(tempfile.mkdtemp(prefix=f".{output.name}.tmp-", dir=output.parent))
@@ -453,6 +460,8 @@ def make_report(
             w=w,
             notes=notes,
             transient=transient,
+            unbalances=unbalances,
+            api=api,
         )
         summary["inputs"] = {
             "model": source,
@@ -461,6 +470,7 @@ def make_report(
             "speed_rpm": w * RPM,
             "max_frequency_rpm": fmax * RPM,
             "transient": None if transient is None else str(transient),
+            "unbalance": "api617" if api else "model",
         }
         (tmp / "report.json").write_text(json.dumps(_clean(summary), indent=1), encoding="utf-8")
         page = _page(train, sections, summary, figures, notes, source=source, command=command)
@@ -538,10 +548,13 @@ def _clean(x):
     return x
 
 
-def _write_contents(tmp: Path, asm, res, camp, unb, ds, *, fmax, w, notes, transient):
+def _write_contents(
+    tmp: Path, asm, res, camp, unb, ds, *, fmax, w, notes, transient, unbalances, api
+):
     """Write the PNG files; return (png paths, html sections, summary)."""
     from . import interactive as ix
     from .figures import plot_bode, plot_campbell, plot_mode_shapes, plot_orbits
+    from .waterfall import plot_speed_waterfall, speed_varies, speed_waterfall
 
     figures: list[Path] = []
     sections: list[tuple[str, str, str]] = []  # (id, title, html)
@@ -581,20 +594,15 @@ def _write_contents(tmp: Path, asm, res, camp, unb, ds, *, fmax, w, notes, trans
         body += _crossings_table(camp)
         sections.append(("campbell", "Campbell diagram", body))
     if unb is not None:
-        api = _api_checks(unb)
-        summary["api684"] = api
+        used = _unbalances_used(asm, unbalances, api=api, w=w)
+        checks = _api_checks(unb)
+        checks["unbalance"] = used
+        summary["api684"] = checks
         d = unb.to_dict()
         summary["unbalance"] = {
             "operating_range_rpm": d["operating_range_rpm"],
-            "unbalances": [
-                {
-                    "shaft": u.shaft,
-                    "node": asm.train.node_index(u, f"unbalances[{k}]")[1],
-                    "amount_g_mm": u.amount * 1e6,
-                    "phase_deg": float(np.rad2deg(u.phase)),
-                }
-                for k, u in enumerate(asm.train.unbalances)
-            ],
+            "basis": used["basis"],
+            "unbalances": used["planes"],
             "probes": [
                 {k: v for k, v in p.items() if k not in ("amplitude_um", "phase_deg")}
                 for p in d["probes"]
@@ -603,11 +611,11 @@ def _write_contents(tmp: Path, asm, res, camp, unb, ds, *, fmax, w, notes, trans
         pyplot_png(plot_bode, "bode.png", unb)
         k_op = int(np.argmin(np.abs(unb.speeds - unb.operating_range[1])))
         pyplot_png(plot_orbits, "orbits_operating.png", unb, k_op)
-        body = _unbalance_intro(asm, unb)
+        body = _unbalance_intro(unb, used)
         body += _figure_html(ix.bode_figure(unb), "fig-bode")
         body += _figure_html(ix.orbit_figure(unb), "fig-orbits")
         sections.append(("unbalance", "Unbalance response", body))
-        sections.append(("api684", "API 684 / API 617 checks", _api_html(api)))
+        sections.append(("api684", "API 684 / API 617 checks", _api_html(checks)))
     bfig = ix.bearing_coefficient_figure(asm)
     if bfig is not None:
         plot_bearing_coefficients(asm, path=tmp / "bearings.png")
@@ -624,11 +632,20 @@ def _write_contents(tmp: Path, asm, res, camp, unb, ds, *, fmax, w, notes, trans
             figures.append(tmp / name)
         plot_waterfall(ds, path=tmp / "transient_waterfall.png")
         figures.append(tmp / "transient_waterfall.png")
+        wf = speed_waterfall(ds) if speed_varies(ds) else None
+        if wf is not None:
+            plot_speed_waterfall(wf, path=tmp / "transient_waterfall_speed.png")
+            figures.append(tmp / "transient_waterfall_speed.png")
         tsum = _transient_summary(ds)
+        if wf is not None:
+            tsum["waterfall_vs_speed"] = wf.to_dict()
         summary["transient"] = tsum
         body = _transient_html(tsum, transient)
         body += _figure_html(ix.transient_spectrum_figure(ds), "fig-spectra")
         body += _figure_html(ix.waterfall_figure(ds), "fig-waterfall")
+        if wf is not None:
+            body += _speed_waterfall_html(wf)
+            body += _figure_html(ix.speed_waterfall_figure(wf), "fig-waterfall-speed")
         body += _figure_html(ix.whirl_power_figure(ds), "fig-whirl-power")
         sections.append(("transient", "Transient", body))
     summary["verdicts"] = _verdicts(stab, summary.get("api684"))
@@ -653,8 +670,9 @@ def _transient_summary(ds) -> dict:
     speed = ds["shaft_speed"].values
     for k, node in enumerate(ds["node"].values):
         si = int(ds["node_shaft"].values[k]) if "node_shaft" in ds else 0
-        amps = {c: order_amplitudes(t[half], ds[c].values[half, k], speed[half, si])
-                for c in ("x", "y")}
+        amps = {
+            c: order_amplitudes(t[half], ds[c].values[half, k], speed[half, si]) for c in ("x", "y")
+        }
         out["nodes"][str(node)] = {
             f"{c}_{n}x_um": float(amps[c][n - 1]) * 1e6 for c in ("x", "y") for n in (1, 2)
         }
@@ -723,7 +741,11 @@ def _verdicts(stab: dict, api: dict | None) -> list[dict]:
                 "check": "API 617 vibration limit in the operating range",
                 "ok": na == 0,
                 "detail": f"{len(api['amplitudes'])} probes, {na} above the limit "
-                "(with the model's unbalance)",
+                + (
+                    "(with the API 617 unbalance)"
+                    if api["unbalance"]["basis"] == "api617"
+                    else "(with the model's unbalance)"
+                ),
             }
         )
     return out
@@ -888,16 +910,52 @@ def _crossings_table(camp) -> str:
     return "\n".join(rows)
 
 
-def _unbalance_intro(asm, unb) -> str:
+def _unbalances_used(asm, unbalances, *, api: bool, w: float) -> dict:
+    """Which unbalance the response uses: ``{"basis", "label", "planes": [...]}``."""
+    from ..analyses.api617 import api617_basis
+
     train = asm.train
-    items = "".join(
-        f"<li>{u.amount * 1e6:.1f} g·mm on {_e(u.shaft)} node "
-        f"{train.node_index(u, f'unbalances[{k}]')[1]} at {np.rad2deg(u.phase):.0f}°</li>"
-        for k, u in enumerate(train.unbalances)
+    basis = api617_basis(asm, w) if api else [(None, None)] * len(unbalances)
+    planes = []
+    for k, (u, (mass, n)) in enumerate(zip(unbalances, basis, strict=True)):
+        d = {
+            "shaft": u.shaft,
+            "node": train.node_index(u, f"unbalances[{k}]")[1],
+            "amount_g_mm": u.amount * 1e6,
+            "phase_deg": float(np.rad2deg(u.phase)),
+        }
+        if api:
+            d["journal_mass_kg"] = mass
+            d["max_continuous_speed_rpm"] = n * RPM
+        planes.append(d)
+    label = (
+        "API 617 unbalance: 4 × 6350 W/N g·mm per plane (W its share of the shaft mass, kg; "
+        "N its shaft's maximum continuous speed, rpm)"
+        if api
+        else "the model's unbalance"
     )
+    return {"basis": "api617" if api else "model", "label": label, "planes": planes}
+
+
+def _unbalance_list(used: dict) -> str:
+    items = []
+    for p in used["planes"]:
+        txt = (
+            f"{p['amount_g_mm']:.1f} g·mm on {_e(p['shaft'])} node {p['node']} at "
+            f"{p['phase_deg']:.0f}°"
+        )
+        if "journal_mass_kg" in p:
+            txt += (
+                f" (W = {p['journal_mass_kg']:.2f} kg, N = {p['max_continuous_speed_rpm']:.0f} rpm)"
+            )
+        items.append(f"<li>{txt}</li>")
+    return "<ul>" + "".join(items) + "</ul>"
+
+
+def _unbalance_intro(unb, used: dict) -> str:
     return (
         f"<p>Sweep {unb.speeds[0] * RPM:.0f}..{unb.speeds[-1] * RPM:.0f} rpm "
-        f"({len(unb.speeds)} speeds) with the model's unbalance:</p><ul>{items}</ul>"
+        f"({len(unb.speeds)} speeds) with {_e(used['label'])}:</p>{_unbalance_list(used)}"
         "<p>Amplitudes are zero-to-peak, synchronous with each probe's own shaft.</p>"
     )
 
@@ -943,11 +1001,20 @@ def _api_html(api: dict) -> str:
             f"<td>{a['max_pp_in_operating_range_um']:.4g}</td><td>{a['limit_pp_um']:.2f}</td>"
             f"<td>{_badge(ok)}</td></tr>"
         )
-    parts.append(
-        "</table><p>The amplitude check uses the model's unbalance; the API 617 "
-        "procedure applies 4× the allowable unbalance (<code>gearrotor unbalance "
-        "--api</code>).</p>"
-    )
+    used = api["unbalance"]
+    if used["basis"] == "api617":
+        parts.append(
+            "</table><p id='api-unbalance'>Unbalance used for these checks: "
+            f"{_e(used['label'])}, at the planes and phases of the model:</p>"
+            + _unbalance_list(used)
+        )
+    else:
+        parts.append(
+            "</table><p id='api-unbalance'>Unbalance used for these checks: the model's "
+            "unbalance (listed under Unbalance response), not the API 617 amount; the API 617 "
+            "procedure applies 4× the allowable unbalance, 4 × 6350 W/N g·mm per plane "
+            "(<code>gearrotor report --api</code>, <code>gearrotor unbalance --api</code>).</p>"
+        )
     return "\n".join(parts)
 
 
@@ -990,6 +1057,19 @@ def _transient_html(tsum: dict, path) -> str:
             )
         parts.append("</table>")
     return "\n".join(parts)
+
+
+def _speed_waterfall_html(wf) -> str:
+    lo, hi = wf.speed_rpm.min(), wf.speed_rpm.max()
+    return (
+        f"<h3 id='waterfall-speed'>Waterfall against speed</h3><p>The speed of {_e(wf.shaft)} "
+        f"changes during the run ({lo:.0f}..{hi:.0f} rpm over the window centres): spectra of "
+        f"{_e(wf.signal)} in {len(wf.time)} Hann windows of {wf.window_s * 1e3:.0f} ms (bin "
+        f"{wf.bin_cpm:.0f} cpm), each drawn at its mean speed, with the shaft orders as dashed "
+        "lines (" + ", ".join(f"{_e(k)} = {v:.4g}×" for k, v in wf.orders) + "). A ridge on a "
+        "line is locked to the speed; a ridge at a constant frequency is a resonance the run "
+        "sweeps through.</p>"
+    )
 
 
 def _page(train, sections, summary, figures, notes, *, source, command) -> str:

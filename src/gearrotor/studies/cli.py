@@ -5,8 +5,10 @@
 
 giving ``gearrotor study run STUDY.toml [--scheduler ADDR|local] [--workers N]``,
 ``gearrotor study status STUDY.toml`` and ``gearrotor study report STUDY.toml [--output DIR]``.
-Input errors print one message (file, field, value, expectation) and exit with status 2; a run
-in which some cases failed exits with status 1 after listing them.
+Exit statuses are those of :mod:`gearrotor.cli_errors`: input errors print one message (file,
+field, value, expectation) and exit with status 2; a run in which some cases failed exits with
+status 1 after listing them (the failures are recorded per case, a solver failure of one case
+does not stop the study).
 """
 
 from __future__ import annotations
@@ -17,6 +19,7 @@ from typing import Annotated
 
 import typer
 
+from ..cli_errors import EXIT_CASES_FAILED, EXIT_CODES_HELP, cli_errors
 from ..errors import ModelError
 
 __all__ = ["study_app"]
@@ -26,14 +29,10 @@ study_app = typer.Typer(
     no_args_is_help=True,
     add_completion=False,
     pretty_exceptions_enable=False,
+    epilog=EXIT_CODES_HELP,
 )
 
 StudyArg = Annotated[Path, typer.Argument(help="study file (TOML)")]
-
-
-def _input_error(exc: ModelError) -> typer.Exit:
-    typer.echo(f"error: {exc}", err=True)
-    return typer.Exit(2)
 
 
 def _parse_cases(text: str | None) -> list[int] | None:
@@ -59,7 +58,8 @@ def _parse_cases(text: str | None) -> list[int] | None:
     return out
 
 
-@study_app.command("run")
+@study_app.command("run", epilog=EXIT_CODES_HELP)
+@cli_errors()
 def run_command(
     study: StudyArg,
     scheduler: Annotated[
@@ -90,18 +90,15 @@ def run_command(
     from .execute import run_study
     from .spec import load_study
 
-    try:
-        st = load_study(study)
-        summary = run_study(
-            st,
-            scheduler=scheduler,
-            workers=workers,
-            cases=_parse_cases(cases),
-            retry_failed=retry_failed,
-            progress=progress,
-        )
-    except ModelError as exc:
-        raise _input_error(exc) from None
+    st = load_study(study)
+    summary = run_study(
+        st,
+        scheduler=scheduler,
+        workers=workers,
+        cases=_parse_cases(cases),
+        retry_failed=retry_failed,
+        progress=progress,
+    )
     typer.echo(
         f"study {st.name}: {summary.n_cases} cases, {summary.n_runs} distinct runs, "
         f"{summary.executed} executed, {summary.skipped} already finished, "
@@ -113,20 +110,18 @@ def run_command(
         for i, err in summary.failed.items():
             typer.echo(f"case {i} failed: {err}", err=True)
         sys.stdout.flush()
-        raise typer.Exit(1)
+        raise typer.Exit(EXIT_CASES_FAILED)
 
 
-@study_app.command("status")
+@study_app.command("status", epilog=EXIT_CODES_HELP)
+@cli_errors()
 def status_command(study: StudyArg) -> None:
     """List the cases of a study with their state (done, failed, pending)."""
     from .execute import study_status
     from .spec import load_study
 
-    try:
-        st = load_study(study)
-        rows = study_status(st)
-    except ModelError as exc:
-        raise _input_error(exc) from None
+    st = load_study(study)
+    rows = study_status(st)
     counts = {s: sum(r.state == s for r in rows) for s in ("done", "failed", "pending")}
     typer.echo(
         f"study {st.name} ({st.folder}): {len(rows)} cases, {counts['done']} done, "
@@ -139,7 +134,8 @@ def status_command(study: StudyArg) -> None:
             typer.echo(f"{'':>14}error: {r.error.splitlines()[0][:300]}")
 
 
-@study_app.command("report")
+@study_app.command("report", epilog=EXIT_CODES_HELP)
+@cli_errors()
 def report_command(
     study: StudyArg,
     output: Annotated[
@@ -162,21 +158,21 @@ def report_command(
     from .plots import report
     from .spec import load_study
 
-    try:
-        st = load_study(study)
-        if per_figure < 1:
-            raise ModelError(
-                "cases per figure must be positive", field="--per-figure", value=per_figure
-            )
-        collect(st)
-        paths = report(
-            st,
-            output,
-            cases=_parse_cases(cases),
-            probes=None if probes is None else [p.strip() for p in probes.split(",")],
-            per_figure=per_figure,
+    st = load_study(study)
+    if per_figure < 1:
+        raise ModelError(
+            "cases per figure must be positive",
+            field="--per-figure",
+            value=per_figure,
+            expected="an integer >= 1",
         )
-    except ModelError as exc:
-        raise _input_error(exc) from None
+    collect(st)
+    paths = report(
+        st,
+        output,
+        cases=_parse_cases(cases),
+        probes=None if probes is None else [p.strip() for p in probes.split(",")],
+        per_figure=per_figure,
+    )
     for p in paths:
         typer.echo(str(p))

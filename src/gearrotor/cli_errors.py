@@ -1,0 +1,122 @@
+"""One mapping from errors to exit statuses, shared by every ``gearrotor`` command.
+
+==========  ============================================================================
+status      meaning
+==========  ============================================================================
+0           done
+1           ``study run`` finished but some cases failed (listed on stderr); also any
+            unexpected internal error (a bug: Python prints a traceback)
+2           invalid input: model or study file (missing, unreadable, invalid field), bad
+            option value, output path that cannot be written, or a missing optional
+            package (the message names the extra to install). Inputs are checked before
+            anything runs. Option-syntax errors of the command-line parser also exit with 2.
+3           a solver failed: divergence, no convergence, non-finite response, a step above
+            the integrator's stability limit (:class:`~gearrotor.errors.SolverError`)
+==========  ============================================================================
+
+Every error is one message on stderr, no traceback: ``error: FILE: FIELD: what (got VALUE);
+expected WHAT`` for input errors (:class:`~gearrotor.errors.ModelError` carries those parts) and
+``solver error: ...`` for solver failures.
+
+Use :func:`cli_errors` as a decorator of a command function (below ``@app.command()``) or as a
+context manager around part of one.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import errno
+import os
+
+import typer
+
+from .errors import ModelError, SolverError
+
+__all__ = [
+    "EXIT_CASES_FAILED",
+    "EXIT_CODES_HELP",
+    "EXIT_INPUT",
+    "EXIT_OK",
+    "EXIT_SOLVER",
+    "cli_errors",
+    "input_error",
+]
+
+EXIT_OK = 0
+EXIT_CASES_FAILED = 1
+EXIT_INPUT = 2
+EXIT_SOLVER = 3
+
+#: Epilog of every command's ``--help``.
+EXIT_CODES_HELP = (
+    "Exit status: 0 done; 2 invalid input (model file, field, option value; nothing is run); "
+    "3 solver failure (divergence, no convergence); 1 study cases failed, or an internal error."
+)
+
+# optional packages and the extra that installs them
+_EXTRAS = {
+    "matplotlib": "plot",
+    "plotly": "report",
+    "xarray": "results",
+    "h5netcdf": "results",
+    "h5py": "results",
+    "pandas": "results",
+    "dask": "dask",
+    "distributed": "dask",
+}
+
+_PATH_ERRORS = (
+    FileNotFoundError,
+    FileExistsError,
+    IsADirectoryError,
+    NotADirectoryError,
+    PermissionError,
+)
+_ERRNOS = (errno.EROFS, errno.ENOSPC, errno.ENAMETOOLONG)
+
+
+def input_error(exc: BaseException) -> ModelError | None:
+    """The :class:`ModelError` an exception stands for at the command line, or ``None`` when it
+    is not an input error (then it is a bug and keeps its traceback).
+
+    ``ModelError`` itself; a missing optional package (names the extra to install); a file that
+    cannot be read or written (names the file and the reason).
+    """
+    if isinstance(exc, ModelError):
+        return exc
+    if isinstance(exc, ImportError):
+        name = (exc.name or "").split(".")[0]
+        if name in _EXTRAS:
+            return ModelError(
+                f"this command needs the Python package {name!r}, which is not installed",
+                expected=f"pip install 'gearrotor[{_EXTRAS[name]}]'",
+            )
+        return None
+    if isinstance(exc, _PATH_ERRORS) or (isinstance(exc, OSError) and exc.errno in _ERRNOS):
+        file = exc.filename
+        return ModelError(
+            exc.strerror or (os.strerror(exc.errno) if exc.errno else str(exc)),
+            file=None if file is None else os.fsdecode(file),
+            expected="a path that can be read (inputs) or written (outputs)",
+        )
+    return None
+
+
+@contextlib.contextmanager
+def cli_errors():
+    """Map errors to the exit statuses of the module docstring, printing one line on stderr.
+
+    A decorator (``@cli_errors()``, keeping the signature Typer reads) or a context manager
+    (``with cli_errors(): ...``). Other exceptions pass through with their traceback.
+    """
+    try:
+        yield
+    except SolverError as exc:
+        typer.echo(f"solver error: {exc}", err=True)
+        raise typer.Exit(EXIT_SOLVER) from None
+    except (ModelError, ImportError, OSError) as exc:
+        err = input_error(exc)
+        if err is None:
+            raise
+        typer.echo(f"error: {err}", err=True)
+        raise typer.Exit(EXIT_INPUT) from None
