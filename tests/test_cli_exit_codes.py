@@ -52,6 +52,7 @@ def test_documented_codes():
         ["transient"],
         ["transient-plot"],
         ["report"],
+        ["floquet"],
         ["study", "run"],
         ["study", "status"],
         ["study", "report"],

@@ -386,11 +386,103 @@ def whirl_figure(runs: list[tuple[dict, str]], path: Path) -> None:
     plt.close(fig)
 
 
+# ---- 5. Floquet: which mode pairs the mesh stiffness variation pumps ----------------------------
+def floquet_study(figures: Path | None) -> dict:
+    """Floquet exponents of the constant-speed train for Ka/Kg = 0 ... 0.75, with the model's
+    2 % mesh damping and without; the 10x mode and its 42x − 10x partner are followed by their
+    undamped frequencies; a speed sweep of the largest growth rate at Ka/Kg = 0.75."""
+    from gearrotor.analyses.parametric import floquet
+    from gearrotor.analyses.transient import build_system
+
+    out: dict = {"cases": [], "sweep": []}
+    mesh_cpm = 42 * SPEED_RPM
+    for zeta in (None, 0.0):
+        system = build_system(model(0.0, zeta))
+        for ka in KAS:
+            r = floquet(system, ka_ratio=ka)
+            mf = r.mode_frequency * 30 / math.pi
+            ten = int(np.argmin(np.where((mf > 45_000) & (mf < 70_000), np.abs(mf - 63_850), 1e9)))
+            partner = int(np.argmin(np.abs(mf - (mesh_cpm - 57_000))))
+
+            def row(i, r=r, mf=mf):
+                return {
+                    "growth_1_s": float(r.growth[i]),
+                    "frequency_cpm": float(r.frequency_cpm[i]),
+                    "mode_cpm": float(mf[r.mode[i]]),
+                    "partner_cpm": float(mf[r.partner[i]]) if r.partner[i] >= 0 else None,
+                }
+
+            pair = [i for i in range(len(r.growth)) if r.mode[i] in (ten, partner)]
+            out["cases"].append(
+                {
+                    "zeta": zeta,
+                    "ka": ka,
+                    "top": [row(i) for i in range(3)],
+                    "ten_x_mode_cpm": float(mf[ten]),
+                    "partner_mode_cpm": float(mf[partner]),
+                    "pair": [row(i) for i in pair[:2]],
+                }
+            )
+    speeds = np.linspace(5000.0, 6400.0, 57)
+    for zeta in (None, 0.0):
+        system = build_system(model(0.0, zeta))
+        g = [float(floquet(system, ka_ratio=0.75, speed=v * RPM).growth[0]) for v in speeds]
+        out["sweep"].append({"zeta": zeta, "speed_rpm": speeds.tolist(), "growth_1_s": g})
+    if figures is not None:
+        floquet_figure(out, figures / "compressor_floquet.png")
+    return out
+
+
+def floquet_figure(f: dict, path: Path) -> None:
+    import matplotlib.pyplot as plt
+
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(12, 4.4), constrained_layout=True)
+    for zeta, style in ((None, "-"), (0.0, "--")):
+        cs = [c for c in f["cases"] if c["zeta"] == zeta]
+        tag = "2 % mesh damping" if zeta is None else "no mesh damping"
+        ka = [c["ka"] for c in cs]
+        a1.plot(
+            ka,
+            [max(p["growth_1_s"] for p in c["pair"]) for c in cs],
+            "o" + style,
+            color="C3",
+            label=f"10x + 32x pair, {tag}",
+        )
+        a1.plot(
+            ka,
+            [c["top"][0]["growth_1_s"] for c in cs],
+            "s" + style,
+            color="C0",
+            label=f"least stable exponent, {tag}",
+        )
+    a1.axhline(0, color="k", lw=0.8)
+    a1.set_yscale("symlog", linthresh=1.0)
+    a1.set_xlabel("Ka/Kg")
+    a1.set_ylabel("Floquet growth rate (1/s)")
+    a1.set_title("5,700 rpm: growth rate against Ka/Kg (positive: unstable)")
+    a1.legend(fontsize=8)
+    a1.grid(alpha=0.3)
+    for sw, style in zip(f["sweep"], ("-", "--"), strict=True):
+        tag = "2 % mesh damping" if sw["zeta"] is None else "no mesh damping"
+        a2.plot(sw["speed_rpm"], sw["growth_1_s"], style, label=tag)
+    a2.axhline(0, color="k", lw=0.8)
+    a2.axvline(SPEED_RPM, color="0.5", lw=0.8, ls=":")
+    a2.set_yscale("symlog", linthresh=1.0)
+    a2.set_xlabel("pinion speed (rpm)")
+    a2.set_ylabel("largest Floquet growth rate (1/s)")
+    a2.set_title("Ka/Kg = 0.75: stability against speed")
+    a2.legend(fontsize=8)
+    a2.grid(alpha=0.3)
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
 # ---- the study -------------------------------------------------------------------------------
 def study(out_json: Path, figures: Path | None, t_end: float = 0.5, workers: int = 2) -> dict:
     s: dict = {"t_end_s": t_end}
     t0 = time.perf_counter()
     s["modal"] = modes_study(figures)
+    s["floquet"] = floquet_study(figures)
     jobs = [(ka, None, False, "modal", t_end) for ka in KAS]  # the seed's case, fast
     jobs += [(0.75, None, False, "rk4", t_end)]  # accuracy check of the modal integrator
     jobs += [(ka, None, True, "rk4", t_end) for ka in KAS]  # rated load
@@ -481,6 +573,7 @@ def main() -> None:
     p.add_argument("--no-figures", action="store_true")
     p.add_argument("--t-end", type=float, default=0.5)
     p.add_argument("--workers", type=int, default=2)
+    p.add_argument("--floquet-only", action="store_true", help="only section 5 (about 1 min)")
     a = p.parse_args()
     figs = None if a.no_figures else a.figures
     if figs is not None:
@@ -488,6 +581,9 @@ def main() -> None:
 
         matplotlib.use("Agg")
         figs.mkdir(parents=True, exist_ok=True)
+    if a.floquet_only:
+        print(json.dumps(floquet_study(figs)["cases"], indent=1))
+        return
     s = study(a.json, figs, a.t_end, a.workers)
     print(report(s))
     print(f"wall {s['wall_s']:.0f} s")

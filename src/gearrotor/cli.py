@@ -17,6 +17,7 @@ import typer
 
 from .cli_errors import EXIT_CODES_HELP, cli_errors
 from .errors import ModelError
+from .floquet_cli import floquet_command
 from .io import load_model, parse_overrides
 from .report_cli import report_command
 from .studies.cli import study_app
@@ -269,6 +270,7 @@ def bearing(
 app.command("transient", epilog=EXIT_CODES_HELP)(transient_command)
 app.command("transient-plot", epilog=EXIT_CODES_HELP)(plot_command)
 app.command("report", epilog=EXIT_CODES_HELP)(report_command)
+app.command("floquet", epilog=EXIT_CODES_HELP)(floquet_command)
 app.add_typer(study_app, name="study")
 
 

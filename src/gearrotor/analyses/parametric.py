@@ -85,8 +85,16 @@ class FloquetResult:
         return self.frequency * 60 / (2 * np.pi)
 
     @property
+    def neutral_tolerance(self) -> float:
+        """1/s: growth rates within ± this are neutral (undamped modes the meshes do not
+        pump): the multipliers are converged to ``max(change, 1e-9)``, i.e. σ to that / T."""
+        return max(self.change, 1e-9) / self.period
+
+    @property
     def stable(self) -> bool:
-        return bool(self.growth[0] <= 0) if len(self.growth) else True
+        """No exponent grows beyond the convergence tolerance (neutral modes count as
+        stable)."""
+        return bool(self.growth[0] <= self.neutral_tolerance) if len(self.growth) else True
 
     def to_dict(self, n: int = 10) -> dict:
         """The ``n`` least stable exponents as plain Python values."""
@@ -112,6 +120,7 @@ class FloquetResult:
             "n_modes": self.n_modes,
             "slices": self.slices,
             "multiplier_change": self.change,
+            "neutral_tolerance_1_s": self.neutral_tolerance,
             "stable": self.stable,
             "exponents": rows,
         }

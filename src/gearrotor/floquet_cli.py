@@ -1,0 +1,149 @@
+"""``gearrotor floquet``: parametric stability under the time-varying mesh stiffness
+(registered in :mod:`gearrotor.cli`). rpm and cpm at the boundary, rad/s inside."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Annotated
+
+import numpy as np
+import typer
+
+from .cli_errors import cli_errors
+from .errors import ModelError
+
+__all__ = ["floquet_command"]
+
+RPM = np.pi / 30
+
+
+def _floats(text: str, field: str) -> list[float]:
+    try:
+        return [float(v) for v in text.split(",") if v.strip()]
+    except ValueError:
+        raise ModelError(
+            "expected comma-separated numbers", field=field, value=text, expected="e.g. 0,0.25,0.5"
+        ) from None
+
+
+@cli_errors()
+def floquet_command(
+    model: Annotated[Path, typer.Argument(help="TOML model file")],
+    ka: Annotated[
+        str | None,
+        typer.Option(help="comma-separated Ka/Kg values for every mesh (default: the model's)"),
+    ] = None,
+    speeds: Annotated[
+        str | None,
+        typer.Option(help="comma-separated reference-shaft speeds, rpm (default: the model's)"),
+    ] = None,
+    cutoff: Annotated[
+        float | None,
+        typer.Option(help="keep modes up to this frequency, cpm (default 2.5 × mesh frequency)"),
+    ] = None,
+    n: Annotated[int, typer.Option(help="least stable exponents listed per case")] = 6,
+    format: Annotated[str, typer.Option("--format", help="table or json")] = "table",
+    plot: Annotated[
+        Path | None, typer.Option(help="PNG: largest growth rate against speed (or Ka)")
+    ] = None,
+    set_: Annotated[
+        list[str] | None,
+        typer.Option("--set", help="Override a model value: PATH=VALUE (repeatable)."),
+    ] = None,
+) -> None:
+    """Floquet exponents of the train under its periodic mesh stiffness (teeth in contact,
+    constant speed): growth rate (1/s, positive = parametrically unstable), frequency and the
+    modes involved, for each Ka/Kg and speed."""
+    from .analyses.parametric import floquet
+    from .analyses.transient import build_system
+    from .io import load_model, parse_overrides
+
+    if format not in ("table", "json"):
+        raise ModelError(
+            "unknown output format", field="--format", value=format, expected="'table' or 'json'"
+        )
+    if n < 1:
+        raise ModelError("at least one exponent", field="--n", value=n, expected="≥ 1")
+    train = load_model(model, parse_overrides(set_))
+    kas: list[float | None] = _floats(ka, "--ka") if ka else [None]
+    sp = _floats(speeds, "--speeds") if speeds else [None]
+    for v in sp:
+        if v is not None and v <= 0:
+            raise ModelError(
+                "speeds must be positive", field="--speeds", value=v, expected="> 0 rpm"
+            )
+    system = build_system(train)
+    cases = []
+    for s in sp:
+        for k in kas:
+            res = floquet(
+                system,
+                ka_ratio=k,
+                speed=None if s is None else s * RPM,
+                cutoff=None if cutoff is None else cutoff / 60,
+            )
+            cases.append(res)
+            if format == "table":
+                _print_table(res, n)
+    if format == "json":
+        typer.echo(
+            json.dumps({"model": str(model), "cases": [r.to_dict(n) for r in cases]}, indent=1)
+        )
+    if plot is not None:
+        _plot(cases, plot)
+        typer.echo(f"plot written to {plot}", err=format == "json")
+
+
+def _print_table(res, n: int) -> None:
+    d = res.to_dict(n)
+    ka = ", ".join(dict.fromkeys("model" if k is None else f"{k:g}" for k in d["ka_ratio"]))
+    typer.echo(
+        f"speed {d['speed_rpm']:.1f} rpm, Ka/Kg {ka}: {'stable' if d['stable'] else 'UNSTABLE'} "
+        f"(growth within ±{d['neutral_tolerance_1_s']:.1e} 1/s is neutral; "
+        f"{d['n_modes']} modes, {d['slices']} steps per period, "
+        f"mesh {', '.join(dict.fromkeys(f'{f:,.0f}' for f in d['mesh_frequency_cpm']))} cpm)"
+    )
+    typer.echo(f"  {'growth 1/s':>11} {'cpm':>10} {'order':>7} {'log dec':>9}  modes (cpm)")
+    for row in d["exponents"]:
+        ld = row["log_dec"] if abs(row["log_dec"]) >= 5e-5 else 0.0
+        pair = f"{row['mode_cpm']:,.0f}"
+        if row["partner_cpm"] is not None:
+            pair += f" + {row['partner_cpm']:,.0f}"
+        typer.echo(
+            f"  {row['growth_1_s']:11.3f} {row['frequency_cpm']:10,.0f} "
+            f"{row['order']:7.2f} {ld:9.4f}  {pair}"
+        )
+
+
+def _plot(cases, path: Path) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    speeds = sorted({round(r.speed / RPM, 6) for r in cases})
+    kas = sorted({r.ka_ratio[0] if r.ka_ratio[0] is not None else -1.0 for r in cases})
+    fig, ax = plt.subplots(figsize=(7, 4.2), constrained_layout=True)
+    if len(speeds) > 1:
+        for k in kas:
+            rs = [r for r in cases if (r.ka_ratio[0] if r.ka_ratio[0] is not None else -1.0) == k]
+            ax.plot(
+                [r.speed / RPM for r in rs],
+                [r.growth[0] for r in rs],
+                "o-",
+                label="model Ka" if k < 0 else f"Ka/Kg = {k:g}",
+            )
+        ax.set_xlabel("reference shaft speed (rpm)")
+    else:
+        ax.plot([r.ka_ratio[0] for r in cases], [r.growth[0] for r in cases], "o-")
+        ax.set_xlabel("Ka/Kg")
+    ax.axhline(0.0, color="k", lw=0.8)
+    ax.set_ylabel("largest Floquet growth rate (1/s)")
+    ax.set_title("Parametric stability (positive: unstable)")
+    if len(speeds) > 1:
+        ax.legend()
+    ax.grid(alpha=0.3)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
