@@ -222,6 +222,19 @@ def test_eigensolver_failure_exits_3(examples, monkeypatch, cmd, target):
     check(r, EXIT_SOLVER, "did not converge")
 
 
+def test_modal_overflow_exits_3(examples):
+    """An absurd stiffness (1e308 N/m) overflows the state matrix: a solver error naming the
+    cause, not a LAPACK traceback."""
+    r = invoke("modal", examples / SINGLE, "--set", "bearings[0].k=1e308 N/m")
+    check(r, EXIT_SOLVER, "overflows")
+
+
+def test_floquet_input_errors_exit_2(examples):
+    check(invoke("floquet", examples / UNITY, "--ka", "0.5,x"), EXIT_INPUT, "--ka")
+    check(invoke("floquet", examples / UNITY, "--ka", "1.5"), EXIT_INPUT, "ka_ratio")
+    check(invoke("floquet", examples / SINGLE), EXIT_INPUT, "meshes")
+
+
 # ---- the mapping itself -----------------------------------------------------------------------
 def test_input_error_mapping():
     e = ModelError("bad", field="f", value=1, expected="2", file="m.toml")

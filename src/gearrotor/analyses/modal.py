@@ -243,6 +243,11 @@ def _solve_dense(M, Cg, K, asm) -> tuple[NDArray, NDArray]:
     A[:n, n:] = np.eye(n)
     A[n:, :n] = -la.cho_solve(cho, K)
     A[n:, n:] = -la.cho_solve(cho, Cg)
+    if not np.isfinite(A).all():
+        raise SolverError(
+            "the state matrix M⁻¹[K, C + G] overflows (non-finite entries): a stiffness or "
+            "damping value is far beyond the physical range (check the model's largest values)"
+        )
     lam, V = la.eig(A, overwrite_a=True, check_finite=False)
     return lam, V[:n]
 
