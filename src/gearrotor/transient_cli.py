@@ -65,10 +65,9 @@ def transient_command(
     from .analyses.transient.equations import build_system
     from .analyses.transient.integrators import (
         RK4,
-        RK4_STABILITY,
         Checkpoint,
         ModalRK4,
-        omega_max,
+        rk4_max_step,
         transient,
     )
     from .analyses.transient.plots import standard_figures
@@ -86,8 +85,9 @@ def transient_command(
         train = load_model(model, parse_overrides(set_))
         if method == "rk4":
             if dt is None:
-                w = omega_max(build_system(train))
-                dt = float(f"{0.95 * RK4_STABILITY / w:.2g}")
+                dt = 0.95 * rk4_max_step(build_system(train))
+                unit = 10.0 ** (np.floor(np.log10(dt)) - 1)
+                dt = float(f"{np.floor(dt / unit) * unit:.2g}")  # 2 digits, rounded down
             integ = RK4(dt=dt)
         elif method == "modal":
             integ = ModalRK4(dt=dt)

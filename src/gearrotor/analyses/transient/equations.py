@@ -336,12 +336,14 @@ def mesh_damping_from_ratio(
     """Mesh damping coefficient c (N·s/m) giving modal damping ratio ``ratio`` to the mesh mode.
 
     The mesh mode is the undamped mode φ_i (mass-normalised, of the constant-speed linear model
-    with the meshes at Kg, without gyroscopics) with the largest mesh strain-energy fraction
-    ``Kg (w·φ_i)² / ω_i²``. A damper ``c w wᵀ`` adds ``c (w·φ_i)²`` to that mode's modal damping
-    ``2 ζ ω_i``, hence ``c = 2 ζ ω_i / (w·φ_i)²``. Returns (c, ω_i in rad/s).
+    with the meshes at Kg, without gyroscopics; the symmetric part of its stiffness, as the
+    skew part of cross-coupled bearings stores no strain energy) with the largest mesh
+    strain-energy fraction ``Kg (w·φ_i)² / ω_i²``. A damper ``c w wᵀ`` adds ``c (w·φ_i)²`` to
+    that mode's modal damping ``2 ζ ω_i``, hence ``c = 2 ζ ω_i / (w·φ_i)²``. Returns (c, ω_i in
+    rad/s).
     """
     M, K, _ = system.linear_matrices()
-    w2, V = la.eigh(K, M)
+    w2, V = la.eigh(0.5 * (K + K.T), M)
     law = system.meshes[mesh]
     d = system.mesh_dofs[mesh]
     ok = d >= 0

@@ -6,17 +6,22 @@ chunks (progress, checkpoints) with a fixed step ``dt``. Work is counted: ``step
 ``rhs_evaluations`` (4 per RK4 step) are reported in :class:`~.results.SolverStats`.
 
 * :class:`RK4` — classical fixed-step 4th-order Runge–Kutta on the first-order state
-  (q, q̇) of the full (active-DOF) model: the reference. Explicit, so the step must satisfy
-  ``ω_max Δt < 2√2`` for the highest undamped mode; this is checked before the run and a step
-  that violates it raises :class:`~gearrotor.errors.SolverError` with the largest stable step.
+  (q, q̇) of the full (active-DOF) model: the reference. Explicit, so every eigenvalue λ of the
+  model linearised at the nominal speeds must satisfy ``|R(λ Δt)| ≤ 1``,
+  ``R(z) = 1 + z + z²/2 + z³/6 + z⁴/24`` (``ω Δt ≤ 2√2`` for an undamped mode,
+  ``|λ| Δt ≤ 2.785`` for an overdamped one: heavily damped journals of tilting-pad bearings
+  can set the limit); this is checked before the run and a step that violates it raises
+  :class:`~gearrotor.errors.SolverError` with the largest stable step (:func:`rk4_max_step`).
 * :class:`ModalRK4` — the same RK4 on a modal reduction: the undamped modes of the
   constant-speed linear model (meshes at Kg, bearings at the nominal speeds) up to a cut-off
   frequency, always including the rigid-body rotation, so θz stays the absolute angle. Damping,
   gyroscopics (Σ Ω_s(t) Φᵀ G_s Φ), the angular-acceleration and unbalance θ̈ terms (exact
   Woodbury solve with M_r = I) and every nonlinear force (mesh minus its Kg part, unbalance,
   torques, speed-dependent bearings) are evaluated through the rows Φ_sel of the DOFs they act
-  on. Dropping the modes above the cut-off removes the stiff shear/axial modes, so the step is
-  set by accuracy, not by stability.
+  on. The modes are those of the symmetric part of K; its skew part (cross-coupled bearings,
+  seals) acts through the rows of its DOFs too. Dropping the modes above the cut-off removes
+  the stiff shear/axial modes, so the step is set by accuracy, not by stability (the same
+  stability check applies to the reduced system).
 
 Divergence (non-finite state, or a lateral displacement above ``blowup`` m / torsional deviation
 above 1 rad from rigid rotation) stops the run with a SolverError that names the time.
@@ -47,15 +52,14 @@ from .equations import TransientSystem, build_system, static_state
 if TYPE_CHECKING:
     from .results import TransientResult
 
-__all__ = ["RK4", "ModalRK4", "Save", "Checkpoint", "transient", "RK4_STABILITY"]
-
-RK4_STABILITY = 2.0 * np.sqrt(2.0)  # RK4 stability limit on the imaginary axis, ω Δt
+__all__ = ["RK4", "ModalRK4", "Save", "Checkpoint", "transient", "rk4_max_step"]
 
 
 @dataclass(frozen=True)
 class RK4:
-    """Classical RK4 on the full active-DOF model. dt : s. ``check_stability`` compares
-    ω_max·dt with 2√2 before the run (raises SolverError when violated)."""
+    """Classical RK4 on the full active-DOF model. dt : s (at most :func:`rk4_max_step`).
+    ``check_stability`` checks the eigenvalues of the linearised model against RK4's
+    stability region before the run (raises SolverError when a step is outside)."""
 
     dt: float
     check_stability: bool = True
@@ -66,8 +70,9 @@ class RK4:
 class ModalRK4:
     """RK4 on the modal reduction of the linear part.
 
-    dt : s (default: ``accuracy / ω_k``, ω_k the highest kept mode); cutoff : Hz, keep the
-    undamped modes up to this frequency (default: ``cutoff_factor`` × the highest excitation
+    dt : s (default: ``accuracy / ω_k``, ω_k the highest kept mode, or 0.95× the reduced
+    system's stability limit when its damped eigenvalues set a smaller one); cutoff : Hz, keep
+    the undamped modes up to this frequency (default: ``cutoff_factor`` × the highest excitation
     frequency, which is the highest mesh frequency |N Ω| or, without meshes, 10× the highest
     shaft speed); accuracy : ω_k·dt of the default step; separated_modes : also include the
     modes of the train with the meshes removed (each shaft free, with its rigid rotation) up to
@@ -291,11 +296,69 @@ def _force_dofs(system: TransientSystem) -> NDArray:
     return np.array(sorted(idx), dtype=np.int64)
 
 
-def omega_max(system: TransientSystem) -> float:
-    """Highest undamped natural frequency (rad/s) of the linear model."""
-    M, K, _ = system.linear_matrices()
-    w2 = la.eigh(K, M, eigvals_only=True, subset_by_index=[system.n - 1, system.n - 1])
-    return float(np.sqrt(max(w2[0], 0.0)))
+def _rk4_amplification(z: NDArray) -> NDArray:
+    """|R(z)| of classical RK4, R(z) = 1 + z + z²/2 + z³/6 + z⁴/24 (z = λ Δt)."""
+    return np.abs(1.0 + z * (1.0 + z * (0.5 + z * (1.0 / 6.0 + z / 24.0))))
+
+
+def _rk4_step_limit(M: NDArray, K: NDArray, C: NDArray) -> tuple[float, complex]:
+    """Largest RK4 step (s) for the linear system M q̈ + C q̇ + K q = 0, and the eigenvalue λ
+    (1/s) of its first-order form that sets it.
+
+    Every eigenvalue must satisfy |R(λ Δt)| ≤ 1. In the closed left half-plane the region is
+    star-shaped about 0 with radius 2.62 (at 122°) to 2.96 (checked numerically): 2√2 on the
+    imaginary axis, 2.785 on the negative real axis; the radius along each λ is found by
+    bisection. A growing mode (Re λ > 0, a physical instability) is checked as its decaying
+    mirror image −|Re λ| + i Im λ. Eigenvalues of [[0, I], [−M⁻¹K, −M⁻¹C]] through the
+    Cholesky factor of M (L⁻¹ K L⁻ᵀ, the same spectrum)."""
+    n = M.shape[0]
+    try:
+        L = la.cholesky(M, lower=True)
+    except la.LinAlgError:
+        raise ModelError(
+            "the mass matrix is not positive definite on some DOFs (a node without mass or "
+            "inertia?)"
+        ) from None
+
+    def scaled(A):
+        return la.solve_triangular(L, la.solve_triangular(L, A, lower=True).T, lower=True).T
+
+    A = np.block([[np.zeros((n, n)), np.eye(n)], [-scaled(K), -scaled(C)]])
+    lam = la.eigvals(A)
+    lam = -np.abs(lam.real) + 1j * np.abs(lam.imag)
+    lam = lam[np.abs(lam) > 0.0]
+    if not len(lam):
+        return np.inf, 0j
+    d = lam / np.abs(lam)
+    lo, hi = np.zeros(len(d)), np.full(len(d), 3.0)
+    for _ in range(50):
+        mid = 0.5 * (lo + hi)
+        out = _rk4_amplification(mid * d) > 1.0
+        hi = np.where(out, mid, hi)
+        lo = np.where(out, lo, mid)
+    h = lo / np.abs(lam)
+    i = int(np.argmin(h))
+    return float(h[i]), complex(lam[i])
+
+
+def _linearised(system: TransientSystem) -> tuple[NDArray, NDArray, NDArray]:
+    """Dense (M, K, C) of the model linearised at the nominal speeds, as the kernels apply it:
+    meshes at Kg with their contact damping, bearings at the nominal speeds, and the
+    gyroscopic matrices (in C)."""
+    M, K, C = system.linear_matrices()
+    for law, d in zip(system.meshes, system.mesh_dofs, strict=True):
+        ok = d >= 0
+        C[np.ix_(d[ok], d[ok])] += law.damping * np.outer(law.w[ok], law.w[ok])
+    return M, K, C + system.gyroscopic()
+
+
+def rk4_max_step(system: TransientSystem) -> float:
+    """Largest stable step (s) of :class:`RK4` on the full model: every eigenvalue of the
+    first-order system linearised at the nominal speeds (stiffness, bearing and mesh damping,
+    gyroscopics) inside RK4's stability region (:func:`_rk4_step_limit`). Heavily damped
+    bearings give real eigenvalues −c/m that can set a smaller limit than the highest
+    natural frequency."""
+    return _rk4_step_limit(*_linearised(system))[0]
 
 
 def excitation_frequency(system: TransientSystem) -> float:
@@ -321,20 +384,31 @@ class _Prepared:
     info: dict
 
 
+def _unstable_step(what: str, dt: float, limit: float, lam: complex, fix: str) -> SolverError:
+    zeta = -lam.real / abs(lam)
+    return SolverError(
+        f"{what} step dt = {dt:.4g} s is outside RK4's stability region for the eigenvalue "
+        f"λ = {lam.real:.4g} ± {abs(lam.imag):.4g}i 1/s of the model linearised at the nominal "
+        f"speeds ({abs(lam.imag) / 2 / np.pi:.5g} Hz, damping ratio {zeta:.3g}; |λ|·dt = "
+        f"{abs(lam) * dt:.3f}); use dt ≤ {0.99 * limit:.4g} s{fix}"
+    )
+
+
 def _prepare_physical(system: TransientSystem, integ: RK4, out: NDArray, frozen: bool) -> _Prepared:
     n = system.n
-    if integ.check_stability:
-        wmax = omega_max(system)
-        if wmax * integ.dt >= RK4_STABILITY * 0.995:
-            raise SolverError(
-                f"RK4 step dt = {integ.dt:.4g} s is outside the stability region for the "
-                f"highest mode of this model ({wmax / 2 / np.pi:.5g} Hz: ω·dt = "
-                f"{wmax * integ.dt:.3f} ≥ 2√2); use dt ≤ {0.99 * RK4_STABILITY / wmax:.4g} s, "
-                "or the modal integrator (ModalRK4), which drops the stiff modes"
-            )
     sel = _force_dofs(system)
     G = sum((g for g in system.G), sp.csr_array((n, n)))
     *fac, comp = _mass_factor(system.M)
+    if integ.check_stability:
+        limit, lam = _rk4_step_limit(*_linearised(system))
+        if integ.dt >= 0.995 * limit:
+            raise _unstable_step(
+                "RK4",
+                integ.dt,
+                limit,
+                lam,
+                ", or the modal integrator (ModalRK4), which drops the stiff modes",
+            )
     ns = len(system.a_weights)
     a_idx, a_w, a_ptr = [], [], [0]
     for a in system.a_weights:
@@ -435,31 +509,41 @@ def _static_shapes(system, M, K) -> NDArray:
     return la.solve(A, rhs)[:-1]
 
 
-def _modal_basis(system, M, K, V, w2, wcut, separated, static):
-    """M-orthonormal basis with K diagonal: the modes up to ``wcut`` (rad/s); with
-    ``separated`` also the modes of the train without meshes, with ``static`` the static
-    correction shapes (:func:`_static_shapes`); extended bases are re-diagonalised (Ritz)."""
+def _modal_basis(M, Ks, V, w2, wcut, separated, shapes):
+    """M-orthonormal basis with Ks diagonal: the modes (V, w2 of (Ks, M)) up to ``wcut``
+    (rad/s), extended by ``separated`` (w2, V of the train without meshes, or None: its modes up
+    to the cut-off) and the static correction ``shapes`` (n, k).
+
+    The extra vectors are made M-orthogonal to the kept modes and to each other, then
+    re-diagonalised (Ritz) among themselves: the kept modes keep their exact frequencies (the
+    rigid rotation stays at zero). Directions with less than 1e-5 of their M-norm outside the
+    span of the others add nothing and are dropped. Returns (Φ, ω² in rad²/s²), by frequency."""
     om = np.sqrt(np.clip(w2, 0.0, None))
     keep = om <= wcut
     if not keep.any():
         raise ModelError("no mode below the modal cut-off", value=f"{wcut / 2 / np.pi:.4g} Hz")
     B = V[:, keep]
-    extra = []
-    if separated and system.meshes:
-        _, Ks, _ = system.linear_matrices(meshes=False)
-        w2s, Vs = la.eigh(Ks, M)
-        extra.append(Vs[:, np.sqrt(np.clip(w2s, 0.0, None)) <= wcut])
-    if static:
-        extra.append(_static_shapes(system, M, K))
-    if not extra or not sum(e.shape[1] for e in extra):
+    E = shapes
+    if separated is not None:
+        w2s, Vs = separated
+        E = np.hstack([Vs[:, np.sqrt(np.clip(w2s, 0.0, None)) <= wcut], E])
+    if not E.shape[1]:
         return B, w2[keep]
-    B = np.hstack([B, *extra])
-    B = B / np.sqrt(np.einsum("ij,ij->j", B, M @ B))
-    gw, gv = la.eigh(B.T @ M @ B)
-    ok = gw > 1e-10 * gw.max()
-    B = B @ (gv[:, ok] / np.sqrt(gw[ok]))  # M-orthonormal
-    w2r, Y = la.eigh(B.T @ K @ B)
-    return B @ Y, w2r
+    E = E / np.sqrt(np.einsum("ij,ij->j", E, M @ E))
+    # two passes: the first loses orthogonality in proportion to the norm removed, the
+    # second restores it to round-off ("twice is enough")
+    for _ in range(2):
+        E = E - B @ (B.T @ (M @ E))
+        gw, gv = la.eigh(E.T @ M @ E)
+        ok = gw > 1e-10
+        E = E @ (gv[:, ok] / np.sqrt(gw[ok]))
+    if not E.shape[1]:
+        return B, w2[keep]
+    w2e, Y = la.eigh(E.T @ Ks @ E)
+    Phi = np.hstack([B, E @ Y])
+    w2r = np.concatenate([w2[keep], w2e])
+    order = np.argsort(w2r, kind="stable")
+    return Phi[:, order], w2r[order]
 
 
 def _harmonic_error(system, M, K, C, Phi, w2r, out) -> float:
@@ -485,7 +569,12 @@ def _harmonic_error(system, M, K, C, Phi, w2r, out) -> float:
         if not F.any():
             continue
         X = la.solve(K - w**2 * M + 1j * w * (C + G), F)[obs]
-        A = np.diag(w2r) - w**2 * np.eye(len(w2r)) + 1j * w * (Phi.T @ (C + G) @ Phi)
+        A = (
+            np.diag(w2r)
+            + Phi.T @ (0.5 * (K - K.T)) @ Phi
+            - w**2 * np.eye(len(w2r))
+            + 1j * w * (Phi.T @ (C + G) @ Phi)
+        )
         Xr = Phi[obs] @ la.solve(A, Phi.T @ F)
         err = max(err, float(np.abs(Xr - X).max() / np.abs(X).max()))
     return err
@@ -493,7 +582,11 @@ def _harmonic_error(system, M, K, C, Phi, w2r, out) -> float:
 
 def _prepare_modal(system: TransientSystem, integ: ModalRK4, out: NDArray) -> _Prepared:
     M, K, C = system.linear_matrices()
-    w2, V = la.eigh(K, M)
+    # modes of the symmetric part of K; its skew part (cross-coupled bearings and seals) acts
+    # as a force on its few DOFs (kernel: k_idx, k_skew)
+    Ks = 0.5 * (K + K.T)
+    Ka = K - Ks
+    w2, V = la.eigh(Ks, M)
     om_all = np.sqrt(np.clip(w2, 0.0, None))
     wcut = (
         2 * np.pi * integ.cutoff
@@ -503,29 +596,35 @@ def _prepare_modal(system: TransientSystem, integ: ModalRK4, out: NDArray) -> _P
     separated = integ.separated_modes
     if separated is None:
         separated = any(law.backlash > 0 for law in system.meshes)
+    if separated and system.meshes:
+        _, Kf, _ = system.linear_matrices(meshes=False)
+        separated = la.eigh(0.5 * (Kf + Kf.T), M)
+    else:
+        separated = None
     static = integ.static_correction
     if static is None:
         static = len(system.torque_dof) > 0
-    B, w2r = _modal_basis(system, M, K, V, w2, wcut, separated, static)
-    check = _harmonic_error(system, M, K, C, B, w2r, out)
+    shapes = _static_shapes(system, M, K) if static else np.zeros((system.n, 0))
+    Phi, w2r = _modal_basis(M, Ks, V, w2, wcut, separated, shapes)
+    check = _harmonic_error(system, M, K, C, Phi, w2r, out)
     while integ.cutoff is None and check > integ.tolerance and wcut < om_all.max():
         wcut *= 1.25
-        B, w2r = _modal_basis(system, M, K, V, w2, wcut, separated, static)
-        check = _harmonic_error(system, M, K, C, B, w2r, out)
-    w2 = w2r
-    om = np.sqrt(np.clip(w2, 0.0, None))
-    keep = np.ones(B.shape[1], bool)
-    Phi = B
-    lam = np.clip(w2[keep], 0.0, None)
-    lam[om[keep] < 1e-6 * max(om.max(), 1.0)] = 0.0  # rigid-body modes exactly
+        Phi, w2r = _modal_basis(M, Ks, V, w2, wcut, separated, shapes)
+        check = _harmonic_error(system, M, K, C, Phi, w2r, out)
+    lam = np.clip(w2r, 0.0, None)
+    om = np.sqrt(lam)
+    lam[om < 1e-6 * max(om.max(), 1.0)] = 0.0  # rigid-body modes exactly
     m = Phi.shape[1]
-    dt = integ.dt if integ.dt is not None else integ.accuracy / max(float(om[keep].max()), 1e-9)
-    if float(om[keep].max()) * dt >= RK4_STABILITY * 0.995:
-        raise SolverError(
-            f"modal RK4 step dt = {dt:.4g} s is unstable for the highest kept "
-            f"mode ({om[keep].max() / 2 / np.pi:.5g} Hz); lower dt or the cut-off"
-        )
-    sel = _force_dofs(system)
+    limit, lam_lim = _rk4_step_limit(
+        np.eye(m), np.diag(lam) + Phi.T @ Ka @ Phi, Phi.T @ _linearised(system)[2] @ Phi
+    )
+    dt = integ.dt
+    if dt is None:
+        dt = min(integ.accuracy / max(float(om.max()), 1e-9), 0.95 * limit)
+    if dt >= 0.995 * limit:
+        raise _unstable_step("modal RK4", dt, limit, lam_lim, " or lower the cut-off")
+    k_dofs = np.flatnonzero(np.any(Ka != 0, axis=1))
+    sel = np.union1d(_force_dofs(system), k_dofs).astype(np.int64)
     Cr = Phi.T @ C @ Phi
     Gr = np.array([Phi.T @ g.toarray() @ Phi for g in system.G]).reshape(-1, m, m)
     alpha = np.array([Phi.T @ a for a in system.a_weights])  # Ω_s = a_sᵀ Φ η̇
@@ -540,6 +639,8 @@ def _prepare_modal(system: TransientSystem, integ: ModalRK4, out: NDArray) -> _P
         np.ascontiguousarray(Phi[sel]),
         np.ascontiguousarray(Phi[sel].T),
         bool(system.reactions),
+        np.searchsorted(sel, k_dofs).astype(np.int64),
+        np.ascontiguousarray(Ka[np.ix_(k_dofs, k_dofs)]),
         *_pack_forces(system, sel, modal=True, bearing_ref=True),
     )
     W = (
@@ -558,7 +659,7 @@ def _prepare_modal(system: TransientSystem, integ: ModalRK4, out: NDArray) -> _P
         "n_modes": m,
         "cutoff_hz": wcut / 2 / np.pi,
         "harmonic_error": check,
-        "highest_mode_hz": float(om[keep].max() / 2 / np.pi),
+        "highest_mode_hz": float(om.max() / 2 / np.pi),
         "Phi": Phi,
         "M": M,
     }

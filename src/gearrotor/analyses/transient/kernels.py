@@ -548,8 +548,10 @@ def rk4_physical(
 # ------------------------------------------------------------------------------------------
 @njit(cache=_CACHE, fastmath=_FAST)
 def _accel_modal(t, e, de, a, P, W):
-    """Modal accelerations (a ← η̈) with M_r = I. ``PhiT_sel`` is Φ_selᵀ (m, nsel); work
-    array ``Z`` (2r, m) holds the Woodbury factors P (rows 0..r−1) and Q (rows r..2r−1)."""
+    """Modal accelerations (a ← η̈) with M_r = I. ``PhiT_sel`` is Φ_selᵀ (m, nsel); the
+    stiffness is ``diag(lam)`` (the symmetric part) plus the skew part ``k_skew`` (nk, nk) on the
+    ``sel`` DOFs ``k_idx``, applied as a force; work array ``Z`` (2r, m) holds the Woodbury
+    factors P (rows 0..r−1) and Q (rows r..2r−1)."""
     (
         lam,
         Cr,
@@ -558,6 +560,8 @@ def _accel_modal(t, e, de, a, P, W):
         Phi_sel,
         PhiT_sel,
         reactions,
+        k_idx,
+        k_skew,
         m_sel,
         m_w,
         m_par,
@@ -631,6 +635,12 @@ def _accel_modal(t, e, de, a, P, W):
         b_coef,
         b_ref,
     )
+    nk = k_idx.shape[0]
+    for i in range(nk):
+        f = 0.0
+        for j in range(nk):
+            f += k_skew[i, j] * qs[k_idx[j]]
+        fs[k_idx[i]] -= f
     for i in range(m):
         acc = -lam[i] * e[i]
         c0 = 0.0
