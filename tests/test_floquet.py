@@ -14,6 +14,7 @@ from gearrotor.analyses import modal
 from gearrotor.analyses.parametric import _lawson_monodromy, _magnus_monodromy, floquet
 from gearrotor.errors import ModelError
 from gearrotor.io import load_model
+from gearrotor.model import Train
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 
@@ -96,10 +97,17 @@ def test_mathieu_first_tongue_growth_rate():
     assert sigma == pytest.approx(eps * w0 / 4, rel=2 * eps)
 
 
-def test_constant_mesh_stiffness_gives_the_damped_eigenvalues():
+@pytest.mark.parametrize("q", [0.0, 3e6])
+def test_constant_mesh_stiffness_gives_the_damped_eigenvalues(q):
     """Ka = 0 with every mode kept: the Floquet exponents are the eigenvalues of the linear
-    model (SPEC 6.1 gearbox at 6500 rpm), growth = Re λ and frequency = Im λ."""
+    model (SPEC 6.1 gearbox at 6500 rpm), growth = Re λ and frequency = Im λ; also with a
+    cross-coupled stiffness q (non-symmetric K: the modal basis is that of the symmetric part,
+    the skew part must still be in the reduced model), which makes a forward mode unstable."""
     train = load_model(EXAMPLES / "unity_gearbox.toml")
+    if q:
+        data = train.model_dump()
+        data["cross_couplings"] = [{"name": "q", "shaft": "shaft1", "node": 5, "q": q}]
+        train = Train.model_validate(data)
     fl = floquet(train, ka_ratio=0.0, cutoff=1e9)
     res = modal(train, max_frequency=1e12)
     om_m = fl.mesh_frequency.max()
@@ -111,6 +119,7 @@ def test_constant_mesh_stiffness_gives_the_damped_eigenvalues():
         assert d.min() < 1e-7, lam
         checked += 1
     assert checked >= 10
+    assert fl.stable == (q == 0)
 
 
 @pytest.mark.slow

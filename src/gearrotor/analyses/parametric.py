@@ -221,7 +221,9 @@ def floquet(
     for law, d in zip(laws, system.mesh_dofs, strict=True):
         ok = d >= 0
         Ct[np.ix_(d[ok], d[ok])] += law.damping * np.outer(law.w[ok], law.w[ok])
-    w2, V = la.eigh(K, M)
+    # basis: the undamped modes of the symmetric part (cross-coupled bearings and
+    # CrossCoupling make K non-symmetric); the whole K, skew part included, is projected
+    w2, V = la.eigh(0.5 * (K + K.T), M)
     om = np.sqrt(np.clip(w2, 0.0, None))
     wcut = 2 * np.pi * cutoff if cutoff is not None else cutoff_factor * omega_m
     keep = (om <= wcut) & (om > 1e-6 * max(om.max(), 1.0))
@@ -231,6 +233,7 @@ def floquet(
     lam = w2[keep]
     m = Phi.shape[1]
     Cr = Phi.T @ Ct @ Phi
+    Kr = Phi.T @ K @ Phi
     # per mesh: modal mesh vector and the stiffness variation about Kg over the period
     wm = []
     for law, d in zip(laws, system.mesh_dofs, strict=True):
@@ -247,7 +250,7 @@ def floquet(
 
     A0 = np.zeros((2 * m, 2 * m))
     A0[:m, m:] = np.eye(m)
-    A0[m:, :m] = -np.diag(lam)
+    A0[m:, :m] = -Kr
     A0[m:, m:] = -Cr
 
     def kv(t: float) -> NDArray:
