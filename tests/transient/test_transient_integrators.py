@@ -161,3 +161,11 @@ def test_modal_backlash_uses_separated_modes(make_gearbox):
     a_ref = ref.amplitude_1x(0.05)["shaft1[10]"]["x"]
     a_fast = fast.amplitude_1x(0.05)["shaft1[10]"]["x"]
     assert abs(a_fast / a_ref - 1) < 0.01
+
+
+def test_modal_accuracy_unreachable_is_an_error(make_gearbox):
+    """When even the full basis misses the requested 1x accuracy the run is refused, not
+    silently run inaccurate (a zero tolerance cannot be met: round-off alone exceeds it)."""
+    train = make_gearbox()
+    with pytest.raises(SolverError, match="cannot reach the requested 1x accuracy"):
+        transient(train, t_end=1e-3, integrator=ModalRK4(tolerance=0.0))

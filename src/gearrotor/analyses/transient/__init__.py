@@ -6,7 +6,7 @@
 """
 
 from .equations import TransientSystem, build_system, mesh_damping_from_ratio, static_state
-from .integrators import RK4, Checkpoint, ModalRK4, Save, transient
+from .integrators import RK4, Checkpoint, ModalRK4, Save, rk4_max_step, transient
 from .mesh import MeshLaw, backlash_h, fourier_coefficients, stiffness
 from .results import (
     SolverStats,
@@ -33,6 +33,7 @@ __all__ = [
     "load_result",
     "mesh_damping_from_ratio",
     "order_amplitudes",
+    "rk4_max_step",
     "spectrum",
     "static_state",
     "stiffness",
