@@ -16,6 +16,7 @@ import numpy as np
 import typer
 
 from .cli_errors import EXIT_CODES_HELP, cli_errors
+from .cli_options import RPM, FormatOpt, SetOpt, check_format
 from .errors import ModelError
 from .floquet_cli import floquet_command
 from .io import load_model, parse_overrides
@@ -33,24 +34,6 @@ app = typer.Typer(
     add_completion=False,
     pretty_exceptions_enable=False,
 )
-
-RPM = np.pi / 30  # rpm -> rad/s
-
-SetOpt = Annotated[
-    list[str] | None,
-    typer.Option(
-        "--set",
-        help="Override a model value: PATH=VALUE, e.g. 'meshes[0].stiffness=3e7 N/m' (repeatable).",
-    ),
-]
-FormatOpt = Annotated[str, typer.Option("--format", help="table or json")]
-
-
-def _check_format(fmt: str) -> None:
-    if fmt not in ("table", "json"):
-        raise ModelError(
-            "unknown output format", field="--format", value=fmt, expected="'table' or 'json'"
-        )
 
 
 def _speeds(lo: float, hi: float, n: int, field: str) -> np.ndarray:
@@ -86,7 +69,7 @@ def modal(
     """Damped eigenvalues at a speed: frequency, log dec, whirl per shaft, mode type."""
     from .analyses import modal as run_modal
 
-    _check_format(format)
+    check_format(format)
     train = load_model(model, parse_overrides(set_))
     res = run_modal(
         train,
@@ -133,7 +116,7 @@ def campbell(
     """Campbell diagram with MAC mode tracking, excitation orders and crossing speeds."""
     from .analyses import campbell as run_campbell
 
-    _check_format(format)
+    check_format(format)
     train = load_model(model, parse_overrides(set_))
     hi = max_speed if max_speed is not None else 1.25 * abs(train.speed) / RPM
     speeds = _speeds(min_speed, hi, n_speeds, "--min-speed/--max-speed")
@@ -193,7 +176,7 @@ def unbalance(
     from .analyses.api617 import api617_unbalances
     from .assembly import assemble
 
-    _check_format(format)
+    check_format(format)
     train = load_model(model, parse_overrides(set_))
     hi = max_speed if max_speed is not None else 1.5 * abs(train.speed) / RPM
     speeds = _speeds(min_speed, hi, n_speeds, "--min-speed/--max-speed")

@@ -7,15 +7,13 @@ import json
 from pathlib import Path
 from typing import Annotated
 
-import numpy as np
 import typer
 
 from .cli_errors import cli_errors
+from .cli_options import RPM, FormatOpt, SetOpt, check_format
 from .errors import ModelError
 
 __all__ = ["floquet_command"]
-
-RPM = np.pi / 30
 
 
 def _floats(text: str, field: str) -> list[float]:
@@ -43,14 +41,11 @@ def floquet_command(
         typer.Option(help="keep modes up to this frequency, cpm (default 2.5 × mesh frequency)"),
     ] = None,
     n: Annotated[int, typer.Option(help="least stable exponents listed per case")] = 6,
-    format: Annotated[str, typer.Option("--format", help="table or json")] = "table",
+    format: FormatOpt = "table",
     plot: Annotated[
         Path | None, typer.Option(help="PNG: largest growth rate against speed (or Ka)")
     ] = None,
-    set_: Annotated[
-        list[str] | None,
-        typer.Option("--set", help="Override a model value: PATH=VALUE (repeatable)."),
-    ] = None,
+    set_: SetOpt = None,
 ) -> None:
     """Floquet exponents of the train under its periodic mesh stiffness (teeth in contact,
     constant speed): growth rate (1/s, positive = parametrically unstable), frequency and the
@@ -59,10 +54,7 @@ def floquet_command(
     from .analyses.transient import build_system
     from .io import load_model, parse_overrides
 
-    if format not in ("table", "json"):
-        raise ModelError(
-            "unknown output format", field="--format", value=format, expected="'table' or 'json'"
-        )
+    check_format(format)
     if n < 1:
         raise ModelError("at least one exponent", field="--n", value=n, expected="≥ 1")
     train = load_model(model, parse_overrides(set_))
@@ -91,7 +83,7 @@ def floquet_command(
             json.dumps({"model": str(model), "cases": [r.to_dict(n) for r in cases]}, indent=1)
         )
     if plot is not None:
-        _plot(cases, plot)
+        _plot(cases, len(sp), kas, plot)
         typer.echo(f"plot written to {plot}", err=format == "json")
 
 
@@ -116,33 +108,33 @@ def _print_table(res, n: int) -> None:
         )
 
 
-def _plot(cases, path: Path) -> None:
+def _plot(cases, n_speeds: int, kas: list[float | None], path: Path) -> None:
+    """Largest growth rate: one line per Ka/Kg against speed, or against Ka/Kg at one speed.
+    ``cases`` are ordered speed-major, Ka/Kg-minor."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    speeds = sorted({round(r.speed / RPM, 6) for r in cases})
-    kas = sorted({r.ka_ratio[0] if r.ka_ratio[0] is not None else -1.0 for r in cases})
+    grid = [cases[i * len(kas) : (i + 1) * len(kas)] for i in range(n_speeds)]
     fig, ax = plt.subplots(figsize=(7, 4.2), constrained_layout=True)
-    if len(speeds) > 1:
-        for k in kas:
-            rs = [r for r in cases if (r.ka_ratio[0] if r.ka_ratio[0] is not None else -1.0) == k]
+    if n_speeds > 1:
+        for j, k in enumerate(kas):
             ax.plot(
-                [r.speed / RPM for r in rs],
-                [r.growth[0] for r in rs],
+                [row[j].speed / RPM for row in grid],
+                [row[j].growth[0] for row in grid],
                 "o-",
-                label="model Ka" if k < 0 else f"Ka/Kg = {k:g}",
+                label="model Ka" if k is None else f"Ka/Kg = {k:g}",
             )
         ax.set_xlabel("reference shaft speed (rpm)")
+        ax.legend()
     else:
-        ax.plot([r.ka_ratio[0] for r in cases], [r.growth[0] for r in cases], "o-")
+        labels = ["model" if k is None else f"{k:g}" for k in kas]
+        ax.plot(labels, [r.growth[0] for r in cases], "o-")
         ax.set_xlabel("Ka/Kg")
     ax.axhline(0.0, color="k", lw=0.8)
     ax.set_ylabel("largest Floquet growth rate (1/s)")
     ax.set_title("Parametric stability (positive: unstable)")
-    if len(speeds) > 1:
-        ax.legend()
     ax.grid(alpha=0.3)
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=120)

@@ -14,14 +14,12 @@ import sys
 from pathlib import Path
 from typing import Annotated
 
-import numpy as np
 import typer
 
 from .cli_errors import cli_errors
+from .cli_options import RPM, SetOpt
 
 __all__ = ["report_command"]
-
-RPM = np.pi / 30  # rpm -> rad/s
 
 
 @cli_errors()
@@ -58,14 +56,7 @@ def report_command(
         Path | None,
         typer.Option(help="saved transient result (NetCDF) to add spectra, waterfall, whirl power"),
     ] = None,
-    set_: Annotated[
-        list[str] | None,
-        typer.Option(
-            "--set",
-            help="Override a model value: PATH=VALUE, e.g. 'meshes[0].stiffness=3e7 N/m' "
-            "(repeatable).",
-        ),
-    ] = None,
+    set_: SetOpt = None,
 ) -> None:
     """Self-contained HTML report: modes (3-D), stability, Campbell, Bode, orbits, API 684 checks,
     and a saved transient result's spectra, waterfall and whirl power; plus PNG figures."""

@@ -18,6 +18,7 @@ import numpy as np
 import typer
 
 from .cli_errors import cli_errors
+from .cli_options import FormatOpt, SetOpt, check_format
 from .errors import ModelError
 
 __all__ = ["transient_command", "plot_command"]
@@ -35,14 +36,11 @@ def transient_command(
     method: Annotated[
         str, typer.Option("--method", help="'modal' (fast) or 'rk4' (reference)")
     ] = "modal",
-    set_: Annotated[
-        list[str] | None,
-        typer.Option("--set", help="override a model value, PATH=VALUE (repeatable)"),
-    ] = None,
+    set_: SetOpt = None,
     output: Annotated[
         Path | None, typer.Option("--output", "-o", help="write the result (NetCDF)")
     ] = None,
-    format: Annotated[str, typer.Option("--format", help="'table' or 'json'")] = "table",
+    format: FormatOpt = "table",
     plot: Annotated[Path | None, typer.Option("--plot", help="directory for PNG figures")] = None,
     reactions: Annotated[
         bool,
@@ -73,13 +71,7 @@ def transient_command(
     from .analyses.transient.plots import standard_figures
 
     with cli_errors():
-        if format not in ("table", "json"):
-            raise ModelError(
-                "unknown output format",
-                field="--format",
-                value=format,
-                expected="'table' or 'json'",
-            )
+        check_format(format)
         from .io import load_model, parse_overrides
 
         train = load_model(model, parse_overrides(set_))
