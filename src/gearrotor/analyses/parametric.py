@@ -27,7 +27,7 @@ reported frequency is the one a spectrum of the growing motion shows.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 from fractions import Fraction
 
 import numpy as np
@@ -56,7 +56,7 @@ class FloquetResult:
     mode_frequency : (m,) rad/s, undamped natural frequencies of the kept modes;
     period : s, the period of the coefficients; mesh_frequency : rad/s per mesh;
     ka_ratio : the Ka/Kg used per mesh (None: the model's own law, e.g. a table);
-    slices : Magnus slices per period; change : the largest multiplier change on the last
+    slices : steps per period; change : the largest multiplier change on the last
     doubling.
     """
 
@@ -72,7 +72,7 @@ class FloquetResult:
     ka_ratio: tuple[float | None, ...]
     slices: int
     change: float
-    n_modes: int = field(default=0)
+    n_modes: int
 
     @property
     def log_dec(self) -> NDArray:
@@ -166,9 +166,8 @@ def floquet(
     cutoff : Hz, keep the undamped modes up to this frequency (default ``cutoff_factor`` × the
         highest mesh frequency: the combination partners of the modes below the mesh frequency
         lie up to about one mesh frequency above them).
-    slices : initial Magnus slices per period, doubled until the multipliers change by less
-        than ``tol`` (absolute; the multipliers of interest have |μ| ≈ 1) or ``max_slices``.
-
+    slices : initial steps per period, doubled until the multipliers change by less than
+        ``tol`` (absolute; the multipliers of interest have |μ| ≈ 1) or ``max_slices``.
     method : ``"lawson"``, ``"magnus"`` or ``"auto"`` (Lawson unless the mean system's
         eigenvector matrix has a condition number above 1e8).
 
@@ -203,13 +202,7 @@ def floquet(
                 raise ModelError(
                     "Ka/Kg out of range", field="ka_ratio", value=r, expected="0 ≤ Ka/Kg < 1"
                 )
-    # φ_m = N_i θ_i: the mesh angle's rate at constant speed (rad/s, signed)
-    rates = np.array(
-        [
-            law.teeth * system.nominal_speeds[system.assembly.meshes[k].shafts[0]]
-            for k, law in enumerate(laws)
-        ]
-    )
+    rates = system.mesh_rates()  # φ_m = N_i θ_i advances at N_i Ω_i (rad/s, signed)
     if np.any(rates == 0):
         raise ModelError("a gear of a mesh does not turn (zero speed)", field="speed")
     T = _common_period([abs(r) for r in rates])
@@ -313,11 +306,7 @@ def floquet(
     idx = np.flatnonzero(sel)
     idx = idx[np.lexsort((freq[idx], -growth[idx]))]
     return FloquetResult(
-        speed=float(
-            system.nominal_speeds[
-                [sh.name for sh in system.train.shafts].index(system.train.reference)
-            ]
-        ),
+        speed=float(system.train.speed if speed is None else speed),
         growth=growth[idx],
         frequency=freq[idx],
         multipliers=mu[idx],

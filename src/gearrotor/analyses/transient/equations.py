@@ -134,6 +134,17 @@ class TransientSystem:
             C[np.ix_(idx, idx)] += c
         return self.M.toarray(), K, C
 
+    def mesh_rates(self) -> NDArray:
+        """(n_mesh,) rad/s, signed: the rate of each mesh angle φ_m = N_i θ_i at the nominal
+        speeds (its absolute value is the mesh frequency)."""
+        return np.array(
+            [
+                law.teeth * self.nominal_speeds[self.assembly.meshes[k].shafts[0]]
+                for k, law in enumerate(self.meshes)
+            ],
+            float,
+        )
+
     def gyroscopic(self, speeds: NDArray | None = None) -> NDArray:
         """Dense Σ_s Ω_s G_s at the given (default nominal) shaft speeds."""
         speeds = self.nominal_speeds if speeds is None else speeds

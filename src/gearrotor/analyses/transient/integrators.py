@@ -363,11 +363,9 @@ def rk4_max_step(system: TransientSystem) -> float:
 
 def excitation_frequency(system: TransientSystem) -> float:
     """Highest excitation frequency (rad/s): mesh frequency |N_i Ω_i|, else 10× shaft speed."""
-    f = [
-        abs(law.teeth * system.nominal_speeds[system.assembly.meshes[k].shafts[0]])
-        for k, law in enumerate(system.meshes)
-    ]
-    return max(f) if f else 10.0 * float(np.max(np.abs(system.nominal_speeds)))
+    if system.meshes:
+        return float(np.abs(system.mesh_rates()).max())
+    return 10.0 * float(np.max(np.abs(system.nominal_speeds)))
 
 
 # ------------------------------------------------------------------------------------------
