@@ -6,9 +6,11 @@ COO triplets and summed into CSR matrices once.
 
 The equations of motion at a reference speed Ω_ref are
 
-    M q̈ + (C + Σ_s Ω_s G_s) q̇ + K q = f,    Ω_s = ratio_s · Ω_ref,
+    M q̈ + (C + Σ_s Ω_s G_s) q̇ + (K + Σ_s Ω_s Kc_s) q = f,    Ω_s = ratio_s · Ω_ref,
 
-where C and K include speed-dependent bearings evaluated at each bearing's own shaft speed.
+where C and K include speed-dependent bearings evaluated at each bearing's own shaft speed, C
+the shafts' material damping, and Kc_s the circulatory stiffness of shaft s's rotating
+material damping (per unit speed; empty without it).
 """
 
 from __future__ import annotations
@@ -39,6 +41,7 @@ from .model import Train
 __all__ = ["Assembly", "MeshInfo", "BearingInfo", "assemble", "DOF_NAMES"]
 
 DOF_NAMES = ("x", "y", "z", "θx", "θy", "θz")
+_TZ2 = [5, 11]  # θz of the two nodes of a shaft element
 
 
 class _Triplets:
@@ -113,6 +116,7 @@ class Assembly:
     K0: sp.csr_array  # speed-independent stiffness (shafts, couplings, meshes, constant bearings)
     C0: sp.csr_array
     G_shaft: tuple[sp.csr_array, ...]  # per shaft, per unit of that shaft's speed
+    Kc_shaft: tuple[sp.csr_array, ...]  # per shaft: rotating-damping circulatory, idem
     speed_ratio: NDArray  # per shaft, Ω_s / Ω_ref
     meshes: tuple[MeshInfo, ...]
     bearings: tuple[BearingInfo, ...] = field(repr=False)
@@ -141,7 +145,8 @@ class Assembly:
     def matrices(
         self, speed: float
     ) -> tuple[sp.csr_array, sp.csr_array, sp.csr_array, sp.csr_array]:
-        """(M, C, G, K) at reference-shaft speed ``speed`` (rad/s); G already scaled by speeds."""
+        """(M, C, G, K) at reference-shaft speed ``speed`` (rad/s); G already scaled by speeds,
+        K including the circulatory stiffness of rotating damping (:meth:`circulatory`)."""
         speeds = self.shaft_speeds(speed)
         G = sp.csr_array((self.n_dof, self.n_dof))
         for s, g in zip(speeds, self.G_shaft, strict=True):
@@ -151,7 +156,24 @@ class Assembly:
         for b in self.bearings:
             if b.element.speed_dependent:
                 b.scatter(Kt, Ct, speeds[b.shaft])
-        return self.M, self.C0 + Ct.csr(self.n_dof), G, self.K0 + Kt.csr(self.n_dof)
+        K = self.K0 + Kt.csr(self.n_dof)
+        if self.rotating_damping:
+            K = K + self.circulatory(speeds)
+        return self.M, self.C0 + Ct.csr(self.n_dof), G, K
+
+    def circulatory(self, speeds: NDArray) -> sp.csr_array:
+        """Σ_s Ω_s Kc_s (skew, N/m, N, N·m) at the shaft speeds ``speeds`` (rad/s, per shaft):
+        the circulatory stiffness of the shafts' rotating material damping."""
+        out = sp.csr_array((self.n_dof, self.n_dof))
+        for s, kc in zip(speeds, self.Kc_shaft, strict=True):
+            if s != 0.0 and kc.nnz:
+                out = out + s * kc
+        return out
+
+    @property
+    def rotating_damping(self) -> bool:
+        """True when a shaft has rotating (internal) material damping."""
+        return any(kc.nnz for kc in self.Kc_shaft)
 
     @property
     def speed_dependent(self) -> bool:
@@ -164,6 +186,8 @@ def _shaft_elements(train: Train, i: int) -> list[ShaftElement]:
     for sec in s.sections:
         mat = train.materials[sec.material or s.material]
         h = sec.length / sec.elements
+        damping = mat.damping
+        alpha, beta = damping.rayleigh if damping is not None else (0.0, 0.0)
         el = ShaftElement(
             length=h,
             outer_diameter=sec.outer_diameter,
@@ -174,6 +198,9 @@ def _shaft_elements(train: Train, i: int) -> list[ShaftElement]:
             mass_outer_diameter=sec.mass_outer_diameter,
             mass_inner_diameter=sec.mass_inner_diameter,
             shear_method=train.shear_method,
+            alpha=alpha,
+            beta=beta,
+            rotating_damping=damping is not None and damping.rotating,
         )
         out.extend([el] * sec.elements)
     return out
@@ -304,14 +331,28 @@ def assemble(train: Train) -> Assembly:
             support_offset.append(-1)
 
     M, K, C = _Triplets(), _Triplets(), _Triplets()
-    G = []
+    G, Kc = [], []
     for i, sl in enumerate(layout.shafts):
-        Gi = _Triplets()
+        Gi, Kci = _Triplets(), _Triplets()
+        spin = np.zeros(sl.n_nodes)  # torsional mass-proportional damping force of a unit spin
         for e, el in enumerate(_shaft_elements(train, i)):
             dofs = np.concatenate([offsets[i][e] + np.arange(6), offsets[i][e + 1] + np.arange(6)])
             M.add(dofs, el.M())
             K.add(dofs, el.K())
             Gi.add(dofs, el.G())
+            if el.damped:
+                C.add(dofs, el.C())
+                spin[e : e + 2] += el.alpha * el.M()[np.ix_(_TZ2, _TZ2)].sum(axis=1)
+            if el.rotating_damping:
+                Kci.add(dofs, el.Kc())
+        if spin.any():
+            # material damping cannot brake the spin: the torsional α M part C_t becomes
+            # C_t − c cᵀ / (rᵀc), c = C_t r, r the rigid rotation (rank one, symmetric, C_t r = 0);
+            # for a uniform α this is α(M − M r rᵀM / rᵀMr) on the shaft's elements, which leaves
+            # the damping α of a vibration mode M-orthogonal to r (a free shaft's) unchanged
+            nz = np.flatnonzero(spin)
+            C.add(offsets[i][nz] + 5, -np.outer(spin[nz], spin[nz]) / spin.sum())
+        Kc.append(Kci.csr(n))
         for k, d in enumerate(train.shafts[i].disks):
             _, node = train.node_index(d, f"shafts[{i}].disks[{k}]", shaft=sl.name)
             el = _disk_element(train, i, k)
@@ -396,6 +437,7 @@ def assemble(train: Train) -> Assembly:
         K0=K.csr(n),
         C0=C.csr(n),
         G_shaft=tuple(G),
+        Kc_shaft=tuple(Kc),
         speed_ratio=np.array([s.speed_ratio for s in layout.shafts]),
         meshes=tuple(meshes),
         bearings=tuple(bearings),

@@ -29,6 +29,8 @@ __all__ = [
     "Force",
     "Torque",
     "Time",
+    "Rate",
+    "Frequency",
     "Dimensionless",
     "rpm_to_rad_s",
     "rad_s_to_rpm",
@@ -55,6 +57,8 @@ KINDS: dict[str, tuple[str, str, str]] = {
     "force": ("N", "a force", "1000 N"),
     "torque": ("N*m", "a torque", "500 N*m"),
     "time": ("s", "a time", "3 s"),
+    "rate": ("1/s", "a rate (per second)", "0.5 1/s"),
+    "frequency": ("rad/s", "a frequency", "100 Hz"),
     "viscosity": ("Pa*s", "a dynamic viscosity", "0.02 Pa*s"),
     "dimensionless": ("", "a plain number", "0.3"),
 }
@@ -83,8 +87,8 @@ def to_si(value: Any, kind: str) -> float:
         raise ValueError(f"cannot read {value!r} as {name} (e.g. '{example}'): {exc}") from None
     if not isinstance(q, pint.Quantity):
         return float(q)
-    if kind == "angular_speed" and "hertz" in str(q.units):
-        # Hz on a rotational speed means revolutions per second, not rad/s
+    if kind in ("angular_speed", "frequency") and "hertz" in str(q.units):
+        # Hz on a rotational speed or a frequency means cycles per second, not rad/s
         q = q.to("Hz").magnitude * ureg("revolution/second")
     if unit == "":
         if not q.dimensionless:
@@ -119,6 +123,8 @@ UnbalanceAmount = _quantity("unbalance")
 Force = _quantity("force")
 Torque = _quantity("torque")
 Time = _quantity("time")
+Rate = _quantity("rate")
+Frequency = _quantity("frequency")
 Viscosity = _quantity("viscosity")
 Dimensionless = _quantity("dimensionless")
 

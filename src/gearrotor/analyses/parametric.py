@@ -184,7 +184,7 @@ def floquet(
     if speed is not None:
         if not speed > 0:
             raise ModelError("speed must be positive", field="speed", value=speed, expected="> 0")
-        system = replace(system, nominal_speeds=system.assembly.shaft_speeds(speed))
+        system = system.at_speed(speed)
     laws = system.meshes
     if not laws:
         raise ModelError("Floquet analysis needs at least one gear mesh", field="meshes")

@@ -14,6 +14,13 @@ along the element), not transcribed: stiffness ``∫EI ψ'ᵀψ' + κGA γᵀγ`
 ``∫ρA NᵀN``, rotary inertia ``∫ρI N_ψᵀN_ψ`` and the gyroscopic matrix ``∫ρIp (θxᵀθy − θyᵀθx)``.
 The axial bar and the torsional rod use linear shape functions (consistent mass).
 
+Material damping is Rayleigh damping ``C = α M + β K`` of the element. When it rotates with the
+shaft (internal damping), the bending part C_b acts on the velocities seen in the frame spinning
+at Ω: with the complex plane coordinates ``p = p_x + i p_y`` (``p_x = (x, θy, ...)``,
+``p_y = (y, −θx, ...)``, the plane-beam DOFs of the two planes), the rotating-frame velocity is
+``(ṗ − iΩp) e^{−iΩt}``, so the fixed-frame force is ``−C_b (ṗ − iΩ p)``: the damping C plus the
+circulatory stiffness ``Ω Kc`` with ``Kc p = C_b (p_y, −p_x)`` (skew), see :meth:`ShaftElement.Kc`.
+
 Convergence: the stiffness is exact for a uniform element; frequencies converge as h⁴ while
 elements are slender (Φ ≪ 1) and as h² once elements are shorter than about the diameter
 (Φ ≳ 1), where the interpolation tends to linear displacements (see tests/test_shaft_element.py).
@@ -116,6 +123,8 @@ class ShaftElement:
     mass_outer_diameter, mass_inner_diameter : m, section used for inertia (non-structural
         mass such as a shrunk-on sleeve); default: the structural section
     shear_method : ``"hutchinson"`` or ``"cowper"``; ``shear=False`` gives Euler–Bernoulli (Φ = 0)
+    alpha : 1/s, beta : s, material damping ``C = α M + β K``; ``rotating_damping`` makes it
+        act in the spinning frame (adds the circulatory stiffness :meth:`Kc`)
     """
 
     length: float
@@ -129,6 +138,9 @@ class ShaftElement:
     shear_method: str = "hutchinson"
     shear: bool = True
     rotary_inertia: bool = True
+    alpha: float = 0.0
+    beta: float = 0.0
+    rotating_damping: bool = False
 
     # --- section properties -------------------------------------------------------------
     @property
@@ -234,6 +246,36 @@ class ShaftElement:
         ix = [X, TY, 6 + X, 6 + TY]
         out[np.ix_(iy, ix)] += gxy
         out[np.ix_(ix, iy)] -= gxy.T
+        return out
+
+    @property
+    def damped(self) -> bool:
+        """True when the element has material damping (α or β non-zero)."""
+        return self.alpha != 0.0 or self.beta != 0.0
+
+    def C(self) -> NDArray:
+        """Material damping matrix ``α M + β K`` (12×12, N·s/m, N·s, N·m·s)."""
+        return self.alpha * self.M() + self.beta * self.K()
+
+    def Kc(self) -> NDArray:
+        """Circulatory stiffness per unit spin speed of rotating damping (12×12, skew, N·s/m,
+        N·s, N·m·s; zero without ``rotating_damping``).
+
+        Enters the equations as ``Ω Kc q``. From the fixed-frame force ``−C_b (ṗ − iΩ p)`` of
+        the bending damping (plane matrix ``c = α(m_t + m_r) + β k``): the x-plane rows get
+        ``c p_y = c T q_y`` and the y-plane rows (``p_y = T q_y``) get ``−T c p_x``, with
+        ``T = diag(1, −1, 1, −1)``. Axial and torsional damping have no circulatory part.
+        """
+        out = np.zeros((12, 12))
+        if not self.rotating_damping:
+            return out
+        p = self._plane
+        c = self.alpha * (p["mt"] + p["mr"]) + self.beta * p["k"]
+        T = np.diag([1.0, -1.0, 1.0, -1.0])
+        ix = [X, TY, 6 + X, 6 + TY]
+        iy = [Y, TX, 6 + Y, 6 + TX]
+        out[np.ix_(ix, iy)] = c @ T
+        out[np.ix_(iy, ix)] = -T @ c
         return out
 
     def _scatter_bending(self, out: NDArray, plane: NDArray) -> None:

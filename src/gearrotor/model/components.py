@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from typing import Literal
 
-from pydantic import BaseModel, ConfigDict, Field, model_validator
+from pydantic import BaseModel, ConfigDict, Field, model_serializer, model_validator
 
 from ..units import (
     Angle,
@@ -18,10 +18,12 @@ from ..units import (
     Density,
     Dimensionless,
     Force,
+    Frequency,
     Inertia,
     Length,
     Mass,
     Modulus,
+    Rate,
     RotDamping,
     RotStiffness,
     Stiffness,
@@ -32,6 +34,7 @@ from ..units import (
 
 __all__ = [
     "Spec",
+    "MaterialDamping",
     "Material",
     "Section",
     "Disk",
@@ -63,19 +66,92 @@ class Spec(BaseModel):
     model_config = ConfigDict(extra="forbid", frozen=True)
 
 
+class MaterialDamping(Spec):
+    """Material damping of the shaft elements, as equivalent viscous (Rayleigh) damping.
+
+    Every shaft element made of the material gets the damping matrix ``C_e = α M_e + β K_e``
+    (its own consistent mass and stiffness; disks, bearings, couplings and meshes get none).
+    Give either
+
+    * ``alpha`` (1/s, mass-proportional) and/or ``beta`` (s, stiffness-proportional): a mode of
+      a uniform free shaft at natural frequency ω gets the damping ratio ζ = α/(2ω) + βω/2; or
+    * ``loss_factor`` η with ``reference_frequency`` ω_ref (rad/s, or e.g. ``"100 Hz"``): the
+      hysteretic stiffness K(1 + iη) replaced by the viscous damping that dissipates the same
+      energy per cycle at ω_ref, i.e. α = 0 and β = η/ω_ref (ζ = η/2 at ω_ref, growing in
+      proportion to frequency elsewhere).
+
+    The mass-proportional term acts on the torsional vibration relative to each shaft's rigid
+    rotation, so it never brakes the spin; on lateral and axial motion it also damps rigid-body
+    motion, like an external damping proportional to mass.
+
+    ``rotating = false`` (default): stationary damping, the matrix C_e in the fixed frame.
+    ``rotating = true``: internal damping, acting on the strain rate seen by the spinning
+    material. Its bending part then also gives the skew circulatory stiffness Ω Kc
+    (:meth:`gearrotor.elements.ShaftElement.Kc`, Ω the shaft's spin speed; Zorzi & Nelson
+    1977), which feeds energy into forward whirl above the speed ω_n (1 + c_e/c_i) of each mode
+    (external/internal modal damping); its axial and torsional parts are unchanged. Rotating
+    damping is stiffness-proportional only (``alpha = 0``): mass-proportional damping in the
+    rotating frame would act on a rigid whirl, which strains nothing.
+    """
+
+    alpha: Rate = Field(default=0.0, ge=0, description="mass-proportional coefficient (1/s)")
+    beta: Time = Field(default=0.0, ge=0, description="stiffness-proportional coefficient (s)")
+    loss_factor: Dimensionless | None = Field(default=None, ge=0)
+    reference_frequency: Frequency | None = Field(default=None, gt=0)
+    rotating: bool = False
+
+    @model_validator(mode="after")
+    def _one_form(self) -> MaterialDamping:
+        if (self.loss_factor is None) != (self.reference_frequency is None):
+            raise ValueError(
+                "'loss_factor' and 'reference_frequency' go together: the loss factor is "
+                "converted to viscous damping at that frequency (e.g. loss_factor = 0.002, "
+                "reference_frequency = '100 Hz')"
+            )
+        if self.loss_factor is not None and (self.alpha or self.beta):
+            raise ValueError(
+                "give either 'loss_factor' (with 'reference_frequency') or the Rayleigh "
+                "coefficients 'alpha'/'beta', not both"
+            )
+        if self.rotating and self.alpha:
+            raise ValueError(
+                f"rotating damping is stiffness-proportional only: got alpha = {self.alpha} "
+                "1/s with rotating = true; expected alpha = 0 (use 'beta' or 'loss_factor')"
+            )
+        return self
+
+    @property
+    def rayleigh(self) -> tuple[float, float]:
+        """(α in 1/s, β in s) of the equivalent viscous damping ``α M_e + β K_e``."""
+        if self.loss_factor is not None:
+            return 0.0, self.loss_factor / self.reference_frequency
+        return self.alpha, self.beta
+
+
 class Material(Spec):
-    """Isotropic elastic material. Give ``poisson`` or ``shear_modulus``."""
+    """Isotropic elastic material. Give ``poisson`` or ``shear_modulus``; optionally the shaft
+    elements' material ``damping`` (:class:`MaterialDamping`; default: none)."""
 
     E: Modulus = Field(gt=0, description="Young's modulus (Pa)")
     density: Density = Field(gt=0, description="kg/m³")
     poisson: Dimensionless | None = Field(default=None, gt=-1, lt=0.5)
     shear_modulus: Modulus | None = Field(default=None, gt=0)
+    damping: MaterialDamping | None = None
 
     @model_validator(mode="after")
     def _one_of(self) -> Material:
         if (self.poisson is None) == (self.shear_modulus is None):
             raise ValueError("give exactly one of 'poisson' or 'shear_modulus'")
         return self
+
+    @model_serializer(mode="wrap")
+    def _without_absent_damping(self, handler):
+        # an undamped material serialises as before damping existed, so the model JSON (study
+        # case keys, transient checkpoint fingerprints) of existing models does not change
+        out = handler(self)
+        if self.damping is None:
+            out.pop("damping", None)
+        return out
 
     @property
     def G(self) -> float:

@@ -37,6 +37,12 @@ Speed-dependent bearings (coefficient tables) are applied as forces with the coe
 shaft's instantaneous speed; constant bearings, couplings, thrust bearings and cross-coupling
 stay in K and C.
 
+The shafts' material damping is in C. The circulatory stiffness of rotating (internal) material
+damping, Σ_s Ω_s Kc_s, is in K at the *nominal* shaft speeds (not at the instantaneous Ω_s(t),
+which would need a term Ω_s(t) Kc_s q in the kernels): exact with ``frozen_speed``, and off by
+the relative speed deviation ΔΩ/Ω of that term otherwise (small in steady operation; a run-up
+from rest is not represented correctly).
+
 Active DOFs: groups of DOFs that no element couples to anything forced and that start at rest
 (e.g. the axial DOFs of a spur-gear train without thrust load) stay exactly zero and are
 removed; this is exact, and it removes the stiff axial rods from the explicit step limit.
@@ -70,9 +76,10 @@ class TransientSystem:
     assembly: Assembly = field(repr=False)
     active: NDArray
     M: sp.csr_array
-    K: sp.csr_array  # without the gear meshes and speed-dependent bearings
-    C: sp.csr_array  # idem
+    K: sp.csr_array  # without the gear meshes and speed-dependent bearings; Σ Ω_s Kc_s included
+    C: sp.csr_array  # without the gear meshes and speed-dependent bearings
     G: tuple[sp.csr_array, ...]  # per shaft, per unit speed
+    Kc: tuple[sp.csr_array, ...]  # per shaft, per unit speed (in K at the nominal speeds)
     shaft_of_row: NDArray  # (n,) shaft of each active DOF (−1: pedestal)
     torsion: NDArray  # (n,) bool: θz DOFs
     a_weights: tuple[NDArray, ...]  # per shaft: (n,) weights, Ω_s = a_s · q̇
@@ -134,6 +141,16 @@ class TransientSystem:
             C[np.ix_(idx, idx)] += c
         return self.M.toarray(), K, C
 
+    def at_speed(self, speed: float) -> TransientSystem:
+        """The system at reference-shaft speed ``speed`` (rad/s): the nominal shaft speeds and
+        the circulatory stiffness of rotating damping in K re-evaluated there."""
+        speeds = self.assembly.shaft_speeds(speed)
+        K = self.K
+        for new, old, kc in zip(speeds, self.nominal_speeds, self.Kc, strict=True):
+            if kc.nnz and new != old:
+                K = K + (new - old) * kc
+        return replace(self, nominal_speeds=np.asarray(speeds, float), K=sp.csr_array(K))
+
     def mesh_rates(self) -> NDArray:
         """(n_mesh,) rad/s, signed: the rate of each mesh angle φ_m = N_i θ_i at the nominal
         speeds (its absolute value is the mesh frequency)."""
@@ -183,7 +200,7 @@ def build_system(
     speeds = asm.shaft_speeds(train.speed)
 
     # ---- meshes out of K and C (they become nonlinear forces) -------------------------------
-    K = sp.lil_array(asm.K0)
+    K = sp.lil_array(asm.K0 + asm.circulatory(speeds) if asm.rotating_damping else asm.K0)
     C = sp.lil_array(asm.C0)
     for m in asm.meshes:
         ww = np.outer(m.w, m.w)
@@ -315,6 +332,7 @@ def build_system(
         K=sub(K),
         C=sub(C),
         G=tuple(sub(g) for g in asm.G_shaft),
+        Kc=tuple(sub(kc) for kc in asm.Kc_shaft),
         shaft_of_row=shaft_of_row,
         torsion=torsion,
         a_weights=tuple(a_w),

@@ -685,6 +685,26 @@ def _write_npz_atomic(path: Path, **arrays) -> None:
     os.replace(tmp, path)
 
 
+def _warn_rotating_damping_speed(system: TransientSystem, speeds: NDArray) -> None:
+    """Warn when a shaft with rotating material damping strayed more than 2 % from its
+    nominal speed: its circulatory stiffness is applied at the nominal speed."""
+    import warnings
+
+    for s, kc in enumerate(system.Kc):
+        nominal = abs(float(system.nominal_speeds[s]))
+        if not kc.nnz or not len(speeds):
+            continue
+        dev = float(np.max(np.abs(np.abs(speeds[:, s]) - nominal))) / max(nominal, 1e-12)
+        if dev > 0.02:
+            warnings.warn(
+                f"shaft {system.train.shafts[s].name!r} has rotating material damping, whose "
+                f"circulatory stiffness the transient applies at the nominal speed, and its speed "
+                f"departed from it by up to {100 * dev:.3g} %: that term is off by as much "
+                "(docs/transient.md)",
+                stacklevel=3,
+            )
+
+
 def transient(
     model: Train | Assembly,
     *,
@@ -888,6 +908,7 @@ def transient(
     if checkpoint is not None and Path(checkpoint.path).exists():
         Path(checkpoint.path).unlink()
     nr = (n_steps - 1) // save_every + 1
+    _warn_rotating_damping_speed(system, rec_om[:nr])
     stats = {
         "method": prep.kind if prep.kind == "physical" else "modal",
         "dt": dt,
