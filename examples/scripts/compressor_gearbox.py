@@ -11,7 +11,10 @@ Reproduces the figures and numbers of ``docs/examples/compressor_gearbox.md``:
    the pinion, starting from the static deflection), RK4 at Δt = 1e-6 s;
 4. the same without mesh damping: the time-varying mesh stiffness makes the train
    parametrically unstable (growth rate and frequency);
-5. whirl-promoting power by component.
+5. Floquet exponents (which mode pairs the mesh pumps), with and without mesh damping;
+6. whirl-promoting power by component;
+7. the located pinion: the thrust bearing moved from the bull gear to the pinion, without
+   mesh damping (the seed's assumption) - the 10x component grows with Ka/Kg while 1x stays.
 
 Run from the repository root::
 
@@ -59,8 +62,16 @@ T_PINION = -POWER_W / (SPEED_RPM * RPM)
 T_BULL = -POWER_W / (SPEED_RPM * 42 / 71 * RPM)
 
 
-def overrides(ka: float = 0.0, damping_ratio: float | None = None) -> dict:
-    ov = {}
+#: section 7: the thrust bearing on the pinion (at its blind-end journal) instead of the bull gear
+LOCATED_PINION = {
+    "thrust_bearings[0].name": "pinion thrust",
+    "thrust_bearings[0].shaft": "pinion",
+    "thrust_bearings[0].node": "2",
+}
+
+
+def overrides(ka: float = 0.0, damping_ratio: float | None = None, located: bool = False) -> dict:
+    ov = dict(LOCATED_PINION) if located else {}
     for m in (0, 1):
         ov[f"meshes[{m}].variation.ka_ratio"] = str(ka)
         if damping_ratio is not None:
@@ -68,8 +79,13 @@ def overrides(ka: float = 0.0, damping_ratio: float | None = None) -> dict:
     return ov
 
 
-def model(ka: float = 0.0, damping_ratio: float | None = None, loaded: bool = False) -> Train:
-    train = load_model(MODEL, overrides(ka, damping_ratio))
+def model(
+    ka: float = 0.0,
+    damping_ratio: float | None = None,
+    loaded: bool = False,
+    located: bool = False,
+) -> Train:
+    train = load_model(MODEL, overrides(ka, damping_ratio, located))
     if not loaded:
         return train
     data = train.model_dump()
@@ -121,9 +137,7 @@ def ten_x_mode(res) -> int:
     return idx
 
 
-def modes_study(figures: Path | None) -> dict:
-    train = load_model(MODEL)
-    res = modal(train, speed=SPEED_RPM * RPM, max_frequency=100_000 * RPM)
+def mode_rows(res) -> list[dict]:
     rows = []
     for i in range(len(res)):
         e = mode_energies(res, i)
@@ -137,8 +151,20 @@ def modes_study(figures: Path | None) -> dict:
                 "energy": {k: round(v, 3) for k, v in e.items() if v >= 0.03},
             }
         )
+    return rows
+
+
+def modes_study(figures: Path | None) -> dict:
+    train = load_model(MODEL)
+    res = modal(train, speed=SPEED_RPM * RPM, max_frequency=100_000 * RPM)
+    rows = mode_rows(res)
     i10 = ten_x_mode(res)
     out = {"modes": rows, "ten_x_index": i10, "ten_x": rows[i10]}
+    located = modal(model(located=True), speed=SPEED_RPM * RPM, max_frequency=100_000 * RPM)
+    out["located_pinion"] = {
+        "ten_x": mode_rows(located)[ten_x_mode(located)],
+        "axial": [r for r in mode_rows(located) if r["type"] == "A"],
+    }
     if figures is not None:
         from gearrotor.plots import plot_campbell, plot_mode_shapes
 
@@ -182,7 +208,7 @@ def metrics(r, window: float) -> dict:
     for tag, sl in (("run", slice(None)), ("last", last)):
         f, a = spectrum(x[sl], dt)
         order = f / (om / RPM)
-        for band, lo, hi in (("10x", 9.5, 10.5), ("8x", 7.5, 9.5)):
+        for band, lo, hi in (("10x", 9.5, 10.5), ("8x", 7.5, 9.5), ("32x", 31.0, 33.0)):
             m = (order >= lo) & (order <= hi)
             j = int(np.argmax(a[m]))
             out[f"x_{band}_{tag}_um"] = float(a[m][j] * 1e6)
@@ -207,24 +233,35 @@ def metrics(r, window: float) -> dict:
 def run_case(args: tuple) -> dict:
     """One transient (in a worker process): returns metrics, the blind-end spectrum and a
     decimated blind-end history."""
-    ka, zeta, loaded, method, t_end = args
-    train = model(ka, zeta, loaded)
+    ka, zeta, loaded, method, t_end, *rest = args
+    located = bool(rest and rest[0])
+    train = model(ka, zeta, loaded, located)
     integ = RK4(dt=1e-6) if method == "rk4" else ModalRK4(static_correction=False)
     t0 = time.perf_counter()
     try:
         r = transient(train, t_end=t_end, integrator=integ, initial="static" if loaded else "zero")
     except Exception as exc:  # noqa: BLE001 - a diverging run is a result here
-        return {"ka": ka, "zeta": zeta, "loaded": loaded, "method": method, "error": str(exc)}
+        return {
+            "ka": ka,
+            "zeta": zeta,
+            "loaded": loaded,
+            "located": located,
+            "method": method,
+            "error": str(exc),
+        }
     wall = time.perf_counter() - t0
     k = list(r.node_labels).index(PROBE)
     dt = float(np.median(np.diff(r.time)))
     f, a = spectrum(r.node_x[:, k], dt)
     keep = f <= 300_000
+    last = r.time >= r.time[-1] - min(0.25, 0.5 * t_end)
+    fl, al = spectrum(r.node_x[last, k], dt)
     step = max(1, len(r.time) // 4000)
     return {
         "ka": ka,
         "zeta": zeta,
         "loaded": loaded,
+        "located": located,
         "method": method,
         "wall_s": wall,
         "dt_s": r.stats.dt,
@@ -232,6 +269,7 @@ def run_case(args: tuple) -> dict:
         "n_modes": r.stats.n_modes,
         "metrics": metrics(r, min(0.25, 0.5 * t_end)),
         "spectrum": [f[keep].tolist(), a[keep].tolist()],
+        "spectrum_last": [fl[fl <= 300_000].tolist(), al[fl <= 300_000].tolist()],
         "history": [r.time[::step].tolist(), r.node_x[::step, k].tolist()],
         "whirl": [r.time[::step].tolist(), r.whirl_power[::step].T.tolist(), list(r.whirl_names)],
     }
@@ -387,17 +425,28 @@ def whirl_figure(runs: list[tuple[dict, str]], path: Path) -> None:
 
 
 # ---- 5. Floquet: which mode pairs the mesh stiffness variation pumps ----------------------------
+#: (mesh damping ratio or None for the model's, located pinion) of the Floquet study
+CONFIGS = ((None, False), (0.0, False), (0.0, True))
+
+
+def _config_label(zeta: float | None, located: bool) -> str:
+    return ("2 % mesh damping" if zeta is None else "no mesh damping") + (
+        ", located pinion" if located else ""
+    )
+
+
 def floquet_study(figures: Path | None) -> dict:
     """Floquet exponents of the constant-speed train for Ka/Kg = 0 ... 0.75, with the model's
-    2 % mesh damping and without; the 10x mode and its 42x − 10x partner are followed by their
-    undamped frequencies; a speed sweep of the largest growth rate at Ka/Kg = 0.75."""
+    2 % mesh damping and without, and without it on the located pinion (section 7); the 10x
+    mode and its 42x − 10x partner are followed by their undamped frequencies; a speed sweep
+    of the largest growth rate at Ka/Kg = 0.75."""
     from gearrotor.analyses.parametric import floquet
     from gearrotor.analyses.transient import build_system
 
     out: dict = {"cases": [], "sweep": []}
     mesh_cpm = 42 * SPEED_RPM
-    for zeta in (None, 0.0):
-        system = build_system(model(0.0, zeta))
+    for zeta, located in CONFIGS:
+        system = build_system(model(0.0, zeta, located=located))
         for ka in KAS:
             r = floquet(system, ka_ratio=ka)
             mf = r.mode_frequency * 30 / math.pi
@@ -416,6 +465,7 @@ def floquet_study(figures: Path | None) -> dict:
             out["cases"].append(
                 {
                     "zeta": zeta,
+                    "located": located,
                     "ka": ka,
                     "top": [row(i) for i in range(3)],
                     "ten_x_mode_cpm": float(mf[ten]),
@@ -424,10 +474,12 @@ def floquet_study(figures: Path | None) -> dict:
                 }
             )
     speeds = np.linspace(5000.0, 6400.0, 57)
-    for zeta in (None, 0.0):
-        system = build_system(model(0.0, zeta))
+    for zeta, located in CONFIGS:
+        system = build_system(model(0.0, zeta, located=located))
         g = [float(floquet(system, ka_ratio=0.75, speed=v * RPM).growth[0]) for v in speeds]
-        out["sweep"].append({"zeta": zeta, "speed_rpm": speeds.tolist(), "growth_1_s": g})
+        out["sweep"].append(
+            {"zeta": zeta, "located": located, "speed_rpm": speeds.tolist(), "growth_1_s": g}
+        )
     if figures is not None:
         floquet_figure(out, figures / "compressor_floquet.png")
     return out
@@ -436,10 +488,11 @@ def floquet_study(figures: Path | None) -> dict:
 def floquet_figure(f: dict, path: Path) -> None:
     import matplotlib.pyplot as plt
 
-    fig, (a1, a2) = plt.subplots(1, 2, figsize=(12, 4.4), constrained_layout=True)
-    for zeta, style in ((None, "-"), (0.0, "--")):
-        cs = [c for c in f["cases"] if c["zeta"] == zeta]
-        tag = "2 % mesh damping" if zeta is None else "no mesh damping"
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(12, 4.6), constrained_layout=True)
+    styles = ("-", "--", ":")
+    for (zeta, located), style in zip(CONFIGS, styles, strict=True):
+        cs = [c for c in f["cases"] if c["zeta"] == zeta and c["located"] == located]
+        tag = _config_label(zeta, located)
         ka = [c["ka"] for c in cs]
         a1.plot(
             ka,
@@ -460,11 +513,12 @@ def floquet_figure(f: dict, path: Path) -> None:
     a1.set_xlabel("Ka/Kg")
     a1.set_ylabel("Floquet growth rate (1/s)")
     a1.set_title("5,700 rpm: growth rate against Ka/Kg (positive: unstable)")
-    a1.legend(fontsize=8)
+    a1.legend(fontsize=7)
     a1.grid(alpha=0.3)
-    for sw, style in zip(f["sweep"], ("-", "--"), strict=True):
-        tag = "2 % mesh damping" if sw["zeta"] is None else "no mesh damping"
-        a2.plot(sw["speed_rpm"], sw["growth_1_s"], style, label=tag)
+    for sw, style in zip(f["sweep"], styles, strict=True):
+        a2.plot(
+            sw["speed_rpm"], sw["growth_1_s"], style, label=_config_label(sw["zeta"], sw["located"])
+        )
     a2.axhline(0, color="k", lw=0.8)
     a2.axvline(SPEED_RPM, color="0.5", lw=0.8, ls=":")
     a2.set_yscale("symlog", linthresh=1.0)
@@ -473,6 +527,47 @@ def floquet_figure(f: dict, path: Path) -> None:
     a2.set_title("Ka/Kg = 0.75: stability against speed")
     a2.legend(fontsize=8)
     a2.grid(alpha=0.3)
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def located_figure(runs: list[dict], path: Path) -> None:
+    """Section 7: blind-end spectra (last 0.25 s) and the 1x, 10x and 32x lines against Ka."""
+    import matplotlib.pyplot as plt
+
+    fig, (a1, a2) = plt.subplots(
+        1, 2, figsize=(12, 4.4), gridspec_kw={"width_ratios": [1.6, 1]}, constrained_layout=True
+    )
+    ok = [r for r in runs if "error" not in r]
+    for r in ok:
+        f, a = (np.asarray(v) for v in r["spectrum_last"])
+        m = f <= 260_000
+        a1.semilogy(
+            f[m] / 1000, np.maximum(a[m] * 1e6, 1e-7), lw=0.8, label=f"Ka/Kg = {r['ka']:.2f}"
+        )
+    for order, name in ((1, "1x"), (10, "10x"), (32, "32x"), (42, "42x mesh")):
+        fc = order * SPEED_RPM / 1000
+        a1.axvline(fc, color="k", lw=0.5, ls=":")
+        a1.text(fc, 0.97, f" {name}", fontsize=8, va="top", transform=a1.get_xaxis_transform())
+    a1.set_ylim(1e-7, 10)
+    a1.set_xlabel("frequency (1000 cpm)")
+    a1.set_ylabel("pinion blind end x, µm 0-pk")
+    a1.set_title(
+        "Located pinion, no mesh damping, unbalance only: spectrum of the last 0.25 s", fontsize=9
+    )
+    a1.legend(fontsize=8)
+    ka = [r["ka"] for r in ok]
+    for key, lab, mk in (
+        ("x_1x_um", "1x", "o-"),
+        ("x_10x_last_um", "10x band (57,000 cpm)", "^-"),
+        ("x_32x_last_um", "32x band (182,000 cpm)", "s--"),
+    ):
+        a2.semilogy(ka, [max(r["metrics"][key], 1e-7) for r in ok], mk, label=lab)
+    a2.set_xlabel("Ka/Kg")
+    a2.set_title("pinion blind end x, last 0.25 s", fontsize=9)
+    a2.legend(fontsize=8)
+    for ax in (a1, a2):
+        ax.grid(alpha=0.3, which="both")
     fig.savefig(path, dpi=110)
     plt.close(fig)
 
@@ -487,13 +582,15 @@ def study(out_json: Path, figures: Path | None, t_end: float = 0.5, workers: int
     jobs += [(0.75, None, False, "rk4", t_end)]  # accuracy check of the modal integrator
     jobs += [(ka, None, True, "rk4", t_end) for ka in KAS]  # rated load
     jobs += [(ka, 0.0, False, "modal", t_end) for ka in (0.25, 0.5)]  # no mesh damping
+    jobs += [(ka, 0.0, False, "modal", t_end, True) for ka in KAS]  # located pinion
     with ProcessPoolExecutor(workers) as pool:
         res = list(pool.map(run_case, jobs))
     seed = res[:4]
     check = res[4]
     loaded = res[5:9]
-    undamped = res[9:]
-    strip = ("spectrum", "history", "whirl")
+    undamped = res[9:11]
+    located = res[11:]
+    strip = ("spectrum", "spectrum_last", "history", "whirl")
     s["seed_case"] = [{k: v for k, v in r.items() if k not in strip} for r in seed]
     s["rk4_check"] = {k: v for k, v in check.items() if k not in strip}
     m, c = seed[3]["metrics"], check["metrics"]
@@ -507,7 +604,9 @@ def study(out_json: Path, figures: Path | None, t_end: float = 0.5, workers: int
         if "error" not in r:
             d["growth"] = growth(r)
         s["no_mesh_damping"].append(d)
+    s["located_pinion"] = [{k: v for k, v in r.items() if k not in strip} for r in located]
     if figures is not None:
+        located_figure(located, figures / "compressor_located_pinion.png")
         spectra_figure(
             seed,
             "Seed case: 7,200 g·mm at the blind end, no torque, 2 % mesh damping (modal RK4)",
@@ -540,7 +639,7 @@ def report(s: dict) -> str:
         f"10x mode: {t['frequency_rpm']:.0f} cpm ({t['order']:.2f}x), log dec {t['log_dec']:.3f}, "
         f"{t['whirl']} {t['type']} {t['energy']}"
     )
-    for name in ("seed_case", "rated_load"):
+    for name in ("seed_case", "rated_load", "located_pinion"):
         lines.append(name)
         for r in s[name]:
             if "error" in r:
@@ -550,7 +649,8 @@ def report(s: dict) -> str:
             lines.append(
                 f"  Ka {r['ka']:.2f}: 1x {m['x_1x_um']:.4f}/{m['y_1x_um']:.4f} um, 42x "
                 f"{m['x_42x_um']:.4f} um, 10x run {m['x_10x_run_um']:.2e} last "
-                f"{m['x_10x_last_um']:.2e} um, 8x last {m['x_8x_last_um']:.2e} um "
+                f"{m['x_10x_last_um']:.2e} um, 32x last {m['x_32x_last_um']:.2e} um, 8x last "
+                f"{m['x_8x_last_um']:.2e} um "
                 f"({r['method']}, {r['wall_s']:.0f} s)"
             )
     lines.append(f"rk4 check: {s['rk4_check'].get('deviation')}")

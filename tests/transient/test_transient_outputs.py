@@ -43,24 +43,48 @@ def test_spectrum_reads_sinusoid_amplitude_in_cpm():
 
 
 def test_spectral_lines_finds_lines_between_bins_and_not_side_lobes():
-    """Three lines, none on a bin (0.5 s at 8 kHz: bins of 120 cpm), spanning 1e3 in
+    """Three steady lines, none on a bin (0.5 s at 8 kHz: bins of 120 cpm), spanning 1e3 in
     amplitude, on a ramp. Frequencies come back to 1e-3 of a bin (0.12 cpm; the Hann zoom on a
-    noiseless signal converges far below that) and amplitudes to 0.2 % (the flat-top window
+    noiseless signal converges far below that), amplitudes to 0.2 % (the flat-top window
     reads a line anywhere in a bin within 0.1 %; its side lobes, below -90 dB, add < 1e-4 of
-    the strong line). The strong line's lobes and the ramp are not reported as lines."""
+    the strong line), growth rates within 0.02 1/s of zero (the halves' amplitudes agree to
+    ~0.1 %: ln(1.001)/0.25 s = 0.004 1/s), end amplitudes as the mean. The strong line's lobes
+    and the ramp are not reported as lines."""
     dt = 1.25e-4
     t = np.arange(4000) * dt
     lines = [(5700.0 + 37.3, 2.0), (57_114.0 + 11.1, 0.05), (182_260.0 - 44.0, 2e-3)]
     x = 1e-3 * t + sum(a * np.sin(2 * np.pi * f / 60 * t + f) for f, a in lines)
     found = spectral_lines(x, dt, count=6, relative=1e-4)
     assert len(found) == 3
-    for (f, a), (fr, ar) in zip(lines, found, strict=True):
+    for (f, a), (fr, ar, sigma, end) in zip(lines, found, strict=True):
         assert fr == pytest.approx(f, abs=0.12)
         assert ar == pytest.approx(a, rel=2e-3)
+        assert abs(sigma) < 0.02
+        assert end == pytest.approx(a, rel=5e-3)
     # the relative threshold drops the weakest line; count limits the list
     assert len(spectral_lines(x, dt, relative=2e-3)) == 2
     assert len(spectral_lines(x, dt, count=1)) == 1
     assert spectral_lines(np.zeros(4000), dt) == []
+
+
+def test_spectral_lines_growth_rate_and_end_amplitude():
+    """A line growing as e^{19 t} (the compressor's 10x + 32x pair) beside a steady strong
+    1x: the two-half estimate is exact for a pure exponential, so σ and the amplitude at the
+    last sample come back to 0.5 % (measured 0.005 % and 0.13 %; the residual is the
+    frequency error below and the 1x line's leakage)."""
+    dt = 1.25e-4
+    t = np.arange(4000) * dt
+    sigma = 19.0
+    x = 2.0 * np.sin(2 * np.pi * 95.0 * t) + 1e-3 * np.exp(sigma * t) * np.cos(
+        2 * np.pi * 951.7 * t
+    )
+    (f1, *_), (f10, _, s10, end10) = spectral_lines(x, dt, count=2)
+    assert f1 == pytest.approx(95.0 * 60, abs=0.12)
+    # growing by e^9.5 over the record, the line is effectively seen through a window about
+    # 1/σ = 0.05 s long, so the Hann zoom locates it only to a fraction of a 120 cpm bin
+    assert f10 == pytest.approx(951.7 * 60, abs=0.3 * 120)
+    assert s10 == pytest.approx(sigma, rel=5e-3)
+    assert end10 == pytest.approx(1e-3 * np.exp(sigma * t[-1]), rel=5e-3)
 
 
 def test_result_fields_and_whirl_power(short_result):

@@ -160,8 +160,14 @@ class TransientResult:
                 "x_2x_um": a["x2"] * 1e6,
                 "y_2x_um": a["y2"] * 1e6,
                 "x_lines": [
-                    {"cpm": fc, "order": fc / speed_rpm if speed_rpm > 0 else None, "um": a_ * 1e6}
-                    for fc, a_ in spectral_lines(self.node_x[last, k], dt)
+                    {
+                        "cpm": fc,
+                        "order": fc / speed_rpm if speed_rpm > 0 else None,
+                        "um": mean * 1e6,
+                        "growth_1_s": sigma,
+                        "um_end": end * 1e6,
+                    }
+                    for fc, mean, sigma, end in spectral_lines(self.node_x[last, k], dt)
                 ]
                 if last.sum() >= 64
                 else [],
@@ -186,6 +192,8 @@ class TransientResult:
     def table(self) -> str:
         """Human-readable summary table."""
         s = self.summary()
+        window = min(0.5, float(self.time[-1] - self.time[0]))
+        growing = 1.0  # a line is shown as growing/decaying when |σ|·window > 1 (factor e)
         lines = [
             f"transient: {s['method']}, dt = {s['dt_s']:.3g} s, {s['steps']} steps, "
             f"{s['wall_time_s']:.2f} s wall"
@@ -197,16 +205,12 @@ class TransientResult:
                 f"{a['x_2x_um']:>10.3f}{a['y_2x_um']:>10.3f}"
             )
         lines.append(
-            "strongest spectral lines of x over the last 0.5 s (cpm, order of the node's shaft, "
-            "µm 0-pk):"
+            f"strongest spectral lines of x over the last {window:.3g} s (cpm, order of the "
+            "node's shaft, mean µm 0-pk; a line that grows or decays by more than a factor e "
+            "over the window: its rate and its amplitude at the end):"
         )
         for lab, a in s["nodes"].items():
-            text = "; ".join(
-                f"{ln['cpm']:,.0f}"
-                + (f" ({ln['order']:.2f}x)" if ln["order"] is not None else "")
-                + f" {ln['um']:.3g}"
-                for ln in a["x_lines"]
-            )
+            text = "; ".join(_line_text(ln, growing / window) for ln in a["x_lines"])
             lines.append(f"  {lab:<14}{text}")
         lines.append(f"{'shaft':<16}{'min rpm':>12}{'max rpm':>12}{'mean rpm':>12}")
         for name, a in s["shafts"].items():
@@ -342,6 +346,19 @@ def load_result(path: str | Path):
 
 
 # ---- signal processing ---------------------------------------------------------------------
+def _line_text(line: dict, rate: float) -> str:
+    """One spectral line of the summary table: cpm (order) mean µm, and when it grows or
+    decays faster than ``rate`` (1/s) its rate and end amplitude."""
+    text = f"{line['cpm']:,.0f}"
+    if line["order"] is not None:
+        text += f" ({line['order']:.2f}x)"
+    text += f" {line['um']:.3g}"
+    if abs(line["growth_1_s"]) > rate:
+        verb = "growing" if line["growth_1_s"] > 0 else "decaying"
+        text += f" [{verb} {abs(line['growth_1_s']):.3g} 1/s, {line['um_end']:.3g} at the end]"
+    return text
+
+
 def _window(name: str, n: int) -> NDArray:
     """Spectral window of n samples: ``"hann"``, ``"flattop"`` (5-term, side lobes below
     -90 dB, amplitude flat to 0.1 % across a bin) or ``"rect"``."""
@@ -407,17 +424,21 @@ def spectrum(
 
 def spectral_lines(
     x: NDArray, dt: float, *, count: int = 4, relative: float = 1e-3
-) -> list[tuple[float, float]]:
-    """The strongest lines of a signal: up to ``count`` (frequency cpm, zero-to-peak amplitude)
-    pairs, strongest first, of lines at least ``relative`` times the strongest one.
+) -> list[tuple[float, float, float, float]]:
+    """The strongest lines of a signal: up to ``count`` tuples (frequency cpm, mean zero-to-peak
+    amplitude, growth rate 1/s, amplitude at the end), strongest first, of lines at least
+    ``relative`` times the strongest one.
 
     Lines are the peaks of the flat-top spectrum (:func:`spectrum`; peaks within the main-lobe
     half-width of 5 bins of a stronger one and the lowest 5 bins, the removed trend, are
     dropped; the window's side lobes lie below -90 dB, so keep ``relative`` above 1e-4). Each
     frequency is refined between bins by maximising the Hann-windowed Fourier transform (its
-    narrow main lobe locates a line to a small fraction of a bin); the amplitude is the
-    flat-top transform at that frequency (for a growing or decaying line: a mean weighted to
-    the middle of the signal).
+    narrow main lobe locates a line to a small fraction of a bin). The mean amplitude is the
+    flat-top transform at that frequency over the whole signal. The growth rate σ compares
+    the flat-top transforms of the two halves (exact for a line A·e^{σt}: both halves see the
+    same window); the end amplitude extrapolates the second half's to the last sample with
+    that σ, corrected for the window's weighting of e^{σt}. A line that neither grows nor
+    decays has σ ≈ 0 and an end amplitude equal to its mean amplitude.
     """
     from scipy.optimize import minimize_scalar
     from scipy.signal import find_peaks
@@ -430,11 +451,18 @@ def spectral_lines(
     seg = a[lobe:]
     peaks, _ = find_peaks(seg, height=relative * seg.max(), distance=lobe)
     peaks = lobe + peaks[np.argsort(seg[peaks])[::-1][:count]]
-    t = np.arange(len(x)) * dt
+    n = len(x)
+    t = np.arange(n) * dt
     xd = x - np.polyval(np.polyfit(t, x, 1), t)
-    hann, flat = xd * _window("hann", len(x)), _window("flattop", len(x))
-    xf = xd * flat / flat.sum()
+    hann = xd * _window("hann", n)
+    half = n // 2
+    th = t[:half] - t[:half].mean()  # time about the centre of a half
+    flat, flat_h = _window("flattop", n), _window("flattop", half)
     df = f[1] - f[0]
+
+    def amp(sig: NDArray, w: NDArray, tt: NDArray, fc: float) -> float:
+        return float(2 * abs(np.exp(-2j * np.pi * fc / 60 * tt) @ (sig * w)) / w.sum())
+
     out = []
     for k in peaks:
         res = minimize_scalar(
@@ -444,7 +472,12 @@ def spectral_lines(
             options={"xatol": 1e-4 * df},
         )
         fc = float(res.x)
-        out.append((fc, float(2 * abs(np.exp(-2j * np.pi * fc / 60 * t) @ xf))))
+        a1 = amp(xd[:half], flat_h, t[:half], fc)
+        a2 = amp(xd[-half:], flat_h, t[-half:], fc)
+        sigma = float(np.log(a2 / a1) / (half * dt)) if a1 > 0 and a2 > 0 else 0.0
+        weight = float(flat_h @ np.exp(sigma * th) / flat_h.sum())  # window's mean of e^{σt}
+        end = a2 * np.exp(sigma * (t[-1] - t[-half:].mean())) / weight
+        out.append((fc, amp(xd, flat, t, fc), sigma, float(end)))
     return out
 
 
