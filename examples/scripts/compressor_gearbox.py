@@ -161,9 +161,10 @@ def modes_study(figures: Path | None) -> dict:
     i10 = ten_x_mode(res)
     out = {"modes": rows, "ten_x_index": i10, "ten_x": rows[i10]}
     located = modal(model(located=True), speed=SPEED_RPM * RPM, max_frequency=100_000 * RPM)
+    located_rows = mode_rows(located)
     out["located_pinion"] = {
-        "ten_x": mode_rows(located)[ten_x_mode(located)],
-        "axial": [r for r in mode_rows(located) if r["type"] == "A"],
+        "ten_x": located_rows[ten_x_mode(located)],
+        "axial": [r for r in located_rows if r["type"] == "A"],
     }
     if figures is not None:
         from gearrotor.plots import plot_campbell, plot_mode_shapes
@@ -189,31 +190,38 @@ def _crossings(cres) -> list:
 
 
 # ---- 2.-4. transients ----------------------------------------------------------------------
-def metrics(r, window: float) -> dict:
+def probe_spectra(r, window: float) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+    """Hann spectra (cpm, m 0-pk) of the pinion blind-end x over the whole run (the seed's
+    0–0.5 s FFT, ``"run"``) and over the last ``window`` s (``"last"``)."""
+    x = r.node_x[:, list(r.node_labels).index(PROBE)]
+    last = r.time >= r.time[-1] - window
+    dt = float(np.median(np.diff(r.time)))
+    return {"run": spectrum(x, dt), "last": spectrum(x[last], dt)}
+
+
+def metrics(r, window: float, spectra: dict) -> dict:
     """Pinion blind-end amplitudes (µm, 0-pk): 1x and 42x by least squares over the last
-    ``window`` s; the 10x band (9.5x–10.5x) and the 7.5x–9.5x band from Hann spectra over the
-    whole run (the seed's 0–0.5 s FFT) and over the last ``window`` s."""
+    ``window`` s; the 10x (9.5x–10.5x), 7.5x–9.5x and 32x (31x–33x) bands from the
+    :func:`probe_spectra` of the same window."""
     t = r.time
     k = list(r.node_labels).index(PROBE)
     x, y = r.node_x[:, k], r.node_y[:, k]
     last = t >= t[-1] - window
     om = float(np.mean(np.abs(r.shaft_speed[last, 0])))
-    dt = float(np.median(np.diff(t)))
     out = {
         "x_1x_um": amplitude_at(t[last], x[last], om) * 1e6,
         "y_1x_um": amplitude_at(t[last], y[last], om) * 1e6,
         "x_42x_um": amplitude_at(t[last], x[last], 42 * om) * 1e6,
         "y_42x_um": amplitude_at(t[last], y[last], 42 * om) * 1e6,
     }
-    for tag, sl in (("run", slice(None)), ("last", last)):
-        f, a = spectrum(x[sl], dt)
+    for tag, (f, a) in spectra.items():
         order = f / (om / RPM)
         for band, lo, hi in (("10x", 9.5, 10.5), ("8x", 7.5, 9.5), ("32x", 31.0, 33.0)):
             m = (order >= lo) & (order <= hi)
             j = int(np.argmax(a[m]))
             out[f"x_{band}_{tag}_um"] = float(a[m][j] * 1e6)
             out[f"x_{band}_{tag}_cpm"] = float(f[m][j])
-    f, a = spectrum(x[last], dt)
+    f, a = spectra["last"]
     m = (f > 2000) & (f < 300_000)
     fm, am = f[m], a[m]
     loc = np.flatnonzero((am[1:-1] > am[:-2]) & (am[1:-1] >= am[2:])) + 1
@@ -251,11 +259,10 @@ def run_case(args: tuple) -> dict:
         }
     wall = time.perf_counter() - t0
     k = list(r.node_labels).index(PROBE)
-    dt = float(np.median(np.diff(r.time)))
-    f, a = spectrum(r.node_x[:, k], dt)
+    window = min(0.25, 0.5 * t_end)
+    spectra = probe_spectra(r, window)
+    (f, a), (fl, al) = spectra["run"], spectra["last"]
     keep = f <= 300_000
-    last = r.time >= r.time[-1] - min(0.25, 0.5 * t_end)
-    fl, al = spectrum(r.node_x[last, k], dt)
     step = max(1, len(r.time) // 4000)
     return {
         "ka": ka,
@@ -267,7 +274,7 @@ def run_case(args: tuple) -> dict:
         "dt_s": r.stats.dt,
         "steps": r.stats.steps,
         "n_modes": r.stats.n_modes,
-        "metrics": metrics(r, min(0.25, 0.5 * t_end)),
+        "metrics": metrics(r, window, spectra),
         "spectrum": [f[keep].tolist(), a[keep].tolist()],
         "spectrum_last": [fl[fl <= 300_000].tolist(), al[fl <= 300_000].tolist()],
         "history": [r.time[::step].tolist(), r.node_x[::step, k].tolist()],

@@ -156,9 +156,7 @@ class Assembly:
         for b in self.bearings:
             if b.element.speed_dependent:
                 b.scatter(Kt, Ct, speeds[b.shaft])
-        K = self.K0 + Kt.csr(self.n_dof)
-        if self.rotating_damping:
-            K = K + self.circulatory(speeds)
+        K = self.K0 + Kt.csr(self.n_dof) + self.circulatory(speeds)
         return self.M, self.C0 + Ct.csr(self.n_dof), G, K
 
     def circulatory(self, speeds: NDArray) -> sp.csr_array:

@@ -38,6 +38,11 @@ __all__ = ["ShaftElement", "shear_coefficient"]
 
 # DOF indices inside one node
 X, Y, Z, TX, TY, TZ = range(6)
+#: the plane-beam DOFs (w, ψ at both nodes) of the x-z plane (x, θy) and the y-z plane (y, θx),
+#: and the sign change T = diag(1, −1, 1, −1) between them (θx = −ψ in the y-z plane)
+_IX = [X, TY, 6 + X, 6 + TY]
+_IY = [Y, TX, 6 + Y, 6 + TX]
+_T = np.diag([1.0, -1.0, 1.0, -1.0])
 
 # Gauss-Legendre rule on [0, 1]: 4 points integrate the degree-6 products of cubics exactly.
 _GP, _GW = np.polynomial.legendre.leggauss(4)
@@ -239,13 +244,10 @@ class ShaftElement:
         base = self._plane["rot"] if I_m > 0 else np.zeros((4, 4))
         ip = self.density * 2 * I_m
         # θy(z) = N_ψ q_xz ; θx(z) = −N_ψ T q_yz with T = diag(1,−1,1,−1)
-        T = np.diag([1.0, -1.0, 1.0, -1.0])
-        gxy = ip * (-T @ base)  # block (y-plane rows, x-plane cols): ∫ρIp θxᵀ θy
+        gxy = ip * (-_T @ base)  # block (y-plane rows, x-plane cols): ∫ρIp θxᵀ θy
         out = np.zeros((12, 12))
-        iy = [Y, TX, 6 + Y, 6 + TX]
-        ix = [X, TY, 6 + X, 6 + TY]
-        out[np.ix_(iy, ix)] += gxy
-        out[np.ix_(ix, iy)] -= gxy.T
+        out[np.ix_(_IY, _IX)] += gxy
+        out[np.ix_(_IX, _IY)] -= gxy.T
         return out
 
     @property
@@ -271,19 +273,13 @@ class ShaftElement:
             return out
         p = self._plane
         c = self.alpha * (p["mt"] + p["mr"]) + self.beta * p["k"]
-        T = np.diag([1.0, -1.0, 1.0, -1.0])
-        ix = [X, TY, 6 + X, 6 + TY]
-        iy = [Y, TX, 6 + Y, 6 + TX]
-        out[np.ix_(ix, iy)] = c @ T
-        out[np.ix_(iy, ix)] = -T @ c
+        out[np.ix_(_IX, _IY)] = c @ _T
+        out[np.ix_(_IY, _IX)] = -_T @ c
         return out
 
     def _scatter_bending(self, out: NDArray, plane: NDArray) -> None:
-        ix = [X, TY, 6 + X, 6 + TY]
-        iy = [Y, TX, 6 + Y, 6 + TX]
-        T = np.diag([1.0, -1.0, 1.0, -1.0])
-        out[np.ix_(ix, ix)] += plane
-        out[np.ix_(iy, iy)] += T @ plane @ T
+        out[np.ix_(_IX, _IX)] += plane
+        out[np.ix_(_IY, _IY)] += _T @ plane @ _T
 
 
 def _dnw(phi: float, L: float, xi: float) -> NDArray:

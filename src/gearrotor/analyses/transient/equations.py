@@ -200,7 +200,7 @@ def build_system(
     speeds = asm.shaft_speeds(train.speed)
 
     # ---- meshes out of K and C (they become nonlinear forces) -------------------------------
-    K = sp.lil_array(asm.K0 + asm.circulatory(speeds) if asm.rotating_damping else asm.K0)
+    K = sp.lil_array(asm.K0 + asm.circulatory(speeds))
     C = sp.lil_array(asm.C0)
     for m in asm.meshes:
         ww = np.outer(m.w, m.w)

@@ -33,6 +33,7 @@ import hashlib
 import os
 import sys
 import time as _time
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -688,8 +689,6 @@ def _write_npz_atomic(path: Path, **arrays) -> None:
 def _warn_rotating_damping_speed(system: TransientSystem, speeds: NDArray) -> None:
     """Warn when a shaft with rotating material damping strayed more than 2 % from its
     nominal speed: its circulatory stiffness is applied at the nominal speed."""
-    import warnings
-
     for s, kc in enumerate(system.Kc):
         nominal = abs(float(system.nominal_speeds[s]))
         if not kc.nnz or not len(speeds):

@@ -130,12 +130,17 @@ class TransientResult:
             }
         return out
 
+    @property
+    def _summary_window(self) -> float:
+        """s, the span the summary evaluates: the last 0.5 s, or the whole run if shorter."""
+        return min(0.5, float(self.time[-1] - self.time[0]))
+
     def summary(self) -> dict:
         """JSON-ready summary: wall time; per recorded node over the last 0.5 s, the 1x and 2x
         amplitudes (µm) and the strongest spectral lines of x (:func:`spectral_lines`: cpm,
         order of the node's shaft, µm); speed range per shaft (rpm); mesh force range and
         contact-loss fraction."""
-        window = min(0.5, float(self.time[-1] - self.time[0]))
+        window = self._summary_window
         amp = self.amplitude_1x(window)
         s = {
             "status": self.status,
@@ -192,7 +197,7 @@ class TransientResult:
     def table(self) -> str:
         """Human-readable summary table."""
         s = self.summary()
-        window = min(0.5, float(self.time[-1] - self.time[0]))
+        window = self._summary_window
         growing = 1.0  # a line is shown as growing/decaying when |σ|·window > 1 (factor e)
         lines = [
             f"transient: {s['method']}, dt = {s['dt_s']:.3g} s, {s['steps']} steps, "
@@ -454,7 +459,7 @@ def spectral_lines(
     n = len(x)
     t = np.arange(n) * dt
     xd = x - np.polyval(np.polyfit(t, x, 1), t)
-    hann = xd * _window("hann", n)
+    hann = _window("hann", n)
     half = n // 2
     th = t[:half] - t[:half].mean()  # time about the centre of a half
     flat, flat_h = _window("flattop", n), _window("flattop", half)
@@ -466,7 +471,7 @@ def spectral_lines(
     out = []
     for k in peaks:
         res = minimize_scalar(
-            lambda fc: -abs(np.exp(-2j * np.pi * fc / 60 * t) @ hann),
+            lambda fc: -amp(xd, hann, t, fc),
             bounds=(f[k] - df, f[k] + df),
             method="bounded",
             options={"xatol": 1e-4 * df},
