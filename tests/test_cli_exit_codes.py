@@ -1,4 +1,4 @@
-"""One error-to-exit-status mapping for every command (gearrotor.cli_errors): 2 for invalid input
+"""One error-to-exit-status mapping for every command (gearrotor.cli.errors): 2 for invalid input
 (file, field, option value, unwritable output, missing optional package), 3 for a solver
 failure, 1 for a study whose cases failed; one message on stderr, no traceback.
 
@@ -16,7 +16,7 @@ import pytest
 from typer.testing import CliRunner
 
 from gearrotor.cli import app
-from gearrotor.cli_errors import EXIT_CASES_FAILED, EXIT_INPUT, EXIT_SOLVER, input_error
+from gearrotor.cli.errors import EXIT_CASES_FAILED, EXIT_INPUT, EXIT_SOLVER, input_error
 from gearrotor.errors import ModelError, SolverError
 
 SINGLE = "unity_gearbox_single_shaft.toml"

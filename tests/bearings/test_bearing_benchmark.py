@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from gearrotor.bearings import Grid, SolverOptions, coefficients, load_bearing
-from gearrotor.bearings.cli import bearing_command
+from gearrotor.cli.bearing import bearing_command
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "bearings"
 

@@ -18,7 +18,7 @@ from gearrotor.bearings import (
     plain,
     save_table,
 )
-from gearrotor.bearings.cli import bearing_command, parse_load, parse_speed
+from gearrotor.cli.bearing import bearing_command, parse_load, parse_speed
 from gearrotor.errors import ModelError
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "bearings"

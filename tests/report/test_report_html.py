@@ -17,11 +17,11 @@ pytest.importorskip("matplotlib", reason="the report's PNG figures need matplotl
 
 from typer.testing import CliRunner  # noqa: E402
 
+from gearrotor.cli.report import report_command  # noqa: E402
 from gearrotor.errors import ModelError  # noqa: E402
 from gearrotor.io import load_model  # noqa: E402
 from gearrotor.plots import interactive as ix  # noqa: E402
 from gearrotor.plots.report import make_report, parse_analyses  # noqa: E402
-from gearrotor.report_cli import report_command  # noqa: E402
 
 RPM = np.pi / 30
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"

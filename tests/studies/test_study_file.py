@@ -7,9 +7,9 @@ from pathlib import Path
 import pytest
 from typer.testing import CliRunner
 
+from gearrotor.cli.study import study_app
 from gearrotor.errors import ModelError
 from gearrotor.studies import load_study, plan
-from gearrotor.studies.cli import study_app
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 MODEL = (EXAMPLES / "unity_gearbox.toml").as_posix()

@@ -21,6 +21,7 @@ import xarray as xr
 from typer.testing import CliRunner
 
 from gearrotor.analyses import modal
+from gearrotor.cli.study import study_app
 from gearrotor.io import load_model
 from gearrotor.studies import (
     THREAD_ENV,
@@ -33,7 +34,6 @@ from gearrotor.studies import (
     run_study,
     study_status,
 )
-from gearrotor.studies.cli import study_app
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 MODEL = (EXAMPLES / "unity_gearbox.toml").as_posix()
@@ -215,7 +215,7 @@ def test_killed_run_resumes(tmp_path):
     )
     st = load_study(path)
     code = (
-        "import sys; from gearrotor.studies.cli import study_app; "
+        "import sys; from gearrotor.cli.study import study_app; "
         "study_app(['run', sys.argv[1], '--workers', '1', '--no-progress'])"
     )
     proc = subprocess.Popen(

@@ -31,10 +31,10 @@ from gearrotor.analyses.transient import (
     transient,
 )
 from gearrotor.analyses.transient.integrators import rk4_max_step
+from gearrotor.cli.transient import plot_command, transient_command
 from gearrotor.errors import SolverError
 from gearrotor.io import load_model
 from gearrotor.model import Train
-from gearrotor.transient_cli import plot_command, transient_command
 
 MODEL = Path(__file__).resolve().parents[2] / "examples" / "compressor_gearbox.toml"
 RPM = np.pi / 30

@@ -20,7 +20,7 @@ from gearrotor.analyses.transient import (
     transient,
 )
 from gearrotor.analyses.transient.results import spectral_lines
-from gearrotor.transient_cli import plot_command, transient_command
+from gearrotor.cli.transient import plot_command, transient_command
 
 EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "unity_gearbox.toml"
 

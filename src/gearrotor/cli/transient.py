@@ -1,10 +1,8 @@
-"""Command-line functions of the transient analysis (registered by ``gearrotor.cli``):
+"""``gearrotor transient`` and ``gearrotor transient-plot``: the nonlinear transient
+(:func:`gearrotor.analyses.transient.transient`) and the standard figures of a saved result.
 
-app.command("transient")(transient_command)
-app.command("transient-plot")(plot_command)
-
-Exit statuses are those of :mod:`gearrotor.cli_errors`: 2 invalid input, 3 solver failure
-(a diverging run, a step above the stability limit).
+Exit statuses are those of :mod:`.errors`: 2 invalid input, 3 solver failure (a diverging run,
+a step above the stability limit).
 """
 
 from __future__ import annotations
@@ -17,9 +15,9 @@ from typing import Annotated
 import numpy as np
 import typer
 
-from .cli_errors import cli_errors
-from .cli_options import FormatOpt, SetOpt, check_format
-from .errors import ModelError
+from ..errors import ModelError
+from .errors import cli_errors
+from .options import FormatOpt, SetOpt, check_format
 
 __all__ = ["transient_command", "plot_command"]
 
@@ -60,19 +58,19 @@ def transient_command(
     ] = None,
 ) -> None:
     """Nonlinear transient (time-varying mesh, backlash, free speed) of a train."""
-    from .analyses.transient.equations import build_system
-    from .analyses.transient.integrators import (
+    from ..analyses.transient import (
         RK4,
         Checkpoint,
         ModalRK4,
+        build_system,
         rk4_max_step,
         transient,
     )
-    from .analyses.transient.plots import standard_figures
+    from ..analyses.transient.plots import standard_figures
 
     with cli_errors():
         check_format(format)
-        from .io import load_model, parse_overrides
+        from ..io import load_model, parse_overrides
 
         train = load_model(model, parse_overrides(set_))
         if method == "rk4":
@@ -124,8 +122,8 @@ def plot_command(
     ] = None,
 ) -> None:
     """Standard figures of a saved transient result."""
-    from .analyses.transient.plots import standard_figures
-    from .analyses.transient.results import load_result
+    from ..analyses.transient import load_result
+    from ..analyses.transient.plots import standard_figures
 
     try:
         ds = load_result(file)

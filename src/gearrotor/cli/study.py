@@ -1,11 +1,7 @@
-"""Command-line functions of parametric studies, registered by ``gearrotor.cli`` as::
-
-    from .studies.cli import study_app
-    app.add_typer(study_app, name="study")
-
-giving ``gearrotor study run STUDY.toml [--scheduler ADDR|local] [--workers N]``,
+"""``gearrotor study``: parametric studies (:mod:`gearrotor.studies`), a sub-application with
+the commands ``gearrotor study run STUDY.toml [--scheduler ADDR|local] [--workers N]``,
 ``gearrotor study status STUDY.toml`` and ``gearrotor study report STUDY.toml [--output DIR]``.
-Exit statuses are those of :mod:`gearrotor.cli_errors`: input errors print one message (file,
+Exit statuses are those of :mod:`.errors`: input errors print one message (file,
 field, value, expectation) and exit with status 2; a run in which some cases failed exits with
 status 1 after listing them (the failures are recorded per case, a solver failure of one case
 does not stop the study).
@@ -19,8 +15,8 @@ from typing import Annotated
 
 import typer
 
-from ..cli_errors import EXIT_CASES_FAILED, EXIT_CODES_HELP, cli_errors
 from ..errors import ModelError
+from .errors import EXIT_CASES_FAILED, EXIT_CODES_HELP, cli_errors
 
 __all__ = ["study_app"]
 
@@ -87,8 +83,8 @@ def run_command(
     progress: Annotated[bool, typer.Option(help="progress bar on stderr")] = True,
 ) -> None:
     """Run the cases of a study that have not finished (resumes an interrupted study)."""
-    from .execute import run_study
-    from .spec import load_study
+    from ..studies.execute import run_study
+    from ..studies.spec import load_study
 
     st = load_study(study)
     summary = run_study(
@@ -117,8 +113,8 @@ def run_command(
 @cli_errors()
 def status_command(study: StudyArg) -> None:
     """List the cases of a study with their state (done, failed, pending)."""
-    from .execute import study_status
-    from .spec import load_study
+    from ..studies.execute import study_status
+    from ..studies.spec import load_study
 
     st = load_study(study)
     rows = study_status(st)
@@ -154,9 +150,9 @@ def report_command(
     per_figure: Annotated[int, typer.Option("--per-figure", help="cases per overlay figure")] = 7,
 ) -> None:
     """Overlay spectra (1x, 2x, mesh-frequency zooms) and trend plots of a study, as PNG."""
-    from .collection import collect
-    from .plots import report
-    from .spec import load_study
+    from ..studies.collection import collect
+    from ..studies.plots import report
+    from ..studies.spec import load_study
 
     st = load_study(study)
     if per_figure < 1:

@@ -1,9 +1,11 @@
 """``gearrotor bearing BEARING.toml [--load FX,FY] [--speed RPM] [--format table|json]
-[--plot DIR]``: equilibrium and the 8 dynamic coefficients of a bearing file.
+[--plot DIR]``: equilibrium and the 8 dynamic coefficients of a bearing file
+(:func:`gearrotor.bearings.coefficients`).
 
-:func:`bearing_command` is the whole command; the package CLI registers it. It prints to
-stdout and raises :class:`~gearrotor.errors.ModelError` (bad input) or
-:class:`~gearrotor.errors.SolverError` (no equilibrium) for the CLI to report.
+:func:`bearing_command` is the whole command as a Python function (registered through the
+Typer signature :func:`bearing_cli`). It prints to stdout and raises
+:class:`~gearrotor.errors.ModelError` (bad input) or :class:`~gearrotor.errors.SolverError` (no
+equilibrium) for :func:`.errors.cli_errors` to report.
 """
 
 from __future__ import annotations
@@ -12,13 +14,47 @@ import json
 import math
 import time
 from pathlib import Path
+from typing import TYPE_CHECKING, Annotated
+
+import typer
 
 from ..errors import ModelError
 from ..units import to_si
-from .coefficients import Coefficients, coefficients
-from .io import load_bearing
+from .errors import cli_errors
+from .options import FormatOpt
 
-__all__ = ["bearing_command", "parse_load", "parse_speed", "format_table", "to_json"]
+if TYPE_CHECKING:
+    from ..bearings.coefficients import Coefficients
+
+__all__ = [
+    "bearing_cli",
+    "bearing_command",
+    "parse_load",
+    "parse_speed",
+    "format_table",
+    "to_json",
+]
+
+
+@cli_errors()
+def bearing_cli(
+    path: Annotated[Path, typer.Argument(help="bearing TOML file")],
+    load: Annotated[
+        str | None, typer.Option(help="FX,FY in N (default: the file's load cases)")
+    ] = None,
+    speed: Annotated[
+        str | None, typer.Option(help="journal speed, rpm or with units (default: the file's)")
+    ] = None,
+    format: FormatOpt = "table",
+    plot: Annotated[
+        Path | None,
+        typer.Option(
+            help="write pressure maps, eccentricity locus and coefficient plots to this directory"
+        ),
+    ] = None,
+) -> None:
+    """Fluid-film journal bearing: static equilibrium and the 8 dynamic coefficients."""
+    bearing_command(path, load=load, speed=speed, fmt=format, plot=plot)
 
 
 def parse_load(text: str) -> tuple[float, float]:
@@ -161,6 +197,9 @@ def bearing_command(
     -------
     The :class:`Coefficients` of every case (also printed).
     """
+    from ..bearings.coefficients import coefficients
+    from ..bearings.io import load_bearing
+
     if fmt not in ("table", "json"):
         raise ModelError(
             "unknown output format", field="--format", value=fmt, expected="table or json"
@@ -226,7 +265,7 @@ def bearing_command(
 
 
 def _plots(bearing, results: list[Coefficients], outdir: Path) -> list[Path]:
-    from .plots import plot_coefficients, plot_locus, plot_pressure
+    from ..bearings.plots import plot_coefficients, plot_locus, plot_pressure
 
     outdir.mkdir(parents=True, exist_ok=True)
     out = []

@@ -1,8 +1,7 @@
-"""``gearrotor report``: the HTML report of a model (registered in :mod:`gearrotor.cli` with
-``app.command("report")(report_command)``).
+"""``gearrotor report``: the HTML report of a model.
 
 A thin layer over :func:`gearrotor.plots.report.make_report`: rpm at the boundary, rad/s inside.
-Exit statuses are those of :mod:`gearrotor.cli_errors`: input errors print one line to stderr
+Exit statuses are those of :mod:`.errors`: input errors print one line to stderr
 and exit with status 2 (a missing optional dependency, plotly, matplotlib, xarray, too, naming
 the extra to install); solver failures exit with status 3.
 """
@@ -16,8 +15,8 @@ from typing import Annotated
 
 import typer
 
-from .cli_errors import cli_errors
-from .cli_options import RPM, SetOpt
+from .errors import cli_errors
+from .options import RPM, SetOpt
 
 __all__ = ["report_command"]
 
@@ -60,8 +59,8 @@ def report_command(
 ) -> None:
     """Self-contained HTML report: modes (3-D), stability, Campbell, Bode, orbits, API 684 checks,
     and a saved transient result's spectra, waterfall and whirl power; plus PNG figures."""
-    from .io import load_model, parse_overrides
-    from .plots.report import make_report
+    from ..io import load_model, parse_overrides
+    from ..plots.report import make_report
 
     train = load_model(model, parse_overrides(set_))
     rep = make_report(

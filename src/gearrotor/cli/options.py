@@ -1,5 +1,4 @@
-"""Options and unit constants shared by every ``gearrotor`` command module (``cli``,
-``transient_cli``, ``report_cli``, ``floquet_cli``)."""
+"""Options, unit constants and small parsers shared by the ``gearrotor`` command modules."""
 
 from __future__ import annotations
 
@@ -8,9 +7,9 @@ from typing import Annotated
 import numpy as np
 import typer
 
-from .errors import ModelError
+from ..errors import ModelError
 
-__all__ = ["RPM", "FormatOpt", "SetOpt", "check_format"]
+__all__ = ["RPM", "FormatOpt", "SetOpt", "check_format", "speed_grid"]
 
 RPM = np.pi / 30  # rpm -> rad/s
 
@@ -30,3 +29,15 @@ def check_format(fmt: str) -> None:
         raise ModelError(
             "unknown output format", field="--format", value=fmt, expected="'table' or 'json'"
         )
+
+
+def speed_grid(lo: float, hi: float, n: int, field: str) -> np.ndarray:
+    """``n`` evenly spaced speeds from ``lo`` to ``hi`` rpm, in rad/s (a speed sweep option)."""
+    if n < 2 or hi <= lo:
+        raise ModelError(
+            "invalid speed range",
+            field=field,
+            value=f"{lo}..{hi} rpm, {n} points",
+            expected="max > min and at least 2 points",
+        )
+    return np.linspace(lo, hi, n) * RPM

@@ -1,5 +1,5 @@
 """``gearrotor floquet``: parametric stability under the time-varying mesh stiffness
-(registered in :mod:`gearrotor.cli`). rpm and cpm at the boundary, rad/s inside."""
+(:func:`gearrotor.analyses.floquet.floquet`). rpm and cpm at the boundary, rad/s inside."""
 
 from __future__ import annotations
 
@@ -9,9 +9,9 @@ from typing import Annotated
 
 import typer
 
-from .cli_errors import cli_errors
-from .cli_options import RPM, FormatOpt, SetOpt, check_format
-from .errors import ModelError
+from ..errors import ModelError
+from .errors import cli_errors
+from .options import RPM, FormatOpt, SetOpt, check_format
 
 __all__ = ["floquet_command"]
 
@@ -50,9 +50,9 @@ def floquet_command(
     """Floquet exponents of the train under its periodic mesh stiffness (teeth in contact,
     constant speed): growth rate (1/s, positive = parametrically unstable), frequency and the
     modes involved, for each Ka/Kg and speed."""
-    from .analyses.parametric import floquet
-    from .analyses.transient import build_system
-    from .io import load_model, parse_overrides
+    from ..analyses.parametric import floquet
+    from ..analyses.transient import build_system
+    from ..io import load_model, parse_overrides
 
     check_format(format)
     if n < 1:

@@ -30,7 +30,7 @@ import os
 
 import typer
 
-from .errors import ModelError, SolverError
+from ..errors import ModelError, SolverError
 
 __all__ = [
     "EXIT_CASES_FAILED",

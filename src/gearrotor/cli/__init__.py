@@ -1,0 +1,71 @@
+"""The ``gearrotor`` command line: a thin layer over the functions a Python user calls.
+
+One module per command group, each a plain function registered here (the order below is the
+order of ``gearrotor --help``):
+
+==================  ==========================  ==============================================
+command             module                      calls
+==================  ==========================  ==============================================
+``modal``           :mod:`.modal`               :func:`gearrotor.analyses.modal`
+``campbell``        :mod:`.campbell`            :func:`gearrotor.analyses.campbell`
+``unbalance``       :mod:`.unbalance`           :func:`gearrotor.analyses.unbalance_response`
+``bearing``         :mod:`.bearing`             :func:`gearrotor.bearings.coefficients`
+``transient``,      :mod:`.transient`           :func:`gearrotor.analyses.transient.transient`
+``transient-plot``
+``report``          :mod:`.report`              :func:`gearrotor.plots.report.make_report`
+``floquet``         :mod:`.floquet`             :func:`gearrotor.analyses.floquet.floquet`
+``study ...``       :mod:`.study`               :mod:`gearrotor.studies`
+==================  ==========================  ==============================================
+
+Shared options (``--set``, ``--format``, rpm) are in :mod:`.options`; every command maps errors
+to exit statuses through :func:`.errors.cli_errors`: input errors print one clear message (file,
+field, value, expectation) and exit with status 2, without a traceback; solver failures exit
+with status 3 (see :mod:`.errors`). The analyses are imported inside the command functions, so
+``gearrotor --help`` starts fast.
+"""
+
+from __future__ import annotations
+
+import sys
+
+import typer
+
+from .bearing import bearing_cli
+from .campbell import campbell_command
+from .errors import EXIT_CODES_HELP
+from .floquet import floquet_command
+from .modal import modal_command
+from .report import report_command
+from .study import study_app
+from .transient import plot_command, transient_command
+from .unbalance import unbalance_command
+
+__all__ = ["app", "main"]
+
+app = typer.Typer(
+    name="gearrotor",
+    help="Dynamics of geared rotor-bearing trains: modal, Campbell, unbalance response.",
+    epilog=EXIT_CODES_HELP,
+    no_args_is_help=True,
+    add_completion=False,
+    pretty_exceptions_enable=False,
+)
+
+app.command("modal", epilog=EXIT_CODES_HELP)(modal_command)
+app.command("campbell", epilog=EXIT_CODES_HELP)(campbell_command)
+app.command("unbalance", epilog=EXIT_CODES_HELP)(unbalance_command)
+app.command("bearing", epilog=EXIT_CODES_HELP)(bearing_cli)
+app.command("transient", epilog=EXIT_CODES_HELP)(transient_command)
+app.command("transient-plot", epilog=EXIT_CODES_HELP)(plot_command)
+app.command("report", epilog=EXIT_CODES_HELP)(report_command)
+app.command("floquet", epilog=EXIT_CODES_HELP)(floquet_command)
+app.add_typer(study_app, name="study")
+
+
+def main() -> None:
+    """Entry point of the ``gearrotor`` command."""
+    app(prog_name="gearrotor")
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -1,0 +1,67 @@
+"""``gearrotor campbell``: Campbell diagram with mode tracking and crossing speeds
+(:func:`gearrotor.analyses.campbell`)."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from ..errors import ModelError
+from .errors import cli_errors
+from .options import RPM, FormatOpt, SetOpt, check_format, speed_grid
+
+__all__ = ["campbell_command"]
+
+
+@cli_errors()
+def campbell_command(
+    model: Annotated[Path, typer.Argument(help="TOML model file")],
+    min_speed: Annotated[float, typer.Option(help="rpm")] = 0.0,
+    max_speed: Annotated[float | None, typer.Option(help="rpm (default 1.25 × nominal)")] = None,
+    n_speeds: Annotated[int, typer.Option(help="number of speeds")] = 60,
+    max_frequency: Annotated[float | None, typer.Option(help="rpm (default 3 × max speed)")] = None,
+    orders: Annotated[
+        str | None,
+        typer.Option(help="extra excitation orders of the reference shaft, e.g. '10,42'"),
+    ] = None,
+    format: FormatOpt = "table",
+    plot: Annotated[Path | None, typer.Option(help="write the Campbell diagram PNG")] = None,
+    set_: SetOpt = None,
+) -> None:
+    """Campbell diagram with MAC mode tracking, excitation orders and crossing speeds."""
+    from ..analyses import campbell as run_campbell
+    from ..io import load_model, parse_overrides
+
+    check_format(format)
+    train = load_model(model, parse_overrides(set_))
+    hi = max_speed if max_speed is not None else 1.25 * abs(train.speed) / RPM
+    speeds = speed_grid(min_speed, hi, n_speeds, "--min-speed/--max-speed")
+    fmax = (max_frequency if max_frequency is not None else 3 * hi) * RPM
+    extra = ()
+    if orders:
+        try:
+            extra = tuple(float(x) for x in orders.split(","))
+        except ValueError:
+            raise ModelError(
+                "cannot read the orders",
+                field="--orders",
+                value=orders,
+                expected="comma-separated numbers, e.g. '10,42'",
+            ) from None
+    res = run_campbell(train, speeds=speeds, max_frequency=fmax, extra_orders=extra)
+    if format == "json":
+        typer.echo(json.dumps(res.to_dict(), indent=1))
+    else:
+        typer.echo(
+            f"{train.name}: Campbell {min_speed:.0f}..{hi:.0f} rpm, "
+            f"{res.damped_frequency.shape[1]} modes tracked; crossings:"
+        )
+        typer.echo(res.table())
+    if plot is not None:
+        from ..plots import plot_campbell
+
+        plot_campbell(res, path=plot, max_frequency=fmax)
+        typer.echo(f"plot written to {plot}", err=format == "json")

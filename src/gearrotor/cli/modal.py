@@ -1,0 +1,64 @@
+"""``gearrotor modal``: damped modes at a speed (:func:`gearrotor.analyses.modal`)."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from .errors import cli_errors
+from .options import RPM, FormatOpt, SetOpt, check_format
+
+__all__ = ["modal_command"]
+
+
+@cli_errors()
+def modal_command(
+    model: Annotated[Path, typer.Argument(help="TOML model file")],
+    speed: Annotated[
+        float | None, typer.Option(help="reference shaft speed, rpm (default: the model's)")
+    ] = None,
+    max_frequency: Annotated[
+        float | None, typer.Option(help="highest damped frequency, rpm")
+    ] = None,
+    n_modes: Annotated[int | None, typer.Option(help="at most this many modes")] = None,
+    method: Annotated[str, typer.Option(help="auto, dense or sparse")] = "auto",
+    format: FormatOpt = "table",
+    plot: Annotated[
+        Path | None, typer.Option(help="write mode-shape plots to this directory")
+    ] = None,
+    shapes: Annotated[bool, typer.Option(help="include mode shapes in the JSON output")] = False,
+    set_: SetOpt = None,
+) -> None:
+    """Damped eigenvalues at a speed: frequency, log dec, whirl per shaft, mode type."""
+    from ..analyses import modal as run_modal
+    from ..io import load_model, parse_overrides
+
+    check_format(format)
+    train = load_model(model, parse_overrides(set_))
+    res = run_modal(
+        train,
+        speed=None if speed is None else speed * RPM,
+        max_frequency=None if max_frequency is None else max_frequency * RPM,
+        n_modes=n_modes,
+        method=method,
+    )
+    if format == "json":
+        typer.echo(json.dumps(res.to_dict(shapes=shapes), indent=1))
+    else:
+        typer.echo(
+            f"{train.name}: damped modes at {res.speed / RPM:.1f} rpm "
+            f"({res.assembly.n_dof} DOF, {res.method} eigensolver)"
+        )
+        typer.echo(res.table())
+    if plot is not None:
+        from ..plots import plot_mode_shapes
+
+        plot.mkdir(parents=True, exist_ok=True)
+        elastic = [i for i in range(len(res)) if not res.overdamped[i]]
+        for k in range(0, min(len(elastic), 16), 8):
+            plot_mode_shapes(res, modes=elastic[k : k + 8], path=plot / f"modes_{k // 8 + 1}.png")
+        (plot / "modal.json").write_text(json.dumps(res.to_dict(), indent=1))
+        typer.echo(f"plots written to {plot}/", err=format == "json")
