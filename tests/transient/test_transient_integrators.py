@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from gearrotor.analyses.transient import RK4, ModalRK4, Save, transient
-from gearrotor.analyses.transient.integrators import _rk4_step_limit
+from gearrotor.analyses.transient.step_limits import _rk4_step_limit
 from gearrotor.errors import SolverError
 from gearrotor.model import Train
 

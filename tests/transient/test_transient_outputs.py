@@ -134,7 +134,7 @@ def test_netcdf_round_trip_atomic(short_result, tmp_path):
 
 def test_checkpoint_resume_equals_uninterrupted(make_gearbox, tmp_path, monkeypatch):
     """A run interrupted after its first checkpoint resumes from it and ends bit-identical."""
-    from gearrotor.analyses.transient import integrators
+    from gearrotor.analyses.transient import driver as integrators
 
     train = make_gearbox(elements=4)
     kw = dict(t_end=0.2, integrator=RK4(dt=2e-5), save=Save(dt=2e-4))

@@ -19,6 +19,7 @@ from numpy.typing import NDArray
 from ...errors import ModelError
 from . import kernels as kn
 from .equations import TransientSystem
+from .forces import _pack_forces
 
 __all__ = [
     "TransientResult",
@@ -57,7 +58,7 @@ class SolverStats:
 
 @dataclass(frozen=True)
 class TransientResult:
-    """Frozen result of :func:`~.integrators.transient` (``status == "ok"`` when it finished).
+    """Frozen result of :func:`~.driver.transient` (``status == "ok"`` when it finished).
 
     Shapes: nt time samples; ``q``/``qdot``/``qddot`` (nt, n_rec) at the global DOFs
     ``recorded_dofs`` (labels ``dof_labels``).
@@ -528,8 +529,6 @@ def build_result(
     name: str,
     frozen: bool,
 ) -> TransientResult:
-    from .integrators import _pack_forces
-
     asm, train = system.assembly, system.train
     gl = system.active[out]
     col = {int(g): k for k, g in enumerate(gl)}

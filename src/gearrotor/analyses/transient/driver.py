@@ -1,0 +1,279 @@
+"""The :func:`transient` driver (SPEC 2.6): build the system (:mod:`.equations`), choose the
+recorded DOFs (:mod:`.forces`), prepare the kernel arrays of the chosen integrator
+(:mod:`.prepare`), integrate in chunks with the compiled kernels (:mod:`.kernels`; progress,
+checkpoints: :mod:`.checkpoint`) and assemble the result (:func:`.results.build_result`).
+
+Divergence (non-finite state, or a lateral displacement above ``blowup`` m / torsional deviation
+above 1 rad from rigid rotation) stops the run with a SolverError that names the time.
+"""
+
+from __future__ import annotations
+
+import sys
+import time as _time
+import warnings
+from pathlib import Path
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ...assembly import Assembly
+from ...errors import ModelError, SolverError
+from ...model import Train
+from . import kernels as kn
+from .checkpoint import _fingerprint, _read_checkpoint, _write_npz_atomic
+from .equations import TransientSystem, build_system, static_state
+from .forces import _output_dofs
+from .options import RK4, Checkpoint, ModalRK4, Save, excitation_frequency
+from .prepare import _prepare_modal, _prepare_physical
+from .results import TransientResult, build_result
+
+__all__ = ["transient"]
+
+
+def _warn_rotating_damping_speed(system: TransientSystem, speeds: NDArray) -> None:
+    """Warn when a shaft with rotating material damping strayed more than 2 % from its
+    nominal speed: its circulatory stiffness is applied at the nominal speed."""
+    for s, kc in enumerate(system.Kc):
+        nominal = abs(float(system.nominal_speeds[s]))
+        if not kc.nnz or not len(speeds):
+            continue
+        dev = float(np.max(np.abs(np.abs(speeds[:, s]) - nominal))) / max(nominal, 1e-12)
+        if dev > 0.02:
+            warnings.warn(
+                f"shaft {system.train.shafts[s].name!r} has rotating material damping, whose "
+                f"circulatory stiffness the transient applies at the nominal speed, and its speed "
+                f"departed from it by up to {100 * dev:.3g} %: that term is off by as much "
+                "(docs/transient.md)",
+                stacklevel=3,
+            )
+
+
+def transient(
+    model: Train | Assembly,
+    *,
+    t_end: float,
+    integrator: RK4 | ModalRK4 | None = None,
+    save: Save | None = None,
+    frozen_speed: bool = False,
+    reactions: bool = True,
+    initial_q: NDArray | None = None,
+    initial_qdot: NDArray | None = None,
+    initial: str = "zero",
+    stiffness_tables: dict[int, tuple[NDArray, NDArray]] | None = None,
+    transmission_error: dict[int, NDArray] | None = None,
+    back_flank: str = "same",
+    blowup: float = 0.05,
+    progress: bool = False,
+    checkpoint: Checkpoint | None = None,
+) -> TransientResult:
+    """Nonlinear transient of a train from t = 0 to ``t_end`` (s).
+
+    Parameters
+    ----------
+    model : Train or its Assembly
+    t_end : s
+    integrator : :class:`ModalRK4` (fast, the default ``ModalRK4()``) or :class:`RK4` (reference)
+    save : what to record (:class:`Save`)
+    frozen_speed : keep every θz at nominal rigid rotation (constant speed, SPEC's linear case)
+    reactions : include the reaction torques of the gyroscopic and unbalance θ̈ terms (the
+        Lagrangian, energy-consistent form); False gives the dissertation's form
+    initial : ``"zero"`` displacement, or ``"static"``: the static deflection under the external
+        torques at t = 0 (:func:`.equations.static_state`)
+    initial_q, initial_qdot : (n_dof,) global perturbations added to the initial displacement and
+        the nominal speeds (m, rad, m/s, rad/s)
+    stiffness_tables, transmission_error : per mesh index, see :mod:`.mesh`
+    back_flank : ``"same"`` (SPEC 2.4) or ``"mirrored"`` line of action for back-flank contact
+    blowup : m, a displacement of a recorded non-torsional DOF beyond which the run is declared
+        divergent (non-finite values always are)
+    progress : print progress to stderr
+    checkpoint : :class:`Checkpoint` for long runs (resume when the file matches)
+
+    Returns a :class:`~.results.TransientResult`.
+    """
+    setup0 = _time.perf_counter()
+
+    if not (t_end > 0):
+        raise ModelError("t_end must be positive", field="t_end", value=t_end, expected="> 0 s")
+    integ = integrator if integrator is not None else ModalRK4()
+    if isinstance(integ, RK4) and not integ.dt > 0:
+        raise ModelError("the time step must be positive", field="dt", value=integ.dt)
+    save = save or Save()
+    system = build_system(
+        model,
+        frozen_speed=frozen_speed,
+        reactions=reactions,
+        initial_q=initial_q,
+        stiffness_tables=stiffness_tables,
+        transmission_error=transmission_error,
+        back_flank=back_flank,
+    )
+    out = _output_dofs(system, save.full_state)
+    if isinstance(integ, RK4):
+        prep = _prepare_physical(system, integ, out, frozen_speed)
+    elif isinstance(integ, ModalRK4):
+        if frozen_speed:
+            raise ModelError("frozen speed is available with RK4 only", field="frozen_speed")
+        prep = _prepare_modal(system, integ, out)
+    else:
+        raise TypeError(f"unknown integrator {integ!r}; expected RK4(...) or ModalRK4(...)")
+    dt = prep.dt
+    n_steps = int(np.ceil(t_end / dt - 1e-9))
+    fexc = excitation_frequency(system)
+    save_dt = (
+        save.dt
+        if save.dt is not None
+        else (2 * np.pi / (4 * fexc) if system.meshes else 2 * np.pi / (64 * fexc / 10))
+    )
+    save_every = max(1, int(round(save_dt / dt)))
+    n_rec = n_steps // save_every + 1
+
+    # initial state
+    q0, v0 = system.initial_state()
+    if initial == "static":
+        q0 += static_state(system)[0]
+    elif initial != "zero":
+        raise ModelError(
+            "unknown initial state", field="initial", value=initial, expected="'zero' or 'static'"
+        )
+    if initial_q is not None:
+        q0 += np.asarray(initial_q, float)[system.active]
+    if initial_qdot is not None:
+        v0 += np.asarray(initial_qdot, float)[system.active]
+    if prep.kind == "physical":
+        q, v = q0, v0
+    else:
+        Phi, M = prep.info["Phi"], prep.info["M"]
+        q = Phi.T @ (M @ q0)
+        v = Phi.T @ (M @ v0)
+    nout = len(out)
+    ns = len(system.a_weights)
+    rec_q = np.zeros((n_rec, nout))
+    rec_v = np.zeros((n_rec, nout))
+    rec_a = np.zeros((n_rec, nout))
+    rec_om = np.zeros((n_rec, ns))
+    rec_t = np.zeros(n_rec)
+    # divergence scale per output DOF: lateral → 1/blowup, torsional deviation → 1 rad
+    kind = system.assembly.dof_kind()[system.active[out]]
+    scale = np.where(kind == 2, 0.0, 1.0 / blowup)
+
+    step0 = 0
+    fp = _fingerprint(
+        system.train,
+        prep.kind,
+        dt,
+        f"{t_end}|{save_every}|{frozen_speed}|{reactions}|{integ!r}|{initial}|{back_flank}",
+    )
+    ck = _read_checkpoint(checkpoint.path, fp) if checkpoint is not None else None
+    if ck is not None:
+        step0 = int(ck["step"])
+        q, v = ck["q"].copy(), ck["v"].copy()
+        nr = step0 // save_every
+        rec_q[:nr], rec_v[:nr], rec_a[:nr] = ck["rec_q"], ck["rec_v"], ck["rec_a"]
+        rec_om[:nr], rec_t[:nr] = ck["rec_om"], ck["rec_t"]
+        if progress:
+            print(
+                f"resuming from {checkpoint.path} at t = {step0 * dt:.4g} s",
+                file=sys.stderr,
+            )
+    chunk = save_every * max(1, int(0.05 / (dt * save_every)))  # ~0.05 s of simulated time
+    wall0 = _time.perf_counter()
+    setup = wall0 - setup0
+    last_ck = wall0
+    last_pr = wall0
+    step = step0
+    runner = kn.rk4_physical if prep.kind == "physical" else kn.rk4_modal
+    out_arg = out if prep.kind == "physical" else prep.Phi_out
+    while step < n_steps:
+        nst = min(chunk, n_steps - step)
+        status, done = runner(
+            step * dt,
+            dt,
+            nst,
+            q,
+            v,
+            save_every,
+            out_arg,
+            rec_q,
+            rec_v,
+            rec_a,
+            rec_om,
+            rec_t,
+            step // save_every,
+            scale,
+            prep.P,
+            prep.W,
+            prep.K1,
+        )
+        if status != kn.STATUS_OK:
+            t_bad = (step + done) * dt
+            what = (
+                "non-finite values"
+                if status == kn.STATUS_NONFINITE
+                else (f"a lateral displacement above {blowup} m")
+            )
+            raise SolverError(
+                f"the transient diverged at t = {t_bad:.6g} s ({what}); likely causes: a step "
+                f"too large for the integrator (dt = {dt:.3g} s), or an unstable mode of the "
+                "train (negative damping, e.g. cross-coupling or a mesh parametric resonance); "
+                "check modal() at the running speed and try a smaller dt"
+            )
+        step += nst
+        now = _time.perf_counter()
+        if progress and (now - last_pr > 2.0 or step == n_steps):
+            frac = step / n_steps
+            el = now - wall0
+            eta = el / max(frac - step0 / n_steps, 1e-12) * (1 - frac)
+            print(
+                f"t = {step * dt:.4g}/{t_end:.4g} s ({100 * frac:.0f} %), {el:.1f} s elapsed, "
+                f"~{eta:.1f} s left",
+                file=sys.stderr,
+            )
+            last_pr = now
+        if checkpoint is not None and (now - last_ck > checkpoint.every) and step < n_steps:
+            nr = step // save_every
+            _write_npz_atomic(
+                Path(checkpoint.path),
+                fingerprint=np.array(fp),
+                step=step,
+                q=q,
+                v=v,
+                rec_q=rec_q[:nr],
+                rec_v=rec_v[:nr],
+                rec_a=rec_a[:nr],
+                rec_om=rec_om[:nr],
+                rec_t=rec_t[:nr],
+            )
+            last_ck = now
+    wall = _time.perf_counter() - wall0
+    if checkpoint is not None and Path(checkpoint.path).exists():
+        Path(checkpoint.path).unlink()
+    nr = (n_steps - 1) // save_every + 1
+    _warn_rotating_damping_speed(system, rec_om[:nr])
+    stats = {
+        "method": prep.kind if prep.kind == "physical" else "modal",
+        "dt": dt,
+        "steps": n_steps,
+        "rhs_evaluations": 4 * (n_steps - step0),
+        "wall_time_s": wall,
+        "setup_time_s": setup,
+        "save_every": save_every,
+        **{k: v for k, v in prep.info.items() if k not in ("Phi", "M")},
+    }
+    final = (q.copy(), v.copy())
+    if prep.kind == "modal":
+        Phi = prep.info["Phi"]
+        final = (Phi @ q, Phi @ v)
+    return build_result(
+        system,
+        out,
+        rec_t[:nr],
+        rec_q[:nr],
+        rec_v[:nr],
+        rec_a[:nr],
+        rec_om[:nr],
+        stats=stats,
+        final_state=final,
+        name=integ.name,
+        frozen=frozen_speed,
+    )

@@ -1,0 +1,113 @@
+"""Option objects of the transient (SPEC 2.6): the integrator (:class:`RK4`, :class:`ModalRK4`),
+what to record (:class:`Save`) and checkpointing (:class:`Checkpoint`), and the excitation
+frequency their defaults derive from.
+
+Contract of an integrator option object: it is frozen data; :func:`~.driver.transient` prepares
+the compiled kernel's arrays from it once (:mod:`.prepare`), then advances the state in chunks
+(progress, checkpoints) with a fixed step ``dt``. Work is counted: ``steps`` and
+``rhs_evaluations`` (4 per RK4 step) are reported in :class:`~.results.SolverStats`.
+
+* :class:`RK4` — classical fixed-step 4th-order Runge–Kutta on the first-order state
+  (q, q̇) of the full (active-DOF) model: the reference. Explicit, so every eigenvalue λ of the
+  model linearised at the nominal speeds must satisfy ``|R(λ Δt)| ≤ 1``,
+  ``R(z) = 1 + z + z²/2 + z³/6 + z⁴/24`` (``ω Δt ≤ 2√2`` for an undamped mode,
+  ``|λ| Δt ≤ 2.785`` for an overdamped one: heavily damped journals of tilting-pad bearings
+  can set the limit); this is checked before the run and a step that violates it raises
+  :class:`~gearrotor.errors.SolverError` with the largest stable step
+  (:func:`~.step_limits.rk4_max_step`).
+* :class:`ModalRK4` — the same RK4 on a modal reduction (:mod:`.reduction`): the undamped modes
+  of the constant-speed linear model (meshes at Kg, bearings at the nominal speeds) up to a
+  cut-off frequency, always including the rigid-body rotation, so θz stays the absolute angle.
+  Damping, gyroscopics (Σ Ω_s(t) Φᵀ G_s Φ), the angular-acceleration and unbalance θ̈ terms
+  (exact Woodbury solve with M_r = I) and every nonlinear force (mesh minus its Kg part,
+  unbalance, torques, speed-dependent bearings) are evaluated through the rows Φ_sel of the DOFs
+  they act on. The modes are those of the symmetric part of K; its skew part (cross-coupled
+  bearings, seals) acts through the rows of its DOFs too. Dropping the modes above the cut-off
+  removes the stiff shear/axial modes, so the step is set by accuracy, not by stability (the
+  same stability check applies to the reduced system).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+if TYPE_CHECKING:
+    from .equations import TransientSystem
+
+__all__ = ["RK4", "ModalRK4", "Save", "Checkpoint", "excitation_frequency"]
+
+
+@dataclass(frozen=True)
+class RK4:
+    """Classical RK4 on the full active-DOF model. dt : s (at most :func:`rk4_max_step`).
+    ``check_stability`` checks the eigenvalues of the linearised model against RK4's
+    stability region before the run (raises SolverError when a step is outside)."""
+
+    dt: float
+    check_stability: bool = True
+    name: str = field(default="rk4", init=False)
+
+
+@dataclass(frozen=True)
+class ModalRK4:
+    """RK4 on the modal reduction of the linear part.
+
+    dt : s (default: ``accuracy / ω_k``, ω_k the highest kept mode, or 0.95× the reduced
+    system's stability limit when its damped eigenvalues set a smaller one); cutoff : Hz, keep
+    the undamped modes up to this frequency (default: ``cutoff_factor`` × the highest excitation
+    frequency, which is the highest mesh frequency |N Ω| or, without meshes, 10× the highest
+    shaft speed); accuracy : ω_k·dt of the default step; separated_modes : also include the
+    modes of the train with the meshes removed (each shaft free, with its rigid rotation) up to
+    the cut-off, so that teeth separation (backlash) is represented; the combined basis is
+    re-diagonalised (Ritz) on the engaged model. Default: when a mesh has backlash;
+    static_correction : add the static deflection shapes under each mesh's normal force and
+    each external torque (the modes alone miss much of the mesh compliance, ~20 % for SPEC 6.1,
+    so a transmitted torque would load the mesh wrongly); this raises the highest Ritz
+    frequency (≈ 9 kHz for SPEC 6.1) and so shortens the default step. Default: when the model
+    has external torques; tolerance : without an explicit ``cutoff``, the cut-off is raised
+    (×1.25 at a time) until the reduced model's linear 1x unbalance response at the recorded
+    lateral DOFs is within ``tolerance`` (relative to its largest amplitude) of the full
+    model's; the achieved value is reported as ``stats.harmonic_error``.
+
+    The defaults (1.25, 0.9) were measured on the SPEC 6.1 gearbox against RK4
+    (benchmarks/transient_app2.py): 1x within 0.5 %, speed fluctuation within 0.5 %.
+    """
+
+    dt: float | None = None
+    cutoff: float | None = None
+    cutoff_factor: float = 1.25
+    accuracy: float = 0.9
+    separated_modes: bool | None = None
+    static_correction: bool | None = None
+    tolerance: float = 0.005
+    name: str = field(default="modal-rk4", init=False)
+
+
+@dataclass(frozen=True)
+class Save:
+    """What to record: every ``dt`` seconds (default: 4 samples per period of the highest
+    mesh frequency, or 64 per revolution without meshes); ``full_state`` records every active
+    DOF (for checks; memory grows with the model)."""
+
+    dt: float | None = None
+    full_state: bool = False
+
+
+@dataclass(frozen=True)
+class Checkpoint:
+    """Write the state to ``path`` every ``every`` seconds of wall time (atomic replace) and
+    resume from it when it exists and matches the run (model, method, step)."""
+
+    path: Path
+    every: float = 60.0
+
+
+def excitation_frequency(system: TransientSystem) -> float:
+    """Highest excitation frequency (rad/s): mesh frequency |N_i Ω_i|, else 10× shaft speed."""
+    if system.meshes:
+        return float(np.abs(system.mesh_rates()).max())
+    return 10.0 * float(np.max(np.abs(system.nominal_speeds)))

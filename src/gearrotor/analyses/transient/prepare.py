@@ -1,0 +1,260 @@
+"""The arrays the compiled kernels take for a run, per method: the full model for :class:`RK4`
+(sparse matrices, the block Cholesky factor of M, the θ̈ coupling terms) and the modal
+reduction for :class:`ModalRK4` (:mod:`.reduction`); both check the step against RK4's
+stability region (:mod:`.step_limits`)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.linalg as la
+import scipy.sparse as sp
+from numpy.typing import NDArray
+from scipy.sparse.csgraph import connected_components
+
+from ...errors import ModelError, SolverError
+from .equations import TransientSystem
+from .forces import _force_dofs, _pack_forces
+from .options import RK4, ModalRK4, excitation_frequency
+from .reduction import _harmonic_error, _modal_basis, _static_shapes
+from .step_limits import _linearised, _rk4_step_limit, _unstable_step
+
+
+@dataclass
+class _Prepared:
+    kind: str
+    dt: float
+    n_state: int
+    P: tuple
+    W: tuple
+    K1: tuple
+    out: NDArray  # active output DOFs
+    Phi_out: NDArray | None
+    info: dict
+
+
+def _mass_factor(M: sp.csr_array) -> tuple[NDArray, ...]:
+    """Sparse Cholesky factor of M, block by block (M's connected components, each banded in
+    node order): returns perm, L (CSR, diagonal last in each row), U = Lᵀ (CSR, diagonal first),
+    with ``M[perm][:, perm] = L Lᵀ``, and the component label of every DOF."""
+    nb, labels = connected_components(M, directed=False)
+    perm = np.argsort(labels, kind="stable")
+    counts = np.bincount(labels, minlength=nb)
+    ptr = np.concatenate([[0], np.cumsum(counts)])
+    Md = M.toarray()
+    L = np.zeros((M.shape[0], M.shape[0]))
+    for b in range(nb):
+        idx = perm[ptr[b] : ptr[b + 1]]
+        try:
+            L[ptr[b] : ptr[b + 1], ptr[b] : ptr[b + 1]] = la.cholesky(
+                Md[np.ix_(idx, idx)], lower=True
+            )
+        except la.LinAlgError:
+            raise ModelError(
+                "the mass matrix is not positive definite on some DOFs (a node "
+                "without mass or inertia?)"
+            ) from None
+    Ls = sp.csr_array(L)
+    Ls.sort_indices()
+    Us = sp.csr_array(L.T)
+    Us.sort_indices()
+    return (
+        perm.astype(np.int64),
+        Ls.indptr.astype(np.int64),
+        Ls.indices.astype(np.int64),
+        Ls.data.copy(),
+        Us.indptr.astype(np.int64),
+        Us.indices.astype(np.int64),
+        Us.data.copy(),
+        labels,
+    )
+
+
+def _csr(A: sp.csr_array) -> tuple[NDArray, NDArray, NDArray]:
+    A = sp.csr_array(A)
+    A.sort_indices()
+    return A.indptr.astype(np.int64), A.indices.astype(np.int64), A.data.astype(float)
+
+
+def _prepare_physical(system: TransientSystem, integ: RK4, out: NDArray, frozen: bool) -> _Prepared:
+    n = system.n
+    sel = _force_dofs(system)
+    G = sum((g for g in system.G), sp.csr_array((n, n)))
+    *fac, comp = _mass_factor(system.M)
+    if integ.check_stability:
+        limit, lam = _rk4_step_limit(*_linearised(system))
+        if integ.dt >= 0.995 * limit:
+            raise _unstable_step(
+                "RK4",
+                integ.dt,
+                limit,
+                lam,
+                ", or the modal integrator (ModalRK4), which drops the stiff modes",
+            )
+    ns = len(system.a_weights)
+    a_idx, a_w, a_ptr = [], [], [0]
+    for a in system.a_weights:
+        nz = np.flatnonzero(a)
+        a_idx.extend(nz)
+        a_w.extend(a[nz])
+        a_ptr.append(len(a_idx))
+    Md = system.M.toarray()
+    Minv_a = np.array([la.solve(Md, a, assume_a="pos") for a in system.a_weights]).reshape(ns, n)
+
+    def minv_unit(col):
+        e = np.zeros(n)
+        e[col] = 1.0
+        return la.solve(Md, e, assume_a="pos")
+
+    ud = system.unbalance_dofs
+    Minv_u = [np.array([minv_unit(d[c]) for d in ud]).reshape(-1, n) for c in range(3)]
+
+    def support(dofs):
+        return np.flatnonzero(np.isin(comp, np.unique(comp[np.asarray(dofs, int)])))
+
+    g_rows = [np.flatnonzero(np.diff(sp.csr_array(g).indptr) > 0) for g in system.G]
+    z_sup = []
+    for s in range(ns):
+        z_sup.append(support(g_rows[s]) if len(g_rows[s]) else np.zeros(0, int))
+        z_sup.append(support(np.flatnonzero(system.a_weights[s])))
+    for d in ud:
+        z_sup.append(support(d[:2]))
+        z_sup.append(support(d[2:]))
+    if not system.reactions:
+        z_sup = z_sup[0::2]
+    z_ptr = np.concatenate([[0], np.cumsum([len(z) for z in z_sup])]).astype(np.int64)
+    z_idx = np.concatenate(z_sup + [np.zeros(0, int)]).astype(np.int64)
+    g_ptr = np.concatenate([[0], np.cumsum([len(g) for g in g_rows])]).astype(np.int64)
+    g_idx = np.concatenate(g_rows + [np.zeros(0, int)]).astype(np.int64)
+    P = (
+        *_csr(system.K),
+        *_csr(system.C),
+        *_csr(G),
+        system.shaft_of_row.astype(np.int64),
+        *fac,
+        np.array(a_idx, np.int64),
+        np.array(a_w, float),
+        np.array(a_ptr, np.int64),
+        np.flatnonzero(system.torsion).astype(np.int64),
+        bool(frozen),
+        bool(system.reactions),
+        sel,
+        *_pack_forces(system, sel, modal=False, bearing_ref=False),
+        Minv_a,
+        *Minv_u,
+        system.unbalance_dofs.astype(np.int64).reshape(-1, 3),
+        z_ptr,
+        z_idx,
+        g_ptr,
+        g_idx,
+    )
+    r = 2 * (ns + len(ud))
+    W = (
+        np.zeros(n),
+        np.zeros(n),
+        np.zeros(n),
+        np.zeros(len(sel)),
+        np.zeros(len(sel)),
+        np.zeros(len(sel)),
+        np.zeros(ns),
+        np.zeros((max(r, 1), n)),
+        np.zeros((r, r)),
+        np.zeros(r),
+        np.zeros(r, np.int64),
+        np.zeros(n),
+    )
+    K1 = tuple(np.zeros(n) for _ in range(10))
+    return _Prepared("physical", integ.dt, n, P, W, K1, out, None, {"n_dof": n})
+
+
+def _prepare_modal(system: TransientSystem, integ: ModalRK4, out: NDArray) -> _Prepared:
+    M, K, C = system.linear_matrices()
+    # modes of the symmetric part of K; its skew part (cross-coupled bearings and seals) acts
+    # as a force on its few DOFs (kernel: k_idx, k_skew)
+    Ks = 0.5 * (K + K.T)
+    Ka = K - Ks
+    w2, V = la.eigh(Ks, M)
+    om_all = np.sqrt(np.clip(w2, 0.0, None))
+    wcut = (
+        2 * np.pi * integ.cutoff
+        if integ.cutoff is not None
+        else (integ.cutoff_factor * excitation_frequency(system))
+    )
+    separated = integ.separated_modes
+    if separated is None:
+        separated = any(law.backlash > 0 for law in system.meshes)
+    if separated and system.meshes:
+        _, Kf, _ = system.linear_matrices(meshes=False)
+        separated = la.eigh(0.5 * (Kf + Kf.T), M)
+    else:
+        separated = None
+    static = integ.static_correction
+    if static is None:
+        static = len(system.torque_dof) > 0
+    shapes = _static_shapes(system, M, K) if static else np.zeros((system.n, 0))
+    Phi, w2r = _modal_basis(M, Ks, V, w2, wcut, separated, shapes)
+    check = _harmonic_error(system, M, K, C, Phi, w2r, out)
+    while integ.cutoff is None and check > integ.tolerance and wcut < om_all.max():
+        wcut *= 1.25
+        Phi, w2r = _modal_basis(M, Ks, V, w2, wcut, separated, shapes)
+        check = _harmonic_error(system, M, K, C, Phi, w2r, out)
+    if integ.cutoff is None and check > integ.tolerance:
+        raise SolverError(
+            f"the modal reduction cannot reach the requested 1x accuracy: with every mode "
+            f"kept the reduced model's linear unbalance response is {check:.3g} off the full "
+            f"model's (tolerance {integ.tolerance:g}); use the RK4 method"
+        )
+    lam = np.clip(w2r, 0.0, None)
+    om = np.sqrt(lam)
+    lam[om < 1e-6 * max(om.max(), 1.0)] = 0.0  # rigid-body modes exactly
+    m = Phi.shape[1]
+    limit, lam_lim = _rk4_step_limit(
+        np.eye(m), np.diag(lam) + Phi.T @ Ka @ Phi, Phi.T @ _linearised(system)[2] @ Phi
+    )
+    dt = integ.dt
+    if dt is None:
+        dt = min(integ.accuracy / max(float(om.max()), 1e-9), 0.95 * limit)
+    if dt >= 0.995 * limit:
+        raise _unstable_step("modal RK4", dt, limit, lam_lim, " or lower the cut-off")
+    k_dofs = np.flatnonzero(np.any(Ka != 0, axis=1))
+    sel = np.union1d(_force_dofs(system), k_dofs).astype(np.int64)
+    Cr = Phi.T @ C @ Phi
+    Gr = np.array([Phi.T @ g.toarray() @ Phi for g in system.G]).reshape(-1, m, m)
+    alpha = np.array([Phi.T @ a for a in system.a_weights])  # Ω_s = a_sᵀ Φ η̇
+    ns = len(system.a_weights)
+    nu = len(system.unbalance_dofs)
+    r = 2 * (ns + nu)
+    P = (
+        lam,
+        np.ascontiguousarray(Cr),
+        np.ascontiguousarray(Gr),
+        np.ascontiguousarray(alpha),
+        np.ascontiguousarray(Phi[sel]),
+        np.ascontiguousarray(Phi[sel].T),
+        bool(system.reactions),
+        np.searchsorted(sel, k_dofs).astype(np.int64),
+        np.ascontiguousarray(Ka[np.ix_(k_dofs, k_dofs)]),
+        *_pack_forces(system, sel, modal=True, bearing_ref=True),
+    )
+    W = (
+        np.zeros(len(sel)),
+        np.zeros(len(sel)),
+        np.zeros(len(sel)),
+        np.zeros(ns),
+        np.zeros((2 * max(r, 1), m)),
+        np.zeros((r, r)),
+        np.zeros(r),
+        np.zeros(r, np.int64),
+        np.zeros((ns, m)),
+    )
+    K1 = tuple(np.zeros(m) for _ in range(10))
+    info = {
+        "n_modes": m,
+        "cutoff_hz": wcut / 2 / np.pi,
+        "harmonic_error": check,
+        "highest_mode_hz": float(om.max() / 2 / np.pi),
+        "Phi": Phi,
+        "M": M,
+    }
+    return _Prepared("modal", dt, m, P, W, K1, out, np.ascontiguousarray(Phi[out]), info)
