@@ -50,7 +50,7 @@ def floquet_command(
     """Floquet exponents of the train under its periodic mesh stiffness (teeth in contact,
     constant speed): growth rate (1/s, positive = parametrically unstable), frequency and the
     modes involved, for each Ka/Kg and speed."""
-    from ..analyses.parametric import floquet
+    from ..analyses.floquet import floquet
     from ..analyses.transient import build_system
     from ..io import load_model, parse_overrides
 

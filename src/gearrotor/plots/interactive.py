@@ -637,7 +637,7 @@ def transient_spectrum_figure(ds, *, segments: int = 4, window: str = "hann"):
     """Averaged amplitude spectra (µm 0-pk, cpm) of x and y of every recorded node over the
     second half of a saved transient run, with 1x, 2x and mesh-frequency markers."""
     go = _go()
-    from ..analyses.transient import spectrum
+    from ..signals import spectrum
 
     t = ds["time"].values
     sl = _steady(t)
@@ -685,7 +685,7 @@ def waterfall_data(ds, *, node: int = 0, component: str = "x", n_slices: int = 2
     Returns ``(frequency_cpm (nf,), amplitude_m (n_slices, nf), time_s (n_slices,),
     speed_rpm (n_slices,))`` with the slice-centre time and the mean |speed| of shaft 0.
     """
-    from ..analyses.transient import spectrum
+    from ..signals import spectrum
 
     t = ds["time"].values
     x = ds[component].values[:, node]

@@ -653,7 +653,7 @@ def _write_contents(
 
 
 def _transient_summary(ds) -> dict:
-    from ..analyses.transient import order_amplitudes
+    from ..signals import order_amplitudes
 
     t = ds["time"].values
     half = t >= t[0] + 0.5 * (t[-1] - t[0])

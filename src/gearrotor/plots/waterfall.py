@@ -129,7 +129,7 @@ def short_time_spectra(
     frequency_cpm (nf,), amplitude (n_windows, nf) 0-pk, window-centre time (n_windows,) s,
     mean |speed| per window (n_windows,) rpm, window length s.
     """
-    from ..analyses.transient import spectrum
+    from ..signals import spectrum
 
     t = np.asarray(t, float)
     x = np.asarray(x, float)

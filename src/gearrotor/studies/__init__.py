@@ -9,17 +9,8 @@ on local processes or a Dask cluster, resumable, collected into one labelled dat
 Heavy optional dependencies (xarray, dask.distributed, matplotlib) are imported when used.
 """
 
-from .execute import (
-    THREAD_ENV,
-    CaseStatus,
-    PlannedCase,
-    RunSummary,
-    case_path,
-    plan,
-    run_case,
-    run_study,
-    study_status,
-)
+from .cases import CaseStatus, PlannedCase, case_path, plan, study_status
+from .execute import THREAD_ENV, RunSummary, run_case, run_study
 from .spec import (
     Case,
     ModalSettings,

@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from .execute import PlannedCase, case_path, plan, study_status
+from .cases import PlannedCase, case_path, plan, study_status
 from .spec import Study
 
 __all__ = ["collect", "load_case", "open_results"]

@@ -1,4 +1,4 @@
-"""Running a study: plan (resolve every case, key it), execute (local processes or Dask), store.
+"""Running a study: execute the planned cases (:mod:`.cases`) on local processes or Dask, store.
 
 Each case's model is resolved in the calling process (:func:`gearrotor.io.load_model` with the
 case's overrides); a case whose overrides are invalid is recorded as failed with the error and
@@ -21,7 +21,6 @@ back to the calling process, which writes the files, so the study folder need no
 from __future__ import annotations
 
 import contextlib
-import hashlib
 import json
 import os
 import sys
@@ -31,11 +30,18 @@ from collections.abc import Callable, Iterator
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from dataclasses import dataclass, field
 from multiprocessing import get_context
-from pathlib import Path
-from typing import Any, TextIO
+from typing import TextIO
 
 from ..errors import ModelError
-from .spec import Case, Study
+from .cases import (
+    CaseStatus,
+    PlannedCase,
+    _canonical,
+    case_path,
+    plan,
+    study_status,
+)
+from .spec import Study
 
 __all__ = [
     "THREAD_ENV",
@@ -55,30 +61,6 @@ THREAD_ENV = {
     "MKL_NUM_THREADS": "1",
     "NUMBA_NUM_THREADS": "1",
 }
-FORMAT_VERSION = 1
-
-
-@dataclass(frozen=True)
-class PlannedCase:
-    """A case with its key and resolved model (``model_json``), or the input error that
-    prevented resolving it (``error``)."""
-
-    case: Case
-    key: str
-    model_json: str | None
-    error: str | None = None
-
-
-@dataclass(frozen=True)
-class CaseStatus:
-    """State of one case in the study folder: ``"done"``, ``"failed"`` (error text in
-    ``error``) or ``"pending"``."""
-
-    index: int
-    key: str
-    label: str
-    state: str
-    error: str | None = None
 
 
 @dataclass(frozen=True)
@@ -98,62 +80,6 @@ class RunSummary:
     @property
     def ok(self) -> bool:
         return not self.failed
-
-
-def _canonical(obj: Any) -> str:
-    return json.dumps(obj, sort_keys=True, separators=(",", ":"), default=str)
-
-
-def _settings(study: Study) -> dict:
-    return {
-        "format": FORMAT_VERSION,
-        "analysis": study.analysis.model_dump(),
-        "outputs": study.outputs.model_dump(),
-        "window": study.window,
-    }
-
-
-def plan(study: Study) -> tuple[PlannedCase, ...]:
-    """Resolve every case's model and compute its key (cheap: no analysis runs)."""
-    from ..io import load_model
-
-    settings = _settings(study)
-    out = []
-    for case in study.cases:
-        try:
-            train = load_model(study.model, case.overrides)
-        except ModelError as exc:
-            h = hashlib.sha256(_canonical({"invalid": case.overrides, **settings}).encode())
-            out.append(PlannedCase(case, h.hexdigest()[:20], None, str(exc)))
-            continue
-        mj = train.model_dump_json()
-        h = hashlib.sha256(_canonical({"model": json.loads(mj), **settings}).encode())
-        out.append(PlannedCase(case, h.hexdigest()[:20], mj))
-    return tuple(out)
-
-
-def case_path(study: Study, key: str, *, error: bool = False) -> Path:
-    """File of a finished (``<key>.nc``) or failed (``<key>.error.json``) case."""
-    return study.folder / "cases" / (f"{key}.error.json" if error else f"{key}.nc")
-
-
-def study_status(
-    study: Study, planned: tuple[PlannedCase, ...] | None = None
-) -> tuple[CaseStatus, ...]:
-    """State of every case of the study from the files in its folder."""
-    planned = plan(study) if planned is None else planned
-    out = []
-    for p in planned:
-        state, err = "pending", p.error
-        if p.error is not None:
-            state = "failed"
-        elif case_path(study, p.key).exists():
-            state = "done"
-        elif case_path(study, p.key, error=True).exists():
-            state = "failed"
-            err = json.loads(case_path(study, p.key, error=True).read_text())["error"]
-        out.append(CaseStatus(p.case.index, p.key, p.case.label, state, err))
-    return tuple(out)
 
 
 # ---- the worker ------------------------------------------------------------------------------

@@ -34,7 +34,7 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-from ..analyses.transient import order_amplitudes, spectrum
+from ..signals import dominant_frequency, order_amplitudes
 
 __all__ = ["TRANSIENT_METRICS", "MODAL_METRICS", "transient_metrics", "window_of"]
 
@@ -62,21 +62,6 @@ def window_of(ds: xr.Dataset, window: float) -> xr.Dataset:
     return ds.isel(time=np.flatnonzero(t >= t[-1] - window - 1e-12))
 
 
-def _dominant(x: np.ndarray, dt: float) -> float:
-    """Frequency (cpm) of the highest spectral peak above DC, refined between bins by a
-    parabola through the log amplitudes of the peak bin and its neighbours."""
-    if len(x) < 8:
-        return float("nan")
-    f, a = spectrum(x, dt)
-    k = 1 + int(np.argmax(a[1:]))
-    if 1 < k < len(a) - 1 and np.all(a[k - 1 : k + 2] > 0):
-        al, be, ga = np.log(a[k - 1 : k + 2])
-        den = al - 2 * be + ga
-        shift = 0.5 * (al - ga) / den if den < 0 else 0.0
-        return float(f[k] + shift * (f[1] - f[0]))
-    return float(f[k])
-
-
 def transient_metrics(
     ds: xr.Dataset,
     *,
@@ -99,13 +84,13 @@ def transient_metrics(
         [order_amplitudes(t, probes[:, k], speed[:, probe_shaft[k]]) for k in range(n_probe)]
     ).reshape(n_probe, 2)
     amp1, amp2 = orders[:, 0], orders[:, 1]
-    dom = np.array([_dominant(probes[:, k], dt) for k in range(n_probe)])
+    dom = np.array([dominant_frequency(probes[:, k], dt) for k in range(n_probe)])
     fluct, sdom = [], []
     for s in range(speed.shape[1]):
         om = speed[:, s]
         tt = t - t[0]
         fluct.append(0.5 * np.ptp(om - np.polyval(np.polyfit(tt, om, 1), tt)) * RPM)
-        sdom.append(_dominant(om, dt))
+        sdom.append(dominant_frequency(om, dt))
     force = w["mesh_force"].values
     contact = w["contact"].values
     wp = w["whirl_power"].values

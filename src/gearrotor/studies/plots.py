@@ -15,8 +15,9 @@ import numpy as np
 import xarray as xr
 
 from ..errors import ModelError
+from ..signals import padded_spectrum
+from .cases import case_path, plan, study_status
 from .collection import collect
-from .execute import case_path, plan, study_status
 from .spec import Study, TransientSettings
 
 __all__ = ["overlay_spectra", "padded_spectrum", "report", "trend_figure", "trend_groups"]
@@ -109,19 +110,6 @@ def overlay_spectra(
     what = f"probe {name}" if channel == "probe" else f"speed of {name}"
     fig.suptitle(f"{title}: {what}" if title else what)
     return fig
-
-
-def padded_spectrum(x: np.ndarray, dt: float, *, pad: int = 4) -> tuple[np.ndarray, np.ndarray]:
-    """Amplitude spectrum (cpm, zero-to-peak) as :func:`~gearrotor.analyses.transient.spectrum`
-    (Hann window, linear trend removed) with ``pad``× zero padding, for drawing: the peaks keep
-    their height and the curve is interpolated between the bins."""
-    x = np.asarray(x, float)
-    n = len(x)
-    tt = np.arange(n)
-    x = x - np.polyval(np.polyfit(tt, x, 1), tt)
-    w = np.hanning(n)
-    amp = 2 * np.abs(np.fft.rfft((x - x.mean()) * w, n=pad * n)) / w.sum()
-    return np.fft.rfftfreq(pad * n, dt) * 60.0, amp
 
 
 def _autoscale_y(ax, decades: float = 4.0) -> None:

@@ -14,18 +14,12 @@ in :mod:`.options` (:mod:`.prepare`: the full model for RK4, the modal reduction
 Figures of a result: :mod:`.plots`; spectra and order amplitudes: :mod:`gearrotor.signals`.
 """
 
+from ...signals import amplitude_at, order_amplitudes, spectrum
 from .driver import transient
 from .equations import TransientSystem, build_system, mesh_damping_from_ratio, static_state
 from .mesh import MeshLaw, backlash_h, fourier_coefficients, stiffness
 from .options import RK4, Checkpoint, ModalRK4, Save
-from .results import (
-    SolverStats,
-    TransientResult,
-    amplitude_at,
-    load_result,
-    order_amplitudes,
-    spectrum,
-)
+from .results import SolverStats, TransientResult, load_result
 from .step_limits import rk4_max_step
 
 __all__ = [

@@ -11,7 +11,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .results import RPM, spectrum
+from ...signals import spectrum
+from .results import RPM
 
 __all__ = [
     "plot_time_histories",

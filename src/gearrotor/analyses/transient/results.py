@@ -17,6 +17,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ...errors import ModelError
+from ...signals import amplitude_at, order_amplitudes, spectral_lines, spectrum
 from . import kernels as kn
 from .equations import TransientSystem
 from .forces import _pack_forces
@@ -351,7 +352,6 @@ def load_result(path: str | Path):
         return ds.load()
 
 
-# ---- signal processing ---------------------------------------------------------------------
 def _line_text(line: dict, rate: float) -> str:
     """One spectral line of the summary table: cpm (order) mean µm, and when it grows or
     decays faster than ``rate`` (1/s) its rate and end amplitude."""
@@ -363,155 +363,6 @@ def _line_text(line: dict, rate: float) -> str:
         verb = "growing" if line["growth_1_s"] > 0 else "decaying"
         text += f" [{verb} {abs(line['growth_1_s']):.3g} 1/s, {line['um_end']:.3g} at the end]"
     return text
-
-
-def _window(name: str, n: int) -> NDArray:
-    """Spectral window of n samples: ``"hann"``, ``"flattop"`` (5-term, side lobes below
-    -90 dB, amplitude flat to 0.1 % across a bin) or ``"rect"``."""
-    if name == "hann":
-        return np.hanning(n)
-    if name == "flattop":
-        k = np.arange(n) / (n - 1) * 2 * np.pi
-        return (
-            0.21557895
-            - 0.41663158 * np.cos(k)
-            + 0.277263158 * np.cos(2 * k)
-            - 0.083578947 * np.cos(3 * k)
-            + 0.006947368 * np.cos(4 * k)
-        )
-    if name == "rect":
-        return np.ones(n)
-    raise ValueError(f"unknown window {name!r}; expected 'hann', 'flattop' or 'rect'")
-
-
-def spectrum(
-    x: NDArray,
-    dt: float,
-    *,
-    window: str = "hann",
-    segments: int = 1,
-    overlap: float = 0.5,
-    detrend: str = "linear",
-) -> tuple[NDArray, NDArray]:
-    """Averaged amplitude spectrum: (frequency in cpm, zero-to-peak amplitude).
-
-    The signal (linear trend or mean removed: ``detrend = "linear"`` or ``"mean"``, so that a
-    coasting speed does not swamp the low frequencies) is split into ``segments`` windows
-    overlapping by ``overlap``;
-    each is windowed (``"hann"``, ``"flattop"`` for amplitude accuracy, or ``"rect"``) and the
-    magnitudes are averaged; scaling ``2|X|/Σw`` makes a sinusoid at a bin read its amplitude.
-    """
-    x = np.asarray(x, float)
-    n = len(x)
-    if detrend == "linear" and n > 1:
-        tt = np.arange(n)
-        x = x - np.polyval(np.polyfit(tt, x, 1), tt)
-    elif detrend == "mean":
-        x = x - x.mean()
-    else:
-        raise ValueError(f"unknown detrend {detrend!r}; expected 'linear' or 'mean'")
-    if segments < 1 or n < 8:
-        raise ValueError("spectrum needs at least 8 samples and segments >= 1")
-    L = int(n / (1 + (segments - 1) * (1 - overlap)))
-    step = max(1, int(L * (1 - overlap)))
-    w = _window(window, L)
-    acc = np.zeros(L // 2 + 1)
-    count = 0
-    for s in range(0, n - L + 1, step):
-        seg = x[s : s + L]
-        acc += np.abs(np.fft.rfft((seg - seg.mean()) * w))
-        count += 1
-        if count == segments:
-            break
-    amp = 2 * acc / count / w.sum()
-    f = np.fft.rfftfreq(L, dt) * 60.0
-    return f, amp
-
-
-def spectral_lines(
-    x: NDArray, dt: float, *, count: int = 4, relative: float = 1e-3
-) -> list[tuple[float, float, float, float]]:
-    """The strongest lines of a signal: up to ``count`` tuples (frequency cpm, mean zero-to-peak
-    amplitude, growth rate 1/s, amplitude at the end), strongest first, of lines at least
-    ``relative`` times the strongest one.
-
-    Lines are the peaks of the flat-top spectrum (:func:`spectrum`; peaks within the main-lobe
-    half-width of 5 bins of a stronger one and the lowest 5 bins, the removed trend, are
-    dropped; the window's side lobes lie below -90 dB, so keep ``relative`` above 1e-4). Each
-    frequency is refined between bins by maximising the Hann-windowed Fourier transform (its
-    narrow main lobe locates a line to a small fraction of a bin). The mean amplitude is the
-    flat-top transform at that frequency over the whole signal. The growth rate σ compares
-    the flat-top transforms of the two halves (exact for a line A·e^{σt}: both halves see the
-    same window); the end amplitude extrapolates the second half's to the last sample with
-    that σ, corrected for the window's weighting of e^{σt}. A line that neither grows nor
-    decays has σ ≈ 0 and an end amplitude equal to its mean amplitude.
-    """
-    from scipy.optimize import minimize_scalar
-    from scipy.signal import find_peaks
-
-    x = np.asarray(x, float)
-    f, a = spectrum(x, dt, window="flattop")
-    lobe = 5
-    if len(a) <= 2 * lobe or not np.any(a[lobe:] > 0):
-        return []
-    seg = a[lobe:]
-    peaks, _ = find_peaks(seg, height=relative * seg.max(), distance=lobe)
-    peaks = lobe + peaks[np.argsort(seg[peaks])[::-1][:count]]
-    n = len(x)
-    t = np.arange(n) * dt
-    xd = x - np.polyval(np.polyfit(t, x, 1), t)
-    hann = _window("hann", n)
-    half = n // 2
-    th = t[:half] - t[:half].mean()  # time about the centre of a half
-    flat, flat_h = _window("flattop", n), _window("flattop", half)
-    df = f[1] - f[0]
-
-    def amp(sig: NDArray, w: NDArray, tt: NDArray, fc: float) -> float:
-        return float(2 * abs(np.exp(-2j * np.pi * fc / 60 * tt) @ (sig * w)) / w.sum())
-
-    out = []
-    for k in peaks:
-        res = minimize_scalar(
-            lambda fc: -amp(xd, hann, t, fc),
-            bounds=(f[k] - df, f[k] + df),
-            method="bounded",
-            options={"xatol": 1e-4 * df},
-        )
-        fc = float(res.x)
-        a1 = amp(xd[:half], flat_h, t[:half], fc)
-        a2 = amp(xd[-half:], flat_h, t[-half:], fc)
-        sigma = float(np.log(a2 / a1) / (half * dt)) if a1 > 0 and a2 > 0 else 0.0
-        weight = float(flat_h @ np.exp(sigma * th) / flat_h.sum())  # window's mean of e^{σt}
-        end = a2 * np.exp(sigma * (t[-1] - t[-half:].mean())) / weight
-        out.append((fc, amp(xd, flat, t, fc), sigma, float(end)))
-    return out
-
-
-def amplitude_at(t: NDArray, x: NDArray, omega: float) -> float:
-    """Zero-to-peak amplitude of the component at a constant ω (rad/s) by least squares (with
-    offset). For shaft orders at a varying speed use :func:`order_amplitudes`."""
-    A = np.column_stack([np.cos(omega * t), np.sin(omega * t), np.ones_like(t)])
-    c, *_ = np.linalg.lstsq(A, x, rcond=None)
-    return float(np.hypot(c[0], c[1]))
-
-
-def order_amplitudes(
-    t: NDArray, x: NDArray, speed: NDArray, orders: tuple[float, ...] = (1.0, 2.0)
-) -> NDArray:
-    """Zero-to-peak amplitudes (units of x) of shaft orders, tracked in the angle domain.
-
-    The shaft angle θ(t) = ∫|Ω| dt follows the actual (fluctuating, coasting) speed, and all
-    orders are fitted together with an offset and a linear drift, so a large 1x neither leaks
-    into the 2x estimate (as a separate fit at 2·mean speed would) nor smears with the speed.
-    """
-    t = np.asarray(t, float)
-    w = np.abs(np.asarray(speed, float))
-    theta = np.concatenate([[0.0], np.cumsum(0.5 * (w[1:] + w[:-1]) * np.diff(t))])
-    cols = [np.ones_like(t), t - t.mean()]
-    for k in orders:
-        cols += [np.cos(k * theta), np.sin(k * theta)]
-    c, *_ = np.linalg.lstsq(np.column_stack(cols), np.asarray(x, float), rcond=None)
-    return np.hypot(c[2::2], c[3::2])
 
 
 # ---- assembly of the result from recorded states ---------------------------------------------
