@@ -314,7 +314,7 @@ def test_output_that_is_a_file_is_an_error(train, tmp_path):
 
 
 def test_failed_write_leaves_nothing_behind(single, tmp_path, monkeypatch):
-    import gearrotor.plots.report as rp
+    import gearrotor.plots.report.build as rp
 
     def boom(*args, **kwargs):
         raise RuntimeError("disk full")

@@ -1,0 +1,156 @@
+"""What a report section is (:class:`Section`) and what it works on (:class:`Context`).
+
+:func:`~.build.make_report` checks the request, then for the requested sections in page order
+calls :meth:`Section.check` (input errors, before anything runs), then :meth:`Section.run`
+(the analyses), then, inside the temporary report directory, :meth:`Section.write` of every
+section (PNG files, numbers for ``report.json``, verdicts, and the section's part of the page).
+A section reads what it needs from the :class:`Context` (the model, the operating speed, the
+results of the analyses) and writes what it produces into it.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ...errors import ModelError
+from .blocks import RPM, _savefig
+
+if TYPE_CHECKING:
+    from ...assembly import Assembly
+    from ...model import Train
+
+__all__ = ["Context", "Section"]
+
+#: A part of the page: (html id, title, html body).
+Part = tuple[str, str, str]
+
+
+@dataclass
+class Context:
+    """The request, the analysis results and what the report has written so far.
+
+    assembly : the model; speed : rad/s, magnitude of the reference-shaft operating speed (the
+    direction of rotation follows the model, :attr:`sign`); max_frequency : rad/s; api : the
+    unbalance section uses the API 617 unbalance; transient_file : a saved transient result;
+    n_campbell, n_unbalance : speeds of the sweeps.
+
+    results : analysis name -> its result (``"modal"``, ``"campbell"``, ``"unbalance"``,
+    ``"transient"``: the dataset read from the file), filled by :meth:`Section.run`;
+    notes : remarks shown under the summary (e.g. a sweep limited by bearing tables);
+    directory : the temporary report directory the files go to (during ``write``);
+    figures : the PNG files written, in page order; summary : the content of
+    ``report.json``; verdicts : the pass/fail checks of the summary table.
+    """
+
+    assembly: Assembly
+    analyses: tuple[str, ...]
+    speed: float
+    max_frequency: float
+    api: bool = False
+    transient_file: Path | None = None
+    n_campbell: int = 40
+    n_unbalance: int = 400
+    results: dict[str, object] = field(default_factory=dict)
+    notes: list[str] = field(default_factory=list)
+    directory: Path | None = None
+    figures: list[Path] = field(default_factory=list)
+    summary: dict = field(default_factory=dict)
+    verdicts: list[dict] = field(default_factory=list)
+
+    @property
+    def train(self) -> Train:
+        return self.assembly.train
+
+    @property
+    def sign(self) -> float:
+        """+1 or -1: the direction of rotation of the model's reference shaft."""
+        return 1.0 if self.train.speed >= 0 else -1.0
+
+    def sweep(self, lo: float, hi: float, n: int, what: str) -> np.ndarray:
+        """``n`` reference speeds (rad/s) from ``lo`` to ``hi``, limited to the speed range of
+        the tabulated bearings that do not hold their end values (a note says so)."""
+        speeds, note = _sweep(lo, hi, n, _table_limits(self.assembly), what)
+        if note:
+            self.notes.append(note)
+        return speeds
+
+    def png(self, fn, name: str, *args, **kw) -> None:
+        """Write ``fn(*args, path=<directory>/name, **kw)``, a figure function of
+        :mod:`gearrotor.plots` (pyplot), and close its figure."""
+        import matplotlib.pyplot as plt
+
+        fig = fn(*args, path=self.directory / name, **kw)
+        plt.close(fig)
+        self.figures.append(self.directory / name)
+
+    def save(self, fig, name: str) -> None:
+        """Write a matplotlib Figure as ``<directory>/name`` (PNG)."""
+        _savefig(fig, self.directory / name)
+        self.figures.append(self.directory / name)
+
+
+class Section:
+    """One section of the report. Subclasses set:
+
+    analysis : the name in ``--analyses`` that requests the section's analysis, or None for
+        a section that shows what the others computed (stability margins, bearing tables);
+    default : whether the analysis runs when ``--analyses`` is not given;
+
+    and override what they need of :meth:`check`, :meth:`run` and :meth:`write`.
+    """
+
+    analysis: str | None = None
+    default: bool = False
+
+    def check(self, ctx: Context) -> None:
+        """Check the request before anything runs; raise :class:`~gearrotor.errors.ModelError`
+        (called for requested sections only)."""
+
+    def run(self, ctx: Context) -> None:
+        """Run the analysis, into ``ctx.results[self.analysis]`` (requested sections only)."""
+
+    def write(self, ctx: Context) -> list[Part]:
+        """Write the section's PNG files (:meth:`Context.png`, :meth:`Context.save`), add its
+        numbers to ``ctx.summary`` and its checks to ``ctx.verdicts``; return its parts of the
+        page. Called for every section: one without results returns ``[]``."""
+        return []
+
+
+def _table_limits(asm) -> tuple[float, float, list[str]]:
+    """Reference-speed range (rad/s) allowed by tabulated bearings that do not hold end values."""
+    lo, hi, names = 0.0, math.inf, []
+    for b in asm.bearings:
+        el = b.element
+        if not el.speed_dependent or el.table.extrapolate == "hold":
+            continue
+        r = abs(asm.speed_ratio[b.shaft])
+        if r == 0:
+            continue
+        lo = max(lo, float(el.table.speed[0]) / r)
+        hi = min(hi, float(el.table.speed[-1]) / r)
+        names.append(b.name)
+    return lo, hi, names
+
+
+def _sweep(lo: float, hi: float, n: int, limits, what: str) -> tuple[np.ndarray, str | None]:
+    tlo, thi, names = limits
+    note = None
+    a, b = max(lo, tlo), min(hi, thi)
+    if names and (a != lo or b != hi):
+        note = (
+            f"{what} limited to {a * RPM:.0f}..{b * RPM:.0f} rpm, the speed range of the "
+            f"coefficient tables of {', '.join(names)}"
+        )
+    if not b > a:
+        raise ModelError(
+            f"no speed range for the {what}",
+            field="bearings",
+            value=f"{a * RPM:.6g}..{b * RPM:.6g} rpm",
+            expected="bearing tables that cover the operating speed",
+        )
+    return np.linspace(a, b, n), note

@@ -1,0 +1,238 @@
+"""The report's driver: :func:`make_report` checks the request, runs the sections of
+:data:`~.sections.SECTIONS` (:mod:`.base`) and writes the directory atomically."""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import shutil
+import tempfile
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ...errors import ModelError
+from .base import Context
+from .blocks import RPM
+from .page import _page
+from .sections import SECTIONS
+
+__all__ = ["ANALYSES", "Report", "make_report", "parse_analyses"]
+
+#: The analyses the report runs when none are named (``--analyses`` default).
+ANALYSES = tuple(s.analysis for s in SECTIONS if s.default)
+
+
+@dataclass(frozen=True)
+class Report:
+    """What :func:`make_report` wrote and computed.
+
+        ``directory`` holds ``html`` (the report), ``figures`` (PNG files) and ``json``;
+        ``summary`` is the content of ``report.json``. The analysis results are kept for callers
+        that want more than the report shows (``None`` when not requested); ``results`` holds every
+    section's result by analysis name.
+    """
+
+    directory: Path
+    html: Path
+    json: Path
+    figures: tuple[Path, ...]
+    summary: dict = field(repr=False)
+    modal: object | None = field(default=None, repr=False)
+    campbell: object | None = field(default=None, repr=False)
+    unbalance: object | None = field(default=None, repr=False)
+    transient: object | None = field(default=None, repr=False)
+    results: dict = field(default_factory=dict, repr=False)
+
+
+def parse_analyses(text: str | tuple[str, ...] | list[str]) -> tuple[str, ...]:
+    """Analyses from ``"modal,campbell,unbalance"`` (any order, each at most once).
+
+    ``"transient"`` is not run by the report: it is accepted only to state that a transient
+    result file must be given (see :func:`make_report`).
+    """
+    items = text.split(",") if isinstance(text, str) else list(text)
+    names = [s.strip().lower() for s in items if s.strip()]
+    allowed = tuple(s.analysis for s in SECTIONS if s.analysis)
+    bad = [n for n in names if n not in allowed]
+    if bad or not names:
+        raise ModelError(
+            "unknown analysis" if bad else "no analysis requested",
+            field="--analyses",
+            value=",".join(bad) if bad else text,
+            expected="a comma-separated subset of " + ", ".join(allowed),
+        )
+    out: list[str] = []
+    for n in names:
+        if n not in out:
+            out.append(n)
+    return tuple(out)
+
+
+def make_report(
+    model,
+    output: str | Path,
+    *,
+    analyses: tuple[str, ...] | str = ANALYSES,
+    speed: float | None = None,
+    max_frequency: float | None = None,
+    transient: str | Path | None = None,
+    api: bool = False,
+    n_campbell: int = 40,
+    n_unbalance: int = 400,
+    source: str | None = None,
+    command: str | None = None,
+) -> Report:
+    """Run the analyses and write the report directory ``output``.
+
+    Parameters
+    ----------
+    model : a :class:`~gearrotor.model.Train` (or its :class:`~gearrotor.assembly.Assembly`)
+    output : directory to write (created; an existing directory is updated file by file)
+    analyses : subset of ``("modal", "campbell", "unbalance")``; ``"transient"`` requires
+        ``transient`` (the report reads a saved result, it does not run the solver)
+    speed : rad/s, magnitude of the reference-shaft operating speed (default: the model's); the
+        modal analysis runs at it, the API checks use it as the operating range, the Campbell
+        sweep covers 0..1.25× and the unbalance sweep 0.02..1.5× of it
+    max_frequency : rad/s, highest damped frequency of the modes and the Campbell diagram
+        (default: 5 × speed)
+    transient : path of a transient result (NetCDF written by ``TransientResult.save``)
+    api : the unbalance section uses the API 617 unbalance, 4 × 6350 W/N g·mm per plane of the
+        model's unbalances (W the plane's share of its shaft's mass, kg; N its shaft's speed at
+        the operating speed, rpm; phases as in the model) instead of the model's amounts
+        (:func:`gearrotor.analyses.api617.api617_unbalances`)
+    n_campbell, n_unbalance : number of speeds of the Campbell and unbalance sweeps
+    source, command : the model file and the command line, quoted in the report
+
+    Raises
+    ------
+    ModelError : an invalid request (unknown analysis, non-positive speed, transient requested
+        without a file, unreadable result file, unbalance report without unbalance or probes,
+        output path that is a file) or an invalid model.
+    """
+    from ...assembly import Assembly, assemble
+
+    analyses = parse_analyses(analyses)
+    if "transient" in analyses and transient is None:
+        raise ModelError(
+            "the transient section needs a saved transient result",
+            field="--transient",
+            value=None,
+            expected="a NetCDF file written by the transient analysis (the report does not run "
+            "the transient solver)",
+        )
+    if transient is not None and "transient" not in analyses:
+        analyses = (*analyses, "transient")
+    output = Path(output)
+    if output.exists() and not output.is_dir():
+        raise ModelError(
+            "the report output is not a directory",
+            field="--output",
+            value=str(output),
+            expected="a directory (new or existing)",
+        )
+    asm = model if isinstance(model, Assembly) else assemble(model)
+    train = asm.train
+    nominal = abs(float(train.speed))
+    w = nominal if speed is None else float(speed)
+    if not (np.isfinite(w) and w > 0):
+        raise ModelError(
+            "the report needs a positive operating speed",
+            field="--speed",
+            value=None if speed is None else f"{w * RPM:.6g} rpm",
+            expected="a speed > 0 rpm (the direction of rotation follows the model)",
+        )
+    fmax = 5 * w if max_frequency is None else float(max_frequency)
+    if not (np.isfinite(fmax) and fmax > 0):
+        raise ModelError(
+            "the maximum frequency must be positive",
+            field="--max-frequency",
+            value=f"{fmax * RPM:.6g} rpm",
+            expected="a frequency > 0 rpm",
+        )
+    if n_campbell < 2 or n_unbalance < 3:
+        raise ModelError(
+            "too few sweep speeds",
+            value=(n_campbell, n_unbalance),
+            expected="n_campbell >= 2 and n_unbalance >= 3",
+        )
+    ctx = Context(
+        asm,
+        analyses,
+        w,
+        fmax,
+        api=api,
+        transient_file=None if transient is None else Path(transient),
+        n_campbell=n_campbell,
+        n_unbalance=n_unbalance,
+    )
+    requested = [s for s in SECTIONS if s.analysis in analyses]
+    for section in requested:
+        section.check(ctx)
+    for section in requested:
+        section.run(ctx)
+
+    output.parent.mkdir(parents=True, exist_ok=True)
+    tmp = Path(tempfile.mkdtemp(prefix=f".{output.name}.tmp-", dir=output.parent))
+    umask = os.umask(0)
+    os.umask(umask)
+    os.chmod(tmp, 0o777 & ~umask)  # mkdtemp makes it private; the report is an ordinary folder
+    try:
+        ctx.directory = tmp
+        summary = ctx.summary
+        summary.update({"train": train.name, "gearrotor_report": 1})
+        parts = [part for section in SECTIONS for part in section.write(ctx)]
+        summary["verdicts"] = ctx.verdicts
+        summary["inputs"] = {
+            "model": source,
+            "command": command,
+            "analyses": list(analyses),
+            "speed_rpm": w * RPM,
+            "max_frequency_rpm": fmax * RPM,
+            "transient": None if transient is None else str(transient),
+            "unbalance": "api617" if api else "model",
+        }
+        (tmp / "report.json").write_text(json.dumps(_clean(summary), indent=1), encoding="utf-8")
+        page = _page(train, parts, summary, ctx.figures, ctx.notes, source=source, command=command)
+        (tmp / "report.html").write_text(page, encoding="utf-8")
+        _publish(tmp, output)
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+    return Report(
+        directory=output,
+        html=output / "report.html",
+        json=output / "report.json",
+        figures=tuple(output / p.name for p in ctx.figures),
+        summary=summary,
+        modal=ctx.results.get("modal"),
+        campbell=ctx.results.get("campbell"),
+        unbalance=ctx.results.get("unbalance"),
+        transient=ctx.results.get("transient"),
+        results=dict(ctx.results),
+    )
+
+
+def _publish(tmp: Path, output: Path) -> None:
+    if not output.exists():
+        os.rename(tmp, output)
+        return
+    files = sorted(tmp.iterdir(), key=lambda p: (p.name == "report.html", p.name))
+    for f in files:
+        os.replace(f, output / f.name)
+    tmp.rmdir()
+
+
+def _clean(x):
+    """JSON-safe copy: non-finite floats become None, numpy scalars Python numbers."""
+    if isinstance(x, dict):
+        return {str(k): _clean(v) for k, v in x.items()}
+    if isinstance(x, list | tuple):
+        return [_clean(v) for v in x]
+    if isinstance(x, np.generic):
+        x = x.item()
+    if isinstance(x, float) and not math.isfinite(x):
+        return None
+    return x

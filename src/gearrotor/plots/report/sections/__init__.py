@@ -1,0 +1,26 @@
+"""The sections of the report, in page order (and in the order they run and write).
+
+A new analysis adds one module here (a :class:`~gearrotor.plots.report.base.Section` subclass;
+see ``docs/architecture.md``) and one line to :data:`SECTIONS`.
+"""
+
+from __future__ import annotations
+
+from ..base import Section
+from .bearings import BearingsSection
+from .campbell import CampbellSection
+from .modes import ModesSection
+from .stability import StabilitySection
+from .transient import TransientSection
+from .unbalance import UnbalanceSection
+
+__all__ = ["SECTIONS"]
+
+SECTIONS: tuple[Section, ...] = (
+    ModesSection(),
+    StabilitySection(),
+    CampbellSection(),
+    UnbalanceSection(),
+    BearingsSection(),
+    TransientSection(),
+)
