@@ -1,6 +1,6 @@
 """The package layout of docs/architecture.md, read from the source with ``ast`` (nothing is
-imported): no import cycle between the modules of ``gearrotor``, and the command line only in
-``gearrotor/cli/``.
+imported): no import cycle between the modules of ``gearrotor``, every room imports only the
+rooms below it, and the command line only in ``gearrotor/cli/``.
 
 Which imports count. Every ``import``/``from ... import`` of a ``gearrotor`` module anywhere in a
 file: at module level, under ``if TYPE_CHECKING:``, and inside functions. The lazy imports inside
@@ -166,3 +166,43 @@ def test_command_line_only_in_cli():
                 offenders.append(f"{name}: imports {', '.join(n for n in names if n)}")
     assert not offenders, "\n".join(offenders)
     assert (cli / "__init__.py").exists()
+
+
+#: The rooms of docs/architecture.md by layer: a module may import its own room and the rooms of
+#: lower layers, not a room of its own layer or above.
+LAYERS = {
+    "errors": 0,
+    "units": 0,
+    "signals": 0,
+    "elements": 1,
+    "model": 1,
+    "bearings": 2,
+    "io": 2,
+    "assembly": 3,
+    "analyses": 4,
+    "plots": 5,
+    "studies": 5,
+    "cli": 6,
+    "__main__": 7,
+}
+
+
+def _room(module: str) -> str | None:
+    """``gearrotor.analyses.transient.driver`` -> ``analyses``; None for the package root, whose
+    ``__init__`` only gathers the public names (and ``__version__``)."""
+    parts = module.split(".")
+    return parts[1] if len(parts) > 1 else None
+
+
+def test_rooms_import_only_lower_layers():
+    assert {_room(m) for m in MODULES} - {None} == set(LAYERS), "a room is missing from LAYERS"
+    wrong = []
+    for a, targets in _graph(lazy=True).items():
+        ra = _room(a)
+        for b in sorted(targets):
+            rb = _room(b)
+            if ra is None or rb is None or ra == rb:
+                continue
+            if LAYERS[rb] >= LAYERS[ra]:
+                wrong.append(f"{a} imports {b} ({ra}, layer {LAYERS[ra]} -> {rb}, {LAYERS[rb]})")
+    assert not wrong, "imports against the layering of docs/architecture.md:\n" + "\n".join(wrong)
