@@ -2,6 +2,7 @@
 closed form, the root search's tolerance, the verdicts, and bad input."""
 
 import dataclasses
+import json
 
 import numpy as np
 import pytest
@@ -191,7 +192,7 @@ def test_stages_split_the_cross_coupling_by_their_q():
     q = [anticipated_cross_coupling(s, 300.0) for s in st]
     assert r.qa == pytest.approx(sum(q))
     assert [s.weight for s in r.sites] == pytest.approx([2 / 3, 1 / 3])
-    d = r.to_dict()
+    d = json.loads(json.dumps(r.to_dict()))  # JSON-ready
     assert d["qa_N_per_m"] == r.qa and d["threshold_q_N_per_m"] == r.threshold_q
     assert d["ratio_q0_qa"] == pytest.approx(r.threshold_q / r.qa)
 
@@ -208,6 +209,7 @@ def test_level2_against_the_jeffcott_eigenvalue():
         fwd = [m for m in r.evaluations[0].modes if m.forward and m.mode_type == "L"]
         assert min(m.log_dec for m in fwd) == pytest.approx(expect, rel=1e-3)
         assert r.verdict == verdict
+        assert json.loads(json.dumps(r.to_dict()))["verdict"] == verdict
     # Level I ignores the model's destabiliser: same threshold with or without it
     r1 = level1(jeffcott(q=1.2 * Q_ONSET), qa=Q_ONSET / 3, at=[("s", 2)], n_curve=0)
     assert r1.threshold_q == pytest.approx(Q_ONSET, rel=1e-3)

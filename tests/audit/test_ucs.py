@@ -1,5 +1,7 @@
 """Undamped critical speed map against closed forms and the literature's uniform-shaft map."""
 
+import json
+
 import numpy as np
 import pytest
 from scipy.optimize import brentq
@@ -239,7 +241,7 @@ def test_intersections_with_a_tabulated_bearing():
         assert x.stiffness == pytest.approx(k_expect, rel=1e-9)
         check = ucs_map(t, stiffness=np.array([x.stiffness, 2 * x.stiffness]), n_modes=1)
         assert check.shafts[0].critical_speeds[0, 0] == pytest.approx(x.speed, rel=2e-4)
-    d = res.to_dict()
+    d = json.loads(json.dumps(res.to_dict()))
     assert d["intersections"][0]["speed_rpm"] == pytest.approx(
         res.intersections[0].speed * 30 / np.pi
     )

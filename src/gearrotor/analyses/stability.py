@@ -791,7 +791,7 @@ def level2(
         for i in range(len(res)):
             unstable = bool(res.unstable[i])
             is_fwd = i in fwd
-            ok = not unstable and (not is_fwd or res.log_dec[i] >= LOG_DEC_MIN)
+            ok = not unstable and (not is_fwd or bool(res.log_dec[i] >= LOG_DEC_MIN))
             modes.append(
                 Level2Mode(
                     float(res.damped_frequency[i]),

@@ -13,6 +13,7 @@ from .figures import _plt, _save
 __all__ = ["plot_ucs_map", "plot_level1", "plot_screening", "plot_level2"]
 
 RPM = 30 / np.pi
+LEVEL2_TOP = 3.0  # log dec: well-damped modes above it are cut off the Level II chart
 
 
 def plot_ucs_map(result, path=None, shafts=None):
@@ -29,14 +30,13 @@ def plot_ucs_map(result, path=None, shafts=None):
         ratio = abs(s.speed_ratio)
         for j in range(s.critical_speeds.shape[1]):
             c = s.critical_speeds[:, j] * RPM
-            ax.loglog(k, c, "-", color=f"C{j}", lw=1.6, label=f"critical {j + 1}")
+            ax.loglog(k, c, "-", marker=".", ms=3, color=f"C{j}", lw=1.4, label=f"critical {j + 1}")
             r = s.rigid_critical_speeds[j]
             if np.isfinite(r):
                 ax.axhline(r * RPM, color=f"C{j}", ls=":", lw=0.9)
         styles = ("-", "--")
-        for bi, b in enumerate(result.bearings):
-            if result.train.shafts[s.index].name != b.shaft and not _same_speed(result, b, s):
-                continue
+        shown = [b for b in result.bearings if _same_speed(result, b, s)]
+        for bi, b in enumerate(shown):
             for d, kv in enumerate((b.kxx, b.kyy)):
                 lab = f"{b.name} {'Kxx' if d == 0 else 'Kyy'}"
                 if b.speeds is None:
@@ -48,7 +48,7 @@ def plot_ucs_map(result, path=None, shafts=None):
                     kv[ok],
                     b.speeds[ok] * RPM,
                     ls=styles[d],
-                    color=f"C{5 + bi % 5}",
+                    color=plt.get_cmap("tab10")((4 + bi) % 10),
                     marker=".",
                     ms=4,
                     lw=1.2,
@@ -176,6 +176,19 @@ def plot_level2(result, path=None):
         label=f"log dec = {result.criterion_log_dec:g}",
     )
     ax.axhline(0.0, color="k", lw=0.8)
+    every = [m.log_dec for ev in result.evaluations for m in ev.modes]
+    top = min(max(every) * 1.05, LEVEL2_TOP)
+    ax.set_ylim(min(-0.2, min(every) - 0.1), max(top, 1.0))
+    if max(every) > LEVEL2_TOP:
+        ax.text(
+            0.01,
+            0.97,
+            f"log dec > {LEVEL2_TOP:g}: above the chart",
+            transform=ax.transAxes,
+            fontsize=8,
+            va="top",
+            color="0.4",
+        )
     ax.set_xlabel("damped frequency (rpm)")
     ax.set_ylabel("log decrement")
     ax.set_title(f"Level II stability: {result.verdict}")
