@@ -56,7 +56,10 @@ def test_models_without_the_fields_serialise_as_before(examples):
         ({"operating_speed_range": ["-9000 rpm", "9000 rpm"]}, "operating_speed_range"),
         ({"max_continuous_speed": "0 rpm"}, "max_continuous_speed"),
         (
-            {"operating_speed_range": ["9000 rpm", "12000 rpm"], "max_continuous_speed": "11000 rpm"},
+            {
+                "operating_speed_range": ["9000 rpm", "12000 rpm"],
+                "max_continuous_speed": "11000 rpm",
+            },
             "exceeds max_continuous_speed",
         ),
         ({"operating_speed_range": ["9000 m", "10000 rpm"]}, "operating_speed_range"),
@@ -72,9 +75,7 @@ def test_unbalance_response_takes_the_models_range():
     speeds = np.linspace(500, 6000, 12) * RPM
     plain = unbalance_response(rotor(), speeds=speeds)
     assert plain.operating_range == (3000 * RPM, 3000 * RPM)  # unchanged without the fields
-    ranged = rotor(
-        operating_speed_range=["2500 rpm", "3000 rpm"], max_continuous_speed="3150 rpm"
-    )
+    ranged = rotor(operating_speed_range=["2500 rpm", "3000 rpm"], max_continuous_speed="3150 rpm")
     res = unbalance_response(ranged, speeds=speeds)
     assert res.operating_range == pytest.approx((2500 * RPM, 3150 * RPM))
     # the API 617 limit is evaluated at the MCS: 25.4 µm √(12000 / 3150), capped at 25.4 µm

@@ -152,9 +152,7 @@ def geared_pair(speed=300.0, k=5e6):
             "speed": speed,
             "materials": {"steel": {"E": E, "density": RHO, "poisson": NU}},
             "shafts": shafts,
-            "bearings": [
-                {"shaft": s, "node": n, "k": k} for s in ("p", "g") for n in (0, 6)
-            ],
+            "bearings": [{"shaft": s, "node": n, "k": k} for s in ("p", "g") for n in (0, 6)],
             "thrust_bearings": [{"shaft": "g", "node": 0, "kzz": 1e8}],
             "meshes": [
                 {
