@@ -12,6 +12,7 @@ from gearrotor.analyses.stability import (
     _unit_coupling,
     anticipated_cross_coupling,
     csr_boundary,
+    mid_span,
     screening_region,
 )
 from gearrotor.assembly import assemble
@@ -120,6 +121,18 @@ def test_sign_follows_the_shaft_on_a_geared_train():
     assert r.threshold_q == pytest.approx(Q_ONSET, rel=2e-3)  # + the mesh's 1e3/2e6
     assert r.threshold_mode["shaft"] == "g"
     assert r.threshold_mode["whirl_per_shaft"]["g"] == "F"
+
+
+def test_mid_span_site():
+    t = jeffcott()
+    assert mid_span(t, "s") == Site("s", 2, 1.0)
+    over = single_shaft(
+        length=1.0,
+        diameter=0.1,
+        elements=10,
+        bearings=[{"node": 2, "k": 1e7}, {"node": 6, "k": 1e7}],
+    )
+    assert mid_span(over, "s").node == 4  # between the bearings, not the shaft's middle
 
 
 def test_root_search_tolerance_and_cost():

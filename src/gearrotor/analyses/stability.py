@@ -79,6 +79,7 @@ __all__ = [
     "forward_lateral_modes",
     "level1",
     "level2",
+    "mid_span",
     "SCREENING_DENSITY_LIMIT",
 ]
 
@@ -149,6 +150,22 @@ class Site:
     shaft: str
     node: int
     weight: float = 1.0
+
+
+def mid_span(model: Train | Assembly, shaft: str, weight: float = 1.0) -> Site:
+    """The :class:`Site` at the node nearest the middle of ``shaft``'s bearing span (its
+    outermost radial bearings; the whole shaft without two bearings): where API 617 applies
+    Q_A on a between-bearing rotor."""
+    train = _train(model)
+    si = train.shaft_index(shaft, "at.shaft")
+    z = train.layout().shafts[si].z
+    nodes = [
+        train.node_index(b, f"bearings[{k}]")[1]
+        for k, b in enumerate(train.bearings)
+        if b.shaft == shaft
+    ]
+    lo, hi = (z[min(nodes)], z[max(nodes)]) if len(nodes) >= 2 else (z[0], z[-1])
+    return Site(shaft, int(np.argmin(np.abs(z - 0.5 * (lo + hi)))), weight)
 
 
 def anticipated_cross_coupling(stage: Stage, speed: float) -> float:

@@ -528,6 +528,8 @@ def ucs_map(
             field="bearings",
             expected="at least one [[bearings]] entry",
         )
+    if not (isinstance(n_modes, int | np.integer) and n_modes >= 1):
+        raise ModelError("n_modes must be a positive integer", field="n_modes", value=n_modes)
     if not 0 <= min_share < 1:
         raise ModelError(
             "min_share must be a fraction",
