@@ -38,6 +38,7 @@ first of them.
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -219,13 +220,11 @@ class _Synchronous:
         asm = assemble(bare)
         self.asm = asm
         n = asm.n_dof
-        kb = _Triplets()
+        kb, unused = _Triplets(), _Triplets()
         unit = RadialBearing(kxx=1.0, kyy=1.0)
         journal = []
-        for b in asm.bearings:
-            d = b.dofs if b.support_dofs is None else np.concatenate([b.dofs, b.support_dofs])
-            k1 = unit.K()
-            kb.add(d, k1 if b.support_dofs is None else np.block([[k1, -k1], [-k1, k1]]))
+        for b in asm.bearings:  # every bearing as k = 1 N/m (to ground or to its pedestal)
+            dataclasses.replace(b, element=unit).scatter(kb, unused, 0.0)
             journal.extend(b.dofs.tolist())
         self.Kb = kb.csr(n)
         self.K0 = asm.K0
@@ -236,7 +235,7 @@ class _Synchronous:
         )
         self.sense = 1.0 if train.speed >= 0 else -1.0
         self.free = np.setdiff1d(np.arange(n), np.asarray(journal, int))
-        # per shaft: lateral mask, translation DOFs
+        # per shaft: its lateral DOFs (x, y, θx, θy)
         self.lateral = []
         for offs in asm.node_offset:
             m = np.zeros(n, bool)
