@@ -254,3 +254,24 @@ def test_bad_input():
     bare = single_shaft(length=1.0, diameter=0.05, elements=4)
     with pytest.raises(ModelError, match="bearings"):
         ucs_map(bare)
+
+
+def test_bearings_on_pedestals_act_in_series():
+    """A bearing on a ``support`` is the swept k between journal and pedestal: for a rigid
+    rotor on light pedestals (k_p to ground) the translational critical is √(2 k_eff / m),
+    k_eff = k k_p / (k + k_p) (pedestal mass 1e-6 kg: its inertia shifts k_eff by
+    ~ m_p ω² / k_p = 1e-7; the shaft's bending adds ~ k_eff / (48 EI/L³) < 1e-5 of compliance)."""
+    L, d, kp = 1.0, 0.05, 30.0
+    sup = {"mass": 1e-6, "kxx": kp, "kyy": kp}
+    t = single_shaft(
+        length=L,
+        diameter=d,
+        elements=10,
+        bearings=[{"node": 0, "k": 1.0, "support": sup}, {"node": 10, "k": 1.0, "support": sup}],
+        speed=100.0,
+    )
+    m = RHO * np.pi * d**2 / 4 * L
+    res = ucs_map(t, stiffness=np.array([10.0, 100.0]), n_modes=1)
+    for k, c in zip(res.stiffness, res.shafts[0].critical_speeds[:, 0], strict=True):
+        keff = k * kp / (k + kp)
+        assert c == pytest.approx(np.sqrt(2 * keff / m), rel=1e-5)
