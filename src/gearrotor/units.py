@@ -28,6 +28,7 @@ __all__ = [
     "UnbalanceAmount",
     "Force",
     "Torque",
+    "Power",
     "Time",
     "Rate",
     "Frequency",
@@ -56,6 +57,7 @@ KINDS: dict[str, tuple[str, str, str]] = {
     "unbalance": ("kg*m", "an unbalance amount", "720 g*mm"),
     "force": ("N", "a force", "1000 N"),
     "torque": ("N*m", "a torque", "500 N*m"),
+    "power": ("W", "a power", "1.5 MW"),
     "time": ("s", "a time", "3 s"),
     "rate": ("1/s", "a rate (per second)", "0.5 1/s"),
     "frequency": ("rad/s", "a frequency", "100 Hz"),
@@ -122,6 +124,7 @@ AngularSpeed = _quantity("angular_speed")
 UnbalanceAmount = _quantity("unbalance")
 Force = _quantity("force")
 Torque = _quantity("torque")
+Power = _quantity("power")
 Time = _quantity("time")
 Rate = _quantity("rate")
 Frequency = _quantity("frequency")

@@ -2,6 +2,9 @@
 
 from .campbell import CampbellResult, ExcitationOrder, campbell, default_orders
 from .modal import ModalResult, modal
+from .operating import model_max_continuous_speed, model_operating_range
+from .stability import Level1Result, Level2Result, Site, Stage, level1, level2
+from .ucs import UCSResult, rigid_support_criticals, ucs_map
 from .unbalance import (
     UnbalanceResult,
     api617_required_margin,
@@ -13,13 +16,24 @@ from .unbalance import (
 __all__ = [
     "CampbellResult",
     "ExcitationOrder",
+    "Level1Result",
+    "Level2Result",
     "ModalResult",
+    "Site",
+    "Stage",
+    "UCSResult",
     "UnbalanceResult",
     "api617_required_margin",
     "api617_unbalance",
     "api617_vibration_limit",
     "campbell",
     "default_orders",
+    "level1",
+    "level2",
     "modal",
+    "model_max_continuous_speed",
+    "model_operating_range",
+    "rigid_support_criticals",
+    "ucs_map",
     "unbalance_response",
 ]

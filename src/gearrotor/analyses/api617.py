@@ -13,17 +13,23 @@ from __future__ import annotations
 
 from ..assembly import Assembly, assemble
 from ..model import Train
+from .operating import model_max_continuous_speed
 from .unbalance import api617_unbalance, shaft_masses
 
 __all__ = ["api617_basis", "api617_unbalances"]
 
 
-def api617_basis(model: Train | Assembly, max_continuous_speed: float) -> list[tuple[float, float]]:
+def api617_basis(
+    model: Train | Assembly, max_continuous_speed: float | None = None
+) -> list[tuple[float, float]]:
     """Per unbalance plane of the model, ``(W, N)``: journal static load (kg; the shaft's mass
     shared by its unbalance planes) and the maximum continuous speed of its shaft (rad/s, > 0),
-    for a reference-shaft maximum continuous speed ``max_continuous_speed`` (rad/s)."""
+    for a reference-shaft maximum continuous speed ``max_continuous_speed`` (rad/s; default: the
+    model's ``max_continuous_speed``)."""
     asm = model if isinstance(model, Assembly) else assemble(model)
     train = asm.train
+    if max_continuous_speed is None:
+        max_continuous_speed = model_max_continuous_speed(train, "the API 617 unbalance")
     masses = shaft_masses(asm)
     planes: dict[str, int] = {}
     for u in train.unbalances:
@@ -41,14 +47,14 @@ def api617_basis(model: Train | Assembly, max_continuous_speed: float) -> list[t
 
 
 def api617_unbalances(
-    model: Train | Assembly, max_continuous_speed: float, *, factor: float = 4.0
+    model: Train | Assembly, max_continuous_speed: float | None = None, *, factor: float = 4.0
 ) -> list:
     """The model's unbalances with their amounts replaced by the API 617 amounts (kg·m).
 
     Parameters
     ----------
     model : the train (or its assembly); its ``unbalances`` give the planes and phases
-    max_continuous_speed : rad/s, of the reference shaft (sign ignored)
+    max_continuous_speed : rad/s, of the reference shaft (sign ignored); default: the model's
     factor : multiple of the allowable residual unbalance 6350 W/N g·mm (API 617: 4)
 
     Returns

@@ -28,6 +28,7 @@ from numpy.typing import NDArray
 from ..assembly import Assembly, assemble
 from ..errors import ModelError, SolverError
 from ..model import Train
+from .operating import model_operating_range
 
 __all__ = [
     "UnbalanceResult",
@@ -216,8 +217,11 @@ def unbalance_response(
 ) -> UnbalanceResult:
     """Steady-state response to unbalance over reference-shaft ``speeds`` (rad/s).
 
-    ``unbalances``/``probes`` default to the model's. ``operating_range`` (rad/s, reference shaft)
-    defaults to the model's nominal speed for both bounds.
+    ``unbalances``/``probes`` default to the model's. ``operating_range`` (rad/s, reference shaft):
+    the bounds of the separation margins (minimum operating speed, maximum continuous speed; the
+    upper one also sets the API 617 vibration limit); default: the model's
+    (:func:`~gearrotor.analyses.operating.model_operating_range`), else its nominal speed for
+    both bounds.
     """
     asm = model if isinstance(model, Assembly) else assemble(model)
     train = asm.train
@@ -258,7 +262,7 @@ def unbalance_response(
             if not np.all(np.isfinite(x)):
                 raise SolverError(f"non-finite unbalance response at {w * 30 / np.pi:.6g} rpm")
             resp[i, g] = x
-    op = operating_range or (abs(train.speed), abs(train.speed))
+    op = operating_range or model_operating_range(train) or (abs(train.speed), abs(train.speed))
     pres = []
     limits = []
     for k, p in enumerate(probes):

@@ -14,7 +14,7 @@ from functools import cached_property
 
 import numpy as np
 from numpy.typing import NDArray
-from pydantic import Field, model_validator
+from pydantic import Field, field_validator, model_serializer, model_validator
 
 from ..errors import ModelError
 from ..units import AngularSpeed
@@ -86,6 +86,47 @@ class Train(Spec):
     unbalances: list[Unbalance] = Field(default_factory=list)
     probes: list[Probe] = Field(default_factory=list)
     torques: list[ExternalTorque] = Field(default_factory=list)
+    # API 617 operating range of the reference shaft: speed magnitudes, min <= max <= MCS
+    operating_speed_range: tuple[AngularSpeed, AngularSpeed] | None = None
+    max_continuous_speed: AngularSpeed | None = None
+
+    @field_validator("max_continuous_speed")
+    @classmethod
+    def _positive_mcs(cls, v):
+        if v is not None and not v > 0:
+            raise ValueError(f"expected a positive speed magnitude, got {v * 30 / np.pi:.6g} rpm")
+        return v
+
+    @field_validator("operating_speed_range")
+    @classmethod
+    def _ordered_range(cls, v):
+        if v is not None and not 0 < v[0] <= v[1]:
+            raise ValueError(
+                "expected [minimum, maximum] speed magnitudes with 0 < minimum <= maximum, got "
+                f"[{v[0] * 30 / np.pi:.6g}, {v[1] * 30 / np.pi:.6g}] rpm"
+            )
+        return v
+
+    @model_validator(mode="after")
+    def _range_within_mcs(self) -> Train:
+        mcs, op = self.max_continuous_speed, self.operating_speed_range
+        if mcs is not None and op is not None and op[1] > mcs * (1 + 1e-9):
+            raise ValueError(
+                f"operating_speed_range: the maximum operating speed {op[1] * 30 / np.pi:.6g} "
+                f"rpm exceeds max_continuous_speed {mcs * 30 / np.pi:.6g} rpm; expected "
+                "maximum <= max_continuous_speed"
+            )
+        return self
+
+    @model_serializer(mode="wrap")
+    def _without_absent_range(self, handler):
+        # a model without an operating range serialises as before the fields existed (study
+        # case keys and transient checkpoint fingerprints hash the model JSON)
+        out = handler(self)
+        for key in ("operating_speed_range", "max_continuous_speed"):
+            if getattr(self, key) is None:
+                out.pop(key, None)
+        return out
 
     @model_validator(mode="after")
     def _unique_names(self) -> Train:

@@ -1,0 +1,198 @@
+"""Figures of the API lateral audit: undamped critical speed map, Level I stability (log dec
+against the applied cross-coupling, and the CSR / gas density screening chart), Level II modes.
+
+Every number drawn comes from the result object (the same numbers as its ``to_dict()``).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .figures import _plt, _save
+
+__all__ = ["plot_ucs_map", "plot_level1", "plot_screening", "plot_level2"]
+
+RPM = 30 / np.pi
+LEVEL2_TOP = 3.0  # log dec: well-damped modes above it are cut off the Level II chart
+
+
+def plot_ucs_map(result, path=None, shafts=None):
+    """Critical speed map, one panel per shaft: forward synchronous critical speeds (rpm of the
+    shaft) against the bearing stiffness, the rigid-support limits (dotted), each bearing's Kxx
+    (solid) and Kyy (dashed) over its table speeds, the intersections (circles) and the
+    operating range / maximum continuous speed of the model when given (band, dash-dot line)."""
+    plt = _plt()
+    names = [s.name for s in result.shafts] if shafts is None else list(shafts)
+    fig, axes = plt.subplots(1, len(names), figsize=(6.2 * len(names), 5.0), squeeze=False)
+    k = result.stiffness
+    for ax, name in zip(axes[0], names, strict=True):
+        s = result.shaft(name)
+        ratio = abs(s.speed_ratio)
+        for j in range(s.critical_speeds.shape[1]):
+            c = s.critical_speeds[:, j] * RPM
+            ax.loglog(k, c, "-", marker=".", ms=3, color=f"C{j}", lw=1.4, label=f"critical {j + 1}")
+            r = s.rigid_critical_speeds[j]
+            if np.isfinite(r):
+                ax.axhline(r * RPM, color=f"C{j}", ls=":", lw=0.9)
+        styles = ("-", "--")
+        shown = [b for b in result.bearings if _same_speed(result, b, s)]
+        for bi, b in enumerate(shown):
+            for d, kv in enumerate((b.kxx, b.kyy)):
+                lab = f"{b.name} {'Kxx' if d == 0 else 'Kyy'}"
+                if b.speeds is None:
+                    if kv[0] > 0:
+                        ax.axvline(kv[0], color="0.3", ls=styles[d], lw=1.0, label=lab)
+                    continue
+                ok = kv > 0
+                ax.loglog(
+                    kv[ok],
+                    b.speeds[ok] * RPM,
+                    ls=styles[d],
+                    color=plt.get_cmap("tab10")((4 + bi) % 10),
+                    marker=".",
+                    ms=4,
+                    lw=1.2,
+                    label=lab,
+                )
+        for x in result.intersections:
+            if x.shaft == name:
+                ax.plot(x.stiffness, x.speed * RPM, "o", mfc="none", mec="k", ms=8)
+        if result.operating_range is not None:
+            lo, hi = (v * ratio * RPM for v in result.operating_range)
+            ax.axhspan(lo, hi, color="0.85", alpha=0.6, lw=0, label="operating range")
+        if result.max_continuous_speed is not None:
+            ax.axhline(
+                result.max_continuous_speed * ratio * RPM, color="k", ls="-.", lw=1.0, label="MCS"
+            )
+        ax.set_xlim(k[0], k[-1])
+        ax.set_xlabel("bearing stiffness (N/m)")
+        ax.set_ylabel(f"{name} speed (rpm)")
+        ax.set_title(f"{name}: undamped critical speed map")
+        ax.grid(alpha=0.3, which="both")
+        ax.legend(fontsize=7, loc="upper left")
+    fig.tight_layout()
+    return _save(fig, path)
+
+
+def _same_speed(result, b, s) -> bool:
+    names = [t.name for t in result.train.shafts]
+    other = result.shafts[names.index(b.shaft)]
+    return abs(abs(other.speed_ratio) - abs(s.speed_ratio)) <= 1e-12 * abs(s.speed_ratio)
+
+
+def plot_level1(result, path=None):
+    """Level I: log dec of the least-stable forward mode against the applied cross-coupling Q,
+    with Q_A, the threshold Q_0 and the 0.1 acceptance line."""
+    plt = _plt()
+    fig, ax = plt.subplots(figsize=(7.0, 4.6))
+    q, d = result.curve_q, result.curve_log_dec
+    ax.plot(q, d, "C0.-", lw=1.6, label="least-stable forward mode")
+    ax.axhline(0.0, color="k", lw=0.8)
+    ax.axhline(
+        result.criterion_log_dec,
+        color="C3",
+        ls="--",
+        lw=1.0,
+        label=f"log dec = {result.criterion_log_dec:g}",
+    )
+    ax.axvline(result.qa, color="C1", ls="--", lw=1.0)
+    ax.plot(
+        result.qa,
+        result.log_dec_at_qa,
+        "o",
+        color="C1",
+        label=f"Q_A = {result.qa:.4g} N/m, log dec {result.log_dec_at_qa:.3f}",
+    )
+    if result.threshold_q is not None:
+        ax.plot(
+            result.threshold_q,
+            0.0,
+            "s",
+            mfc="none",
+            mec="C3",
+            ms=9,
+            label=f"Q_0 = {result.threshold_q:.4g} N/m, Q_0/Q_A = {result.ratio:.2f}",
+        )
+    ax.set_xlabel("applied cross-coupled stiffness Q (N/m)")
+    ax.set_ylabel("log decrement")
+    ax.set_title(f"Level I stability: {result.verdict}")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    return _save(fig, path)
+
+
+def plot_screening(result, path=None):
+    """The critical speed ratio / average gas density screening chart with the machine's point
+    (region A below the boundary, region B above)."""
+    from ..analyses.stability import SCREENING_DENSITY_LIMIT, csr_boundary
+
+    plt = _plt()
+    fig, ax = plt.subplots(figsize=(6.5, 4.6))
+    rho_max = max(80.0, 1.2 * (result.average_density or 0.0))
+    rho = np.linspace(0.0, SCREENING_DENSITY_LIMIT, 200)
+    ax.plot(rho, csr_boundary(rho), "k-", lw=1.8, label="region A / B boundary")
+    ax.axvline(SCREENING_DENSITY_LIMIT, color="k", lw=1.0, ls=":")
+    ax.text(8, 1.3, "region A", fontsize=11, color="0.35")
+    ax.text(8, 2.9, "region B", fontsize=11, color="0.35")
+    if result.average_density is not None and result.csr is not None:
+        ax.plot(
+            result.average_density,
+            result.csr,
+            "o",
+            color="C3",
+            ms=8,
+            label=f"CSR {result.csr:.2f} at {result.average_density:.3g} kg/m³ "
+            f"(region {result.region})",
+        )
+    ax.set_xlim(0, rho_max)
+    ax.set_ylim(1.0, 3.5)
+    ax.set_xlabel("average gas density (kg/m³)")
+    ax.set_ylabel("critical speed ratio MCS / N_c1,rigid")
+    ax.set_title("Level I screening")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    return _save(fig, path)
+
+
+def plot_level2(result, path=None):
+    """Level II: log dec of every mode against its frequency at each speed, forward and
+    backward marked, with the acceptance line."""
+    plt = _plt()
+    fig, ax = plt.subplots(figsize=(7.0, 4.6))
+    for i, ev in enumerate(result.evaluations):
+        f = np.array([m.frequency for m in ev.modes]) * RPM
+        d = np.array([m.log_dec for m in ev.modes])
+        fw = np.array([m.forward for m in ev.modes], bool)
+        lab = f"{ev.speed * RPM:.0f} rpm"
+        ax.plot(f[fw], d[fw], "o", color=f"C{i}", label=f"{lab} forward")
+        ax.plot(f[~fw], d[~fw], "x", color=f"C{i}", label=f"{lab} other")
+    ax.axhline(
+        result.criterion_log_dec,
+        color="C3",
+        ls="--",
+        lw=1.0,
+        label=f"log dec = {result.criterion_log_dec:g}",
+    )
+    ax.axhline(0.0, color="k", lw=0.8)
+    every = [m.log_dec for ev in result.evaluations for m in ev.modes]
+    top = min(max(every) * 1.05, LEVEL2_TOP)
+    ax.set_ylim(min(-0.2, min(every) - 0.1), max(top, 1.0))
+    if max(every) > LEVEL2_TOP:
+        ax.text(
+            0.01,
+            0.97,
+            f"log dec > {LEVEL2_TOP:g}: above the chart",
+            transform=ax.transAxes,
+            fontsize=8,
+            va="top",
+            color="0.4",
+        )
+    ax.set_xlabel("damped frequency (rpm)")
+    ax.set_ylabel("log decrement")
+    ax.set_title(f"Level II stability: {result.verdict}")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    return _save(fig, path)

@@ -1,0 +1,256 @@
+"""API 617 Level I / Level II stability: the q_A formula by hand, Q_0 against the Jeffcott
+closed form, the root search's tolerance, the verdicts, and bad input."""
+
+import dataclasses
+import json
+
+import numpy as np
+import pytest
+
+from gearrotor.analyses import Site, Stage, level1, level2, modal
+from gearrotor.analyses.stability import (
+    _unit_coupling,
+    anticipated_cross_coupling,
+    csr_boundary,
+    mid_span,
+    screening_region,
+)
+from gearrotor.assembly import assemble
+from gearrotor.errors import ModelError
+from gearrotor.model import Train
+from helpers import single_shaft
+
+RPM = np.pi / 30
+RHO = 7850.0
+KB, CB = 1e6, 400.0  # bearing stiffness (N/m) and damping (N·s/m), each of two
+L, D = 0.3, 0.2  # a stubby, practically rigid shaft: bending stiffness ~3e10 N/m
+
+
+def jeffcott(speed=300.0, q=None, **extra):
+    """A rigid rotor (mass m) on two isotropic bearings (k, c): its cylindrical mode is the
+    Jeffcott rotor m z̈ + 2c ż + 2k z − i q z = 0 (z = x + iy, q at mid-span, spin +z)."""
+    extra.setdefault("max_continuous_speed", abs(speed))
+    if q is not None:
+        extra["cross_couplings"] = [{"shaft": "s", "node": 2, "q": q}]
+    return single_shaft(
+        length=L,
+        diameter=D,
+        elements=4,
+        density=RHO,
+        bearings=[{"node": 0, "k": KB, "c": CB, "name": "A"}, {"node": 4, "k": KB, "c": CB}],
+        speed=speed,
+        **extra,
+    )
+
+
+MASS = RHO * np.pi * D**2 / 4 * L
+WN = np.sqrt(2 * KB / MASS)
+Q_ONSET = 2 * CB * WN  # m s² + c s + k − i q = 0 has s = iω_n when q = c ω_n (c = 2 CB)
+
+
+def test_qa_formula_by_hand():
+    """q_A = B_c C P / (D_c H_c N) (ρ_d/ρ_s), B_c = 3, C = 9.55, P in W, D and H in m, N in
+    rpm -> N/m: 1.5 MW, D_c = 0.4 m, H_c = 25 mm, 9000 rpm, ρ_d/ρ_s = 1.3:
+    3 × 9.55 × 1.5e6 × 1.3 / (0.4 × 0.025 × 9000) = 55 867 500 / 90 = 620 750 N/m."""
+    st = Stage("s", 2, power="1.5 MW", diameter="400 mm", width="25 mm", density_ratio=1.3)
+    assert st.power == 1.5e6 and st.diameter == 0.4 and st.width == 0.025
+    q = anticipated_cross_coupling(st, 9000 * RPM)
+    assert q == pytest.approx(620750.0, rel=1e-12)
+    # the standard's US form: C = 63 with hp, in, rpm gives klbf/in; the two constants agree
+    # to their rounding (63 vs 9.55 × 0.0254² × 745.7 / 4.448 / 0.0254 ... = 63.03): 0.05 %
+    hp, inch = 1.5e6 / 745.6999, 0.4 / 0.0254
+    q_us = 3 * 63 * hp * 1.3 / (inch * (0.025 / 0.0254) * 9000) * 1000 * 4.448222 / 0.0254
+    assert q_us == pytest.approx(q, rel=1e-3)
+    # an axial / turbine stage: B_t = 1.5, no density ratio
+    ax = Stage("s", 2, power=1.5e6, diameter=0.4, width=0.025, kind="axial")
+    assert anticipated_cross_coupling(ax, 9000 * RPM) == pytest.approx(1.5 * 9.55 * 1.5e6 / 90)
+
+
+@pytest.mark.parametrize("speed", [300.0, -300.0])
+def test_threshold_against_the_jeffcott_closed_form(speed):
+    """Q_0 = c ω_n. The shaft's flexibility makes mid-span move (1 + ε) times the journals,
+    ε ~ 2k/k_shaft ≈ 7e-5, and the threshold drops by ~2ε: rel 1e-3. With the shaft turning
+    about −z the applied Q must change sign to feed its forward whirl: the threshold and the
+    (forward) mode at it are the same."""
+    r = level1(jeffcott(speed), qa=Q_ONSET / 3, at=[("s", 2)], n_curve=0)
+    assert r.threshold_q == pytest.approx(Q_ONSET, rel=1e-3)
+    assert r.ratio == pytest.approx(3.0, rel=1e-3)
+    m = r.threshold_mode
+    assert m["whirl"] == "F" and m["type"] == "L"
+    assert m["frequency_rpm"] * RPM == pytest.approx(WN, rel=1e-3)  # at onset λ = iω_n
+    # just above the threshold the unstable mode is the forward one
+    asm = assemble(jeffcott(speed))
+    dK = _unit_coupling(asm, (Site("s", 2, 1.0),))
+    res = modal(dataclasses.replace(asm, K0=asm.K0 + 1.01 * Q_ONSET * dK), speed=speed)
+    bad = np.flatnonzero(res.unstable)
+    assert len(bad) == 1 and res.whirl[bad[0]] == "F"
+
+
+def test_sign_follows_the_shaft_on_a_geared_train():
+    """Q on the gear, which turns opposite to the reference pinion: the gear's forward mode
+    goes unstable at c ω_n of the gear on its bearings (the mesh is soft: 1e3 N/m)."""
+    shafts, bearings = [], []
+    for name in ("p", "g"):
+        shafts.append(
+            {
+                "name": name,
+                "material": "steel",
+                "sections": [{"length": L, "outer_diameter": D, "elements": 4}],
+            }
+        )
+        bearings += [{"shaft": name, "node": n, "k": KB, "c": CB} for n in (0, 4)]
+    t = Train.model_validate(
+        {
+            "speed": 300.0,
+            "max_continuous_speed": 300.0,
+            "materials": {"steel": {"E": 211e9, "density": RHO, "poisson": 0.3}},
+            "shafts": shafts,
+            "bearings": bearings,
+            "meshes": [
+                {
+                    "gear": {"shaft": "p", "node": 2, "teeth": 30, "radius": 0.15},
+                    "mate": {"shaft": "g", "node": 2, "teeth": 30, "radius": 0.15},
+                    "pressure_angle": 0.349,
+                    "stiffness": 1e3,
+                }
+            ],
+        }
+    )
+    assert t.shaft_speeds()[1] < 0
+    r = level1(t, qa=Q_ONSET / 3, at=[("g", 2)], n_curve=0)
+    assert r.threshold_q == pytest.approx(Q_ONSET, rel=2e-3)  # + the mesh's 1e3/2e6
+    assert r.threshold_mode["shaft"] == "g"
+    assert r.threshold_mode["whirl_per_shaft"]["g"] == "F"
+
+
+def test_mid_span_site():
+    t = jeffcott()
+    assert mid_span(t, "s") == Site("s", 2, 1.0)
+    over = single_shaft(
+        length=1.0,
+        diameter=0.1,
+        elements=10,
+        bearings=[{"node": 2, "k": 1e7}, {"node": 6, "k": 1e7}],
+    )
+    assert mid_span(over, "s").node == 4  # between the bearings, not the shaft's middle
+
+
+def test_root_search_tolerance_and_cost():
+    t = jeffcott()
+    coarse = level1(t, qa=Q_ONSET / 4, at=[("s", 2)], rtol=1e-4, n_curve=0)
+    fine = level1(t, qa=Q_ONSET / 4, at=[("s", 2)], rtol=1e-11, n_curve=0)
+    assert abs(coarse.threshold_q - fine.threshold_q) <= 1e-4 * fine.threshold_q
+    # f(0), f(Q_A), one secant step past the root, then Brent: a handful of eigen-solves
+    assert coarse.n_solves <= 10
+    # the log dec at the threshold is zero to the slope × tolerance
+    slope = (coarse.log_dec_at_qa - coarse.curve_log_dec[0]) / coarse.qa
+    assert abs(coarse.threshold_mode["log_dec"]) <= abs(slope) * 1e-4 * fine.threshold_q * 2
+
+
+def test_level1_verdicts_on_crafted_models():
+    t = jeffcott()
+    ok = level1(t, qa=Q_ONSET / 20, at=[("s", 2)], n_curve=0)  # Q_0/Q_A = 20 > 10
+    assert ok.verdict == "pass" and ok.log_dec_at_qa >= 0.1
+    bad = level1(t, qa=Q_ONSET / 1.5, at=[("s", 2)], n_curve=0)  # Q_0/Q_A = 1.5 < 2
+    assert bad.verdict == "level II required"
+    failed = {c.name for c in bad.criteria if c.ok is False}
+    assert "Q_0 / Q_A" in failed
+    # beyond the threshold: log dec at Q_A < 0 fails both criteria
+    worse = level1(t, qa=Q_ONSET * 1.5, at=[("s", 2)], n_curve=0)
+    assert worse.log_dec_at_qa < 0 and worse.threshold_q == pytest.approx(Q_ONSET, rel=1e-3)
+    assert {c.name for c in worse.criteria if c.ok is False} == {"log dec at Q_A", "Q_0 / Q_A"}
+
+
+def test_screening_chart():
+    """The region A/B boundary: CSR 2.5 up to 16.53 kg/m³, 2.69 − 0.0115 ρ to 60 kg/m³ (2.0),
+    region B beyond the chart."""
+    np.testing.assert_allclose(csr_boundary([0.0, 16.53, 38.0, 60.0]), [2.5, 2.5, 2.253, 2.0])
+    assert screening_region(2.3, 10.0) == "A" and screening_region(2.3, 50.0) == "B"
+    assert screening_region(1.2, 70.0) == "B"
+
+
+def test_screening_decides_between_two_and_ten():
+    """A flexible shaft on soft bearings run at MCS = 2.3 × its first rigid-support critical:
+    with Q_0/Q_A = 4 the verdict follows the screening region (density 10 kg/m³: region A,
+    50 kg/m³: region B)."""
+    Ls, d, el = 1.0, 0.05, 10
+    base = single_shaft(
+        length=Ls,
+        diameter=d,
+        elements=el,
+        bearings=[{"node": 0, "k": 2e6, "c": 3e3}, {"node": el, "k": 2e6, "c": 3e3}],
+        speed=1.0,
+    )
+    from gearrotor.analyses import rigid_support_criticals
+
+    nc1 = rigid_support_criticals(base)["s"][0]
+    t = base.model_copy(update={"speed": 2.3 * nc1, "max_continuous_speed": 2.3 * nc1})
+    probe = level1(t, qa=1e5, at=[("s", el // 2)], n_curve=0)
+    q0 = probe.threshold_q
+    assert q0 is not None and probe.csr == pytest.approx(2.3, rel=1e-9)
+    a = level1(t, qa=q0 / 4, at=[("s", el // 2)], average_density=10.0, n_curve=0)
+    b = level1(t, qa=q0 / 4, at=[("s", el // 2)], average_density=50.0, n_curve=0)
+    assert a.ratio == pytest.approx(4.0, rel=1e-3) and a.log_dec_at_qa >= 0.1
+    assert a.region == "A" and a.verdict == "pass"
+    assert b.region == "B" and b.verdict == "level II required"
+
+
+def test_stages_split_the_cross_coupling_by_their_q():
+    t = jeffcott()
+    st = [
+        Stage("s", 1, power=2e5, diameter=0.3, width=0.02, density_ratio=1.2),
+        Stage("s", 3, power=1e5, diameter=0.3, width=0.02, density_ratio=1.2),
+    ]
+    r = level1(t, stages=st, average_density=5.0, operating_speed=300.0, n_curve=0)
+    q = [anticipated_cross_coupling(s, 300.0) for s in st]
+    assert r.qa == pytest.approx(sum(q))
+    assert [s.weight for s in r.sites] == pytest.approx([2 / 3, 1 / 3])
+    d = json.loads(json.dumps(r.to_dict()))  # JSON-ready
+    assert d["qa_N_per_m"] == r.qa and d["threshold_q_N_per_m"] == r.threshold_q
+    assert d["ratio_q0_qa"] == pytest.approx(r.threshold_q / r.qa)
+
+
+def test_level2_against_the_jeffcott_eigenvalue():
+    """Level II judges the model as given: its cross-coupling q in the Jeffcott rotor gives
+    m s² + 2c s + 2k − i q = 0; the forward root's log dec −2π Re s / Im s (rel 1e-3: the
+    shaft's flexibility as above)."""
+    for q, verdict in ((0.5 * Q_ONSET, "pass"), (1.2 * Q_ONSET, "fail")):
+        r = level2(jeffcott(q=q))
+        s = np.roots([MASS, 2 * CB, 2 * KB - 1j * q])
+        s = s[np.argmax(s.imag)]
+        expect = -2 * np.pi * s.real / s.imag
+        fwd = [m for m in r.evaluations[0].modes if m.forward and m.mode_type == "L"]
+        assert min(m.log_dec for m in fwd) == pytest.approx(expect, rel=1e-3)
+        assert r.verdict == verdict
+        assert json.loads(json.dumps(r.to_dict()))["verdict"] == verdict
+    # Level I ignores the model's destabiliser: same threshold with or without it
+    r1 = level1(jeffcott(q=1.2 * Q_ONSET), qa=Q_ONSET / 3, at=[("s", 2)], n_curve=0)
+    assert r1.threshold_q == pytest.approx(Q_ONSET, rel=1e-3)
+    assert r1.excluded["cross_couplings"] == ["cross_couplings[0]"]
+
+
+def test_bad_input():
+    t = jeffcott()
+    no_mcs = jeffcott(max_continuous_speed=None)
+    with pytest.raises(ModelError, match="max_continuous_speed"):
+        level1(no_mcs, qa=1e5, at=[("s", 2)])
+    with pytest.raises(ModelError, match="max_continuous_speed"):
+        level2(no_mcs)
+    with pytest.raises(ModelError, match=r"at\[0\].node.*node is not on shaft"):
+        level1(t, qa=1e5, at=[("s", 9)])
+    with pytest.raises(ModelError, match="unknown shaft"):
+        level1(t, qa=1e5, at=[("rotor", 1)])
+    with pytest.raises(ModelError, match="density_ratio"):
+        Stage("s", 2, power=1e6, diameter=0.4, width=0.02, density_ratio=-1.2)
+    with pytest.raises(ModelError, match="power"):
+        Stage("s", 2, power="1 m", diameter=0.4, width=0.02)
+    with pytest.raises(ModelError, match="qa / stages"):
+        level1(t)
+    with pytest.raises(ModelError, match="at"):
+        level1(t, qa=1e5)
+    with pytest.raises(ModelError, match="average_density"):
+        level1(t, stages=[Stage("s", 2, power=1e6, diameter=0.4, width=0.02)])
+    with pytest.raises(ModelError, match="qa"):
+        level1(t, qa=-5.0, at=[("s", 2)])
+    with pytest.raises(ModelError, match="exclude_bearings"):
+        level1(t, qa=1e5, at=[("s", 2)], exclude_bearings=["seal"])

@@ -1,0 +1,277 @@
+"""Undamped critical speed map against closed forms and the literature's uniform-shaft map."""
+
+import json
+
+import numpy as np
+import pytest
+from scipy.optimize import brentq
+
+from gearrotor.analyses import modal, rigid_support_criticals, ucs_map
+from gearrotor.elements import shear_coefficient
+from gearrotor.errors import ModelError
+from gearrotor.model import Train
+from helpers import single_shaft
+
+E, NU, RHO = 211e9, 0.3, 7850.0
+G = E / (2 * (1 + NU))
+
+
+def uniform(L, d, elements, k=1e7, speed=100.0, **extra):
+    return single_shaft(
+        length=L,
+        diameter=d,
+        elements=elements,
+        E=E,
+        density=RHO,
+        poisson=NU,
+        bearings=[{"node": 0, "k": k}, {"node": elements, "k": k}],
+        speed=speed,
+        **extra,
+    )
+
+
+def timoshenko_pinned_forward(L, d, n):
+    """Forward synchronous (Ω = ω) critical of a pinned-pinned spinning Timoshenko shaft, mode n.
+
+    With u = x + iy and ψ the complex slope, sin/cos(nπz/L) modes satisfy the Timoshenko
+    equations exactly (Nelson & McVaugh 1976 kinematics; e.g. Friswell et al. 2010, sec. 5.6);
+    with polar inertia 2ρI and Ω = ω the rotary-inertia term −ρIω² becomes +ρIω², giving
+    ρAρI s² + (ρA EI k² + ρA κGA − κGA ρI k²) s − κGA EI k⁴ = 0, s = ω², k = nπ/L."""
+    A, I = np.pi * d**2 / 4, np.pi * d**4 / 64
+    kap = shear_coefficient(0.0, d, NU)
+    k = n * np.pi / L
+    a = RHO * A * RHO * I
+    b = RHO * A * E * I * k**2 + RHO * A * kap * G * A - kap * G * A * RHO * I * k**2
+    c = -kap * G * A * E * I * k**4
+    return np.sqrt((-b + np.sqrt(b * b - 4 * a * c)) / (2 * a))
+
+
+@pytest.mark.parametrize("speed", [100.0, -100.0])
+def test_rigid_support_limit_is_the_pinned_spinning_timoshenko_shaft(speed):
+    L, d = 1.0, 0.05
+    t = uniform(L, d, 40, speed=speed)
+    rigid = rigid_support_criticals(t, n_modes=3)["s"]
+    for n in (1, 2, 3):
+        # 40 cubic elements: the FE error grows as (n/40)^4 (h^4 convergence, slender elements;
+        # tests/test_shaft_element.py); measured 1e-6, 2e-5, 9e-5
+        assert rigid[n - 1] == pytest.approx(timoshenko_pinned_forward(L, d, n), rel=2e-4)
+    # the map tends to it as k -> infinity: the springs' share of the mode's compliance is
+    # ~ (m ω²/2) / k, 2.5e8 / 1e12 for mode 3, and the frequency moves by about half of it
+    res = ucs_map(t, stiffness=np.array([1e6, 1e12]), n_modes=3)
+    np.testing.assert_allclose(res.shafts[0].critical_speeds[-1], rigid, rtol=5e-5)
+    # the gyroscopic term matters: the forward critical is above the non-rotating frequency
+    # (modal at zero speed, bearings 1e12 N/m)
+    still = modal(uniform(L, d, 40, k=1e12, speed=0.0), speed=0.0)
+    lat = still.damped_frequency[np.array(still.mode_type) == "L"]
+    assert rigid[2] > lat[4] * (1 + 5e-3)  # mode 3 (x, y pair at 4, 5): +1.3 % here
+
+
+def test_soft_support_limit_is_the_rigid_rotor_on_springs():
+    """k -> 0: the shaft moves as a rigid body, translation ω² = 2k/m and forward conical
+    synchronous whirl ω² = (2k (L/2)²) / (I_t − I_p), I_t − I_p = m (L²/12 + d²/16 − d²/8)
+    (a rigid rotor's conical critical with gyroscopics, e.g. Vance et al. 2010, ch. 2)."""
+    L, d, k = 1.0, 0.05, 10.0
+    t = uniform(L, d, 20, k=k)
+    m = RHO * np.pi * d**2 / 4 * L
+    res = ucs_map(t, stiffness=np.array([k, 1e3]), n_modes=2)
+    c = res.shafts[0].critical_speeds[0]
+    # the shaft's bending flexibility adds ~ k / (48 EI / L³) = 3e-6 of compliance
+    assert c[0] == pytest.approx(np.sqrt(2 * k / m), rel=1e-5)
+    assert c[1] == pytest.approx(np.sqrt(k * L**2 / 2 / (m * (L**2 / 12 - d**2 / 16))), rel=1e-5)
+
+
+def test_no_forward_conical_critical_when_polar_exceeds_transverse_inertia():
+    """A disk-like rigid rotor (I_p > I_t) has no forward synchronous conical critical: the
+    pencil's μ = 1/ω² is negative; the translational one stays."""
+    L, d, k = 0.05, 0.3, 1e3
+    t = uniform(L, d, 2, k=k)
+    m = RHO * np.pi * d**2 / 4 * L
+    res = ucs_map(t, stiffness=np.array([k, 1e4]), n_modes=2, method="dense")
+    c = res.shafts[0].critical_speeds[0]
+    assert c[0] == pytest.approx(np.sqrt(2 * k / m), rel=1e-6)
+    assert np.isnan(c[1]) or c[1] > 100 * c[0]  # the next one is an elastic mode, far above
+
+
+def _eb_spring_roots(K, count):
+    """Roots x = βL/2 of the Euler–Bernoulli beam on two equal end springs, K = k (L/2)³/EI:
+    symmetric modes x³(sin x + cos x tanh x) = 2K cos x, antisymmetric modes
+    x³(sin x coth x − cos x) = 2K sin x (free ends: zero moment, shear = spring force).
+    K -> ∞ gives the pinned shaft (x = π/2, π, ...), K -> 0 the rigid-body modes 2k/m, 6k/m."""
+
+    def sym(x):
+        return x**3 * (np.sin(x) + np.cos(x) * np.tanh(x)) - 2 * K * np.cos(x)
+
+    def anti(x):
+        return x**3 * (np.sin(x) / np.tanh(x) - np.cos(x)) - 2 * K * np.sin(x)
+
+    grid = np.linspace(1e-4, 12.0, 24001)
+    roots = []
+    for f in (sym, anti):
+        v = f(grid)
+        for i in np.flatnonzero(np.sign(v[:-1]) != np.sign(v[1:])):
+            roots.append(brentq(f, grid[i], grid[i + 1], xtol=1e-14))
+    return np.sort(roots)[:count]
+
+
+def test_uniform_shaft_map_against_the_euler_bernoulli_frequency_equation():
+    """The classical critical speed map of a uniform shaft on two equal bearing springs, in
+    the dimensionless form of the literature (critical speed / first pinned critical against
+    kL³/EI; Vance 1988, Rotordynamics of Turbomachinery, ch. 3, and Vance, Zeidan & Murphy 2010)
+    computed here from the Euler–Bernoulli frequency equation of the beam on end springs. A
+    slender shaft (L/d = 200) makes the Timoshenko and gyroscopic corrections of the FE map
+    small: ~ (nπ d / 4L)² ≤ 2e-4 for the first three modes."""
+    L, d = 2.0, 0.01
+    A, I = np.pi * d**2 / 4, np.pi * d**4 / 64
+    t = uniform(L, d, 60)
+    kbar = np.array([0.1, 1.0, 10.0, 100.0, 1e3, 1e4])  # k L³ / EI
+    ks = kbar * E * I / L**3
+    res = ucs_map(t, stiffness=ks, n_modes=3)
+    w1 = (np.pi / L) ** 2 * np.sqrt(E * I / (RHO * A))
+    for j, kb in enumerate(kbar):
+        x = _eb_spring_roots(kb / 8, 3)  # K = k (L/2)³ / EI
+        expect = (2 * x / L) ** 2 * np.sqrt(E * I / (RHO * A))
+        got = res.shafts[0].critical_speeds[j]
+        np.testing.assert_allclose(got / w1, expect / w1, rtol=5e-4)
+    # the two limits of the dimensionless map
+    assert res.shafts[0].critical_speeds[-1, 0] / w1 == pytest.approx(1.0, rel=2e-3)
+
+
+def geared_pair(speed=300.0, k=5e6):
+    shafts = []
+    for name, dia in (("p", 0.06), ("g", 0.09)):
+        shafts.append(
+            {
+                "name": name,
+                "material": "steel",
+                "sections": [{"length": 0.5, "outer_diameter": dia, "elements": 6}],
+                "disks": [{"node": 3, "mass": 20.0, "polar": 0.4, "transverse": 0.25}],
+            }
+        )
+    return Train.model_validate(
+        {
+            "speed": speed,
+            "materials": {"steel": {"E": E, "density": RHO, "poisson": NU}},
+            "shafts": shafts,
+            "bearings": [{"shaft": s, "node": n, "k": k} for s in ("p", "g") for n in (0, 6)],
+            "thrust_bearings": [{"shaft": "g", "node": 0, "kzz": 1e8}],
+            "meshes": [
+                {
+                    "gear": {"shaft": "p", "node": 3, "teeth": 20, "radius": 0.05},
+                    "mate": {"shaft": "g", "node": 3, "teeth": 50, "radius": 0.125},
+                    "pressure_angle": 0.349,
+                    "helix_angle": 0.2,
+                    "stiffness": 3e8,
+                }
+            ],
+        }
+    )
+
+
+@pytest.mark.parametrize("speed", [300.0, -300.0])
+def test_geared_critical_is_a_free_vibration_at_the_shafts_1x(speed):
+    """Cross-check of the synchronous problem on a geared train (each shaft's gyroscopics
+    scaled by its own speed ratio, the helical mesh coupling lateral, axial and torsional
+    motion): at the reference speed Ω = ω/|r_s| of a critical ω of shaft s, the damped-mode
+    analysis of the same undamped train (modal) has a free vibration at exactly ω."""
+    k = 5e6
+    t = geared_pair(speed, k)
+    res = ucs_map(t, stiffness=np.array([k, 1e8]), n_modes=3)
+    for s in res.shafts:
+        ratio = abs(s.speed_ratio)
+        for w in s.critical_speeds[0]:
+            m = modal(t, speed=np.sign(speed) * w / ratio)
+            assert np.min(np.abs(m.damped_frequency - w)) <= 1e-7 * w
+    # both shafts' maps hold their own modes: the gear's critical is not the pinion's
+    assert res.shaft("g").critical_speeds[0, 0] != pytest.approx(
+        res.shaft("p").critical_speeds[0, 0], rel=1e-3
+    )
+
+
+def test_dense_and_sparse_solvers_agree():
+    t = geared_pair()
+    a = ucs_map(t, stiffness=(1e6, 1e10), n_stiffness=4, method="dense")
+    b = ucs_map(t, stiffness=(1e6, 1e10), n_stiffness=4, method="sparse")
+    for sa, sb in zip(a.shafts, b.shafts, strict=True):
+        np.testing.assert_allclose(sa.critical_speeds, sb.critical_speeds, rtol=1e-8)
+        np.testing.assert_allclose(sa.rigid_critical_speeds, sb.rigid_critical_speeds, rtol=1e-8)
+
+
+def test_intersections_with_a_tabulated_bearing():
+    """A bearing stiffness rising linearly with speed meets the first critical where
+    ω_1(K(N)) = N: re-solving the map at exactly K(N) returns N (to the map's log-k
+    interpolation error, ~1e-4 with 61 points over 4 decades)."""
+    L, d = 1.0, 0.05
+    rpm = np.array([1000.0, 20000.0])
+    kk = np.array([1e6, 4e8])
+    table = {
+        "speed": [f"{v} rpm" for v in rpm],
+        "kxx": kk.tolist(),
+        "kxy": [0.0, 0.0],
+        "kyx": [0.0, 0.0],
+        "kyy": (2 * kk).tolist(),
+        "cxx": [0.0, 0.0],
+        "cxy": [0.0, 0.0],
+        "cyx": [0.0, 0.0],
+        "cyy": [0.0, 0.0],
+    }
+    t = Train.model_validate(
+        {
+            "speed": 500.0,
+            "materials": {"steel": {"E": E, "density": RHO, "poisson": NU}},
+            "shafts": [
+                {
+                    "name": "s",
+                    "material": "steel",
+                    "sections": [{"length": L, "outer_diameter": d, "elements": 20}],
+                }
+            ],
+            "bearings": [
+                {"shaft": "s", "node": 0, "table": table, "name": "A"},
+                {"shaft": "s", "node": 20, "table": table, "name": "B"},
+            ],
+        }
+    )
+    res = ucs_map(t, stiffness=(1e5, 1e9), n_stiffness=61, n_modes=2)
+    first = [x for x in res.intersections if x.mode == 0 and x.bearing == "A"]
+    assert {x.direction for x in first} == {"kxx", "kyy"}
+    for x in first:
+        k_expect = np.interp(x.speed * 30 / np.pi, rpm, kk * (1 if x.direction == "kxx" else 2))
+        assert x.stiffness == pytest.approx(k_expect, rel=1e-9)
+        check = ucs_map(t, stiffness=np.array([x.stiffness, 2 * x.stiffness]), n_modes=1)
+        assert check.shafts[0].critical_speeds[0, 0] == pytest.approx(x.speed, rel=2e-4)
+    d = json.loads(json.dumps(res.to_dict()))
+    assert d["intersections"][0]["speed_rpm"] == pytest.approx(
+        res.intersections[0].speed * 30 / np.pi
+    )
+
+
+def test_bad_input():
+    t = uniform(1.0, 0.05, 4)
+    with pytest.raises(ModelError, match="stiffness"):
+        ucs_map(t, stiffness=np.array([-1.0, 1e6]))
+    with pytest.raises(ModelError, match="method"):
+        ucs_map(t, method="qz")
+    bare = single_shaft(length=1.0, diameter=0.05, elements=4)
+    with pytest.raises(ModelError, match="bearings"):
+        ucs_map(bare)
+
+
+def test_bearings_on_pedestals_act_in_series():
+    """A bearing on a ``support`` is the swept k between journal and pedestal: for a rigid
+    rotor on light pedestals (k_p to ground) the translational critical is √(2 k_eff / m),
+    k_eff = k k_p / (k + k_p) (pedestal mass 1e-6 kg: its inertia shifts k_eff by
+    ~ m_p ω² / k_p = 1e-7; the shaft's bending adds ~ k_eff / (48 EI/L³) < 1e-5 of compliance)."""
+    L, d, kp = 1.0, 0.05, 30.0
+    sup = {"mass": 1e-6, "kxx": kp, "kyy": kp}
+    t = single_shaft(
+        length=L,
+        diameter=d,
+        elements=10,
+        bearings=[{"node": 0, "k": 1.0, "support": sup}, {"node": 10, "k": 1.0, "support": sup}],
+        speed=100.0,
+    )
+    m = RHO * np.pi * d**2 / 4 * L
+    res = ucs_map(t, stiffness=np.array([10.0, 100.0]), n_modes=1)
+    for k, c in zip(res.stiffness, res.shafts[0].critical_speeds[:, 0], strict=True):
+        keff = k * kp / (k + kp)
+        assert c == pytest.approx(np.sqrt(2 * keff / m), rel=1e-5)
