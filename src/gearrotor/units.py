@@ -32,6 +32,10 @@ __all__ = [
     "Rate",
     "Frequency",
     "Dimensionless",
+    "Power",
+    "Voltage",
+    "Resistance",
+    "Stress",
     "rpm_to_rad_s",
     "rad_s_to_rpm",
 ]
@@ -61,6 +65,10 @@ KINDS: dict[str, tuple[str, str, str]] = {
     "frequency": ("rad/s", "a frequency", "100 Hz"),
     "viscosity": ("Pa*s", "a dynamic viscosity", "0.02 Pa*s"),
     "dimensionless": ("", "a plain number", "0.3"),
+    "power": ("W", "a power", "10 MW"),
+    "voltage": ("V", "a voltage", "13.8 kV"),
+    "resistance": ("ohm", "a resistance or reactance", "0.64 ohm"),
+    "stress": ("Pa", "a stress", "120 MPa"),
 }
 
 
@@ -127,6 +135,10 @@ Rate = _quantity("rate")
 Frequency = _quantity("frequency")
 Viscosity = _quantity("viscosity")
 Dimensionless = _quantity("dimensionless")
+Power = _quantity("power")
+Voltage = _quantity("voltage")
+Resistance = _quantity("resistance")
+Stress = _quantity("stress")
 
 
 def rpm_to_rad_s(rpm: float) -> float:

@@ -14,7 +14,7 @@ from functools import cached_property
 
 import numpy as np
 from numpy.typing import NDArray
-from pydantic import Field, model_validator
+from pydantic import Field, model_serializer, model_validator
 
 from ..errors import ModelError
 from ..units import AngularSpeed
@@ -32,6 +32,7 @@ from .components import (
     ThrustBearing,
     Unbalance,
 )
+from .drives import Torsional
 
 __all__ = ["Train", "Layout", "ShaftLayout"]
 
@@ -86,6 +87,16 @@ class Train(Spec):
     unbalances: list[Unbalance] = Field(default_factory=list)
     probes: list[Probe] = Field(default_factory=list)
     torques: list[ExternalTorque] = Field(default_factory=list)
+    torsional: Torsional | None = None  # drives, loads, stress concentrations (model/drives.py)
+
+    @model_serializer(mode="wrap")
+    def _without_absent_torsional(self, handler):
+        # a train without torsional input serialises as before the field existed, so the model
+        # JSON (study case keys, transient checkpoint fingerprints) of existing models is kept
+        out = handler(self)
+        if self.torsional is None:
+            out.pop("torsional", None)
+        return out
 
     @model_validator(mode="after")
     def _unique_names(self) -> Train:
@@ -331,6 +342,8 @@ class Train(Spec):
                     field=f"meshes[{k}].face_width",
                     expected="a length",
                 )
+        if self.torsional is not None:
+            self.torsional.check(self)
 
     def _check_speeds(self, ratios: list[float]) -> None:
         for i, s in enumerate(self.shafts):
