@@ -30,8 +30,16 @@ def disk(node: int, polar: float) -> dict:
     return {"node": node, "mass": 10.0, "polar": polar, "transverse": polar / 2}
 
 
-def shaft(name: str, k: float | None, disks: list[dict], *, start: float = 0.0,
-          length: float = 0.5, speed: str | None = None, elements: int = 1) -> dict:
+def shaft(
+    name: str,
+    k: float | None,
+    disks: list[dict],
+    *,
+    start: float = 0.0,
+    length: float = 0.5,
+    speed: str | None = None,
+    elements: int = 1,
+) -> dict:
     """A shaft of one section (torsional stiffness k over ``length``; k None: very stiff)."""
     d = diameter_for(k, length) if k is not None else 0.3
     out = {

@@ -31,11 +31,11 @@ Drive types (``type = ...``):
     a prescribed torque: a constant ``value`` or a ``table`` against speed (a turbine, a
     measured motor curve without electrical model).
 
-Events on a drive: ``voltage`` (a voltage factor v(t) against time, e.g. a dip during start-up:
-asynchronous torques scale with v², the synchronous torque with v), ``short_circuit`` (the
-air-gap torque of a two- or three-phase terminal fault, which replaces the motor torque from
-its ``time`` until ``clear_time``, after which the motor is disconnected) and ``trip_time``
-(the drive torque drops to zero).
+Events on an electric drive: ``voltage`` (a voltage factor v(t) against time, e.g. a dip
+during start-up: asynchronous torques scale with v², the synchronous torque with v),
+``short_circuit`` (the air-gap torque of a two- or three-phase terminal fault, which replaces
+the motor torque from its ``time`` until ``clear_time``, after which the motor is
+disconnected); on every drive ``trip_time`` (the drive torque drops to zero).
 
 Short-circuit air-gap torque, per unit of rated torque, τ = t − t_fault. The textbook form:
 a three-phase terminal fault gives an air-gap torque oscillating at line frequency that decays
@@ -230,8 +230,6 @@ class _DriveBase(NodeRef):
     rated_power: Power = Field(gt=0, description="W")
     rated_speed: AngularSpeed | None = Field(default=None, gt=0)
     trip_time: Time | None = Field(default=None, ge=0)
-    voltage: VoltageProfile | None = None
-    short_circuit: ShortCircuit | None = None
 
     @property
     def rated_torque(self) -> float:
@@ -247,6 +245,8 @@ class _DriveBase(NodeRef):
 class _ElectricDrive(_DriveBase):
     poles: int = Field(ge=2, description="number of poles (even)")
     line_frequency: Frequency = Field(gt=0, description="rad/s, e.g. '60 Hz'")
+    voltage: VoltageProfile | None = None
+    short_circuit: ShortCircuit | None = None
 
     @model_validator(mode="after")
     def _even_poles(self) -> _ElectricDrive:

@@ -214,12 +214,14 @@ def default_lines(
         line_frequency = drives[0].line_frequency
     if line_frequency is not None:
         if line_frequency <= 0:
-            raise ModelError("line frequency must be positive", field="line_frequency",
-                             value=line_frequency)
+            raise ModelError(
+                "line frequency must be positive", field="line_frequency", value=line_frequency
+            )
         f = line_frequency
         lines.append(ExcitationLine(f"line {f / (2 * np.pi):g} Hz", "fixed", frequency=f))
-        lines.append(ExcitationLine(f"2x line {2 * f / (2 * np.pi):g} Hz", "fixed",
-                                    frequency=2 * f))
+        lines.append(
+            ExcitationLine(f"2x line {2 * f / (2 * np.pi):g} Hz", "fixed", frequency=2 * f)
+        )
     if vfd_harmonics:
         if not drives or vfd_drive >= len(drives):
             raise ModelError(
@@ -227,14 +229,16 @@ def default_lines(
                 field="vfd_drive",
                 value=vfd_drive,
                 expected=f"an index 0..{len(drives) - 1} of the electric drives"
-                if drives else "an induction or synchronous motor in [torsional] drives",
+                if drives
+                else "an induction or synchronous motor in [torsional] drives",
             )
         d = drives[vfd_drive]
         s, _ = train.node_index(d, "vfd_drive")
         for h in vfd_harmonics:
             lines.append(
-                ExcitationLine(f"VFD {h:g} f_e ({d.name or names[s]})", "electrical", s,
-                               float(h) * d.poles / 2)
+                ExcitationLine(
+                    f"VFD {h:g} f_e ({d.name or names[s]})", "electrical", s, float(h) * d.poles / 2
+                )
             )
     for label, f in fixed:
         lines.append(ExcitationLine(label, "fixed", frequency=float(f)))
@@ -282,8 +286,9 @@ def interference(
             expected="e.g. (0.7, 1.05) × rated speed",
         )
     if not 0 <= margin < 1:
-        raise ModelError("separation margin must be a fraction in [0, 1)", field="margin",
-                         value=margin)
+        raise ModelError(
+            "separation margin must be a fraction in [0, 1)", field="margin", value=margin
+        )
     top = 1.2 * hi if diagram_speed is None else float(diagram_speed)
     lines = default_lines(
         tm,
@@ -301,8 +306,9 @@ def interference(
                 sm = abs(fn - ln.frequency) / ln.frequency
                 if sm >= 1.0:  # above twice the line: far from it, not listed
                     continue
-                out.append(InterferenceCrossing(int(i), fn, ln.label, None, sm, sm >= margin,
-                                                "fixed"))
+                out.append(
+                    InterferenceCrossing(int(i), fn, ln.label, None, sm, sm >= margin, "fixed")
+                )
                 continue
             a = ln.slope(tm.speed_ratio)
             wc = fn / a

@@ -67,6 +67,7 @@ class TorsionalModel:
     C_full: NDArray = field(repr=False)
     master: NDArray  # (n_full,) int
     factor: NDArray  # (n_full,)
+    roots: NDArray  # (n,) full index of the node whose angle each reduced coordinate is
     node_shaft: NDArray  # (n_full,) shaft index of each full DOF
     node_index: NDArray  # (n_full,) node index on its shaft
     node_z: NDArray  # (n_full,) m
@@ -244,6 +245,11 @@ class TorsionalModel:
 
         ``balanced=True`` requires the torques to balance (no rigid acceleration, relative
         to the largest torque): :class:`ModelError` otherwise."""
+        p, alpha = self.static_reduced(f_full, balanced=balanced)
+        return self.expand(p), alpha
+
+    def static_reduced(self, f_full: NDArray, *, balanced: bool = True) -> tuple[NDArray, NDArray]:
+        """:meth:`static_twist` in reduced coordinates (n,)."""
         f = self.reduce_force(np.asarray(f_full, float))
         R = self.rigid_modes()
         MR = self.M @ R
@@ -261,7 +267,7 @@ class TorsionalModel:
                     value=f"net torque on the rigid rotation {net.tolist()}",
                     expected="drive and load torques in power balance (Σ T_k Ω_k = 0)",
                 )
-        return self.expand(sol[: self.n]), alpha
+        return sol[: self.n], alpha
 
 
 def _union_find(n: int):
@@ -302,7 +308,9 @@ def torsional_model(
         torsionally grounded train (e.g. a locked rotor) for modes and forced response
     """
     if mesh not in MESH_MODELS:
-        raise ModelError("unknown mesh model", field="mesh", value=mesh, expected="'flexible' or 'rigid'")
+        raise ModelError(
+            "unknown mesh model", field="mesh", value=mesh, expected="'flexible' or 'rigid'"
+        )
     asm = model if isinstance(model, Assembly) else assemble(model)
     train = asm.train
     layout = train.layout()
@@ -377,9 +385,11 @@ def torsional_model(
     scf = {}
     if train.torsional is not None:
         for sc in train.torsional.stress_concentrations:
-            scf[(train.shaft_index(sc.shaft, "stress_concentrations.shaft"), sc.section)] = sc.factor
+            scf[(train.shaft_index(sc.shaft, "stress_concentrations.shaft"), sc.section)] = (
+                sc.factor
+            )
     el = {k: [] for k in ("shaft", "num", "sec", "dofs", "k", "r", "J", "scf")}
-    for si, sl in enumerate(layout.shafts):
+    for si in range(len(layout.shafts)):
         elements = _shaft_elements(train, si)
         sections = np.repeat(
             np.arange(len(train.shafts[si].sections)),
@@ -421,6 +431,7 @@ def torsional_model(
         C_full=Cf,
         master=master,
         factor=factor,
+        roots=np.array(roots, int),
         node_shaft=node_shaft,
         node_index=node_index,
         node_z=node_z,

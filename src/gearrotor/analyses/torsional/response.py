@@ -166,7 +166,9 @@ class TorsionalResponse:
                 if self.mean_mesh_force is None
                 else f", mean {abs(self.mean_mesh_force[k]):.4g} N"
             )
-            rows.append(f"mesh {n}: max dynamic force {self.mesh_force[:, k].max():.4g} N{mean}{note}")
+            rows.append(
+                f"mesh {n}: max dynamic force {self.mesh_force[:, k].max():.4g} N{mean}{note}"
+            )
         for k, n in enumerate(tm.cp_names):
             rows.append(f"coupling {n}: max torque {self.coupling_torque[:, k].max():.4g} N·m")
         return "\n".join(rows)
@@ -189,11 +191,14 @@ def torsional_response(
     """
     tm = model if isinstance(model, TorsionalModel) else torsional_model(model, mesh=mesh)
     train = tm.train
-    exc = tuple(e if isinstance(e, HarmonicTorque) else HarmonicTorque.model_validate(e)
-                for e in excitations)
+    exc = tuple(
+        e if isinstance(e, HarmonicTorque) else HarmonicTorque.model_validate(e)
+        for e in excitations
+    )
     if not exc:
-        raise ModelError("no excitation given", field="excitations",
-                         expected="at least one harmonic torque")
+        raise ModelError(
+            "no excitation given", field="excitations", expected="at least one harmonic torque"
+        )
     speeds = np.asarray(speeds, float)
     if speeds.ndim != 1 or len(speeds) == 0:
         raise ModelError("speeds must be a non-empty 1-D array", field="speeds")
@@ -202,8 +207,11 @@ def torsional_response(
     for k, e in enumerate(exc):
         dof = tm.node_dof(e, f"excitations[{k}]")
         if e.order is not None:
-            s = tm.node_shaft[dof] if e.order_shaft is None else train.shaft_index(
-                e.order_shaft, f"excitations[{k}].order_shaft")
+            s = (
+                tm.node_shaft[dof]
+                if e.order_shaft is None
+                else train.shaft_index(e.order_shaft, f"excitations[{k}].order_shaft")
+            )
             key = (round(e.order * abs(tm.speed_ratio[s]), 12), 0.0)
         else:
             key = (0.0, e.frequency)
