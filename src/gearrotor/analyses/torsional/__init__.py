@@ -10,6 +10,7 @@
 """
 
 from .drive_laws import TorqueLaws, pack_laws
+from .fatigue import FatigueResult, SNCurve, fatigue, rainflow_cycles
 from .interference import ExcitationLine, InterferenceCrossing, InterferenceResult, interference
 from .model import MESH_MODELS, TorsionalModel, torsional_model
 from .modes import TorsionalModes, torsional_modes
@@ -19,16 +20,20 @@ from .transient import TorsionalTransient, torsional_transient
 __all__ = [
     "MESH_MODELS",
     "ExcitationLine",
+    "FatigueResult",
     "HarmonicTorque",
     "InterferenceCrossing",
     "InterferenceResult",
+    "SNCurve",
     "TorqueLaws",
     "TorsionalModel",
     "TorsionalModes",
     "TorsionalResponse",
     "TorsionalTransient",
+    "fatigue",
     "interference",
     "pack_laws",
+    "rainflow_cycles",
     "torsional_model",
     "torsional_modes",
     "torsional_response",

@@ -94,6 +94,7 @@ class InterferenceResult:
     lines: tuple[ExcitationLine, ...]
     speed_range: tuple[float, float]  # operating range of the reference shaft, rad/s
     diagram_speed: float  # top of the diagram, rad/s
+    max_frequency: float  # highest natural frequency checked, rad/s
     required_margin: float
     crossings: tuple[InterferenceCrossing, ...]
 
@@ -114,10 +115,12 @@ class InterferenceResult:
             "basis": BASIS.format(margin=self.required_margin),
             "required_margin": self.required_margin,
             "operating_range_rpm": [s * RPM for s in self.speed_range],
+            "max_frequency_hz": self.max_frequency / (2 * np.pi),
             "passes": self.passes,
             "modes": [
                 {"index": int(i), "frequency_hz": float(self.modes.frequency_hz[i])}
                 for i in self.modes.elastic
+                if self.modes.natural_frequency[i] <= self.max_frequency
             ],
             "lines": [
                 {
@@ -257,6 +260,7 @@ def interference(
     vfd_drive: int = 0,
     fixed: Sequence[tuple[str, float]] = (),
     diagram_speed: float | None = None,
+    max_frequency: float | None = None,
 ) -> InterferenceResult:
     """Interference diagram and separation margins (module docstring).
 
@@ -272,6 +276,10 @@ def interference(
         (label, rad/s) lines
     diagram_speed : top of the diagram (rad/s, default 1.2 × maximum speed): order-line
         crossings up to it are listed
+    max_frequency : rad/s, highest natural frequency checked (default: 1.25 × the highest
+        excitation other than the mesh frequency at the top of the diagram). A shaft model's
+        modes in the kHz range depend on its discretisation: to check the mesh frequency
+        against them, refine the model and raise ``max_frequency``.
     """
     modes = model if isinstance(model, TorsionalModes) else torsional_modes(model, mesh=mesh)
     tm = modes.model
@@ -298,9 +306,18 @@ def interference(
         vfd_drive=vfd_drive,
         fixed=fixed,
     )
+    if max_frequency is None:
+        tops = [
+            ln.at(np.array([top]), tm.speed_ratio)[0]
+            for ln in lines
+            if not ln.label.startswith("mesh ")
+        ]
+        max_frequency = 1.25 * max(tops) if tops else np.inf
     out = []
     for i in modes.elastic:
         fn = float(modes.natural_frequency[i])
+        if fn > max_frequency:
+            continue
         for ln in lines:
             if ln.kind == "fixed":
                 sm = abs(fn - ln.frequency) / ln.frequency
@@ -327,6 +344,7 @@ def interference(
         lines=lines,
         speed_range=(lo, hi),
         diagram_speed=top,
+        max_frequency=float(max_frequency),
         required_margin=float(margin),
         crossings=tuple(out),
     )

@@ -131,18 +131,19 @@ class TorsionalTransient:
 
     def section_table(self) -> list[dict]:
         """Per shaft section: peak |torque|, rated torque (largest static torque of its
-        elements at the nominal point) and their ratio; peak shear stress."""
+        elements at the nominal point; None outside the load path) and their ratio; peak
+        shear stress."""
         tm = self.model
         out = []
+        rated_all = self.rated_element_torque
+        floor = 1e-6 * np.abs(rated_all).max() if rated_all is not None else 0.0
         for s, name in enumerate(tm.shaft_names):
             for sec in np.unique(tm.el_section[tm.el_shaft == s]):
                 idx = np.flatnonzero((tm.el_shaft == s) & (tm.el_section == sec))
                 k = idx[np.argmax(self.peak_element_torque[idx])]
-                rated = (
-                    float(np.max(np.abs(self.rated_element_torque[idx])))
-                    if self.rated_element_torque is not None
-                    else None
-                )
+                rated = float(np.max(np.abs(rated_all[idx]))) if rated_all is not None else None
+                if rated is not None and rated <= floor:
+                    rated = None  # outside the load path (beyond the load, a free end)
                 peak = float(self.peak_element_torque[k])
                 out.append(
                     {
