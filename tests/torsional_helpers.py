@@ -1,8 +1,11 @@
 """Small torsional trains with closed forms: rigid disks on (nearly) massless shafts.
 
 A shaft element of length L and diameter d has GJ/L = G π d⁴ / (32 L); the "massless" material
-has a density of 1e-6 kg/m³, so its rod inertia (ρ J_p L ≈ 1e-12 kg·m²) is 1e-12 of the disks'
-and the closed forms of lumped inertias hold to that order.
+has a density of 0.01 kg/m³, so the rod inertia of a 50 mm shaft (ρ J_p L ≈ 3e-9 kg·m²) is
+~1e-9 of the disks' and the closed forms of lumped inertias hold to that order. (Lighter still
+would not help: a free shaft end then has a torsional frequency √(3G/ρ)/L of ~1e8 rad/s, and the
+eigensolver's round-off, ~ε ω_max², would show in the low modes.) Carrier shafts that are not in
+the load path (``k=None``) are 50 mm thick.
 """
 
 from __future__ import annotations
@@ -13,7 +16,7 @@ from gearrotor.io import model_from_dict
 
 G = 80e9
 E = 2 * G * 1.3
-LIGHT = {"E": E, "poisson": 0.3, "density": 1e-6}
+LIGHT = {"E": E, "poisson": 0.3, "density": 1e-2}
 
 
 def stiffness_of(diameter: float, length: float) -> float:
@@ -40,8 +43,9 @@ def shaft(
     speed: str | None = None,
     elements: int = 1,
 ) -> dict:
-    """A shaft of one section (torsional stiffness k over ``length``; k None: very stiff)."""
-    d = diameter_for(k, length) if k is not None else 0.3
+    """A shaft of one section (torsional stiffness k over ``length``; k None: a 50 mm carrier
+    whose stiffness does not matter, nothing passes through it)."""
+    d = diameter_for(k, length) if k is not None else 0.05
     out = {
         "name": name,
         "material": "light",
@@ -81,7 +85,7 @@ def geared_train(
     if bearings is None:
         bearings = []
         for s in shafts:
-            n = sum(sec["elements"] for sec in s["sections"])
+            n = sum(sec.get("elements", 1) for sec in s["sections"])
             bearings += [
                 {"shaft": s["name"], "node": 0, "k": 1e9},
                 {"shaft": s["name"], "node": n, "k": 1e9},
