@@ -10,7 +10,7 @@
 """
 
 from .drive_laws import TorqueLaws, pack_laws
-from .fatigue import FatigueResult, SNCurve, fatigue, rainflow_cycles
+from .fatigue import FatigueResult, SNCurve, fatigue, miner_damage, rainflow_cycles
 from .interference import ExcitationLine, InterferenceCrossing, InterferenceResult, interference
 from .model import MESH_MODELS, TorsionalModel, torsional_model
 from .modes import TorsionalModes, torsional_modes
@@ -32,6 +32,7 @@ __all__ = [
     "TorsionalTransient",
     "fatigue",
     "interference",
+    "miner_damage",
     "pack_laws",
     "rainflow_cycles",
     "torsional_model",

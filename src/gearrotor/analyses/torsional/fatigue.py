@@ -29,7 +29,14 @@ from ...errors import ModelError
 from ...units import to_si
 from .transient import TorsionalTransient
 
-__all__ = ["SNCurve", "FatigueResult", "fatigue", "rainflow_cycles", "turning_points"]
+__all__ = [
+    "SNCurve",
+    "FatigueResult",
+    "fatigue",
+    "miner_damage",
+    "rainflow_cycles",
+    "turning_points",
+]
 
 
 @dataclass(frozen=True)
@@ -134,6 +141,22 @@ def rainflow_cycles(history: NDArray) -> tuple[NDArray, NDArray, NDArray]:
         return np.zeros(0), np.zeros(0), np.zeros(0)
     a = np.array([(r, m, c) for r, m, c, _, _ in cyc], float)
     return a[:, 0], a[:, 1], a[:, 2]
+
+
+def miner_damage(
+    history: NDArray, sn_curve: SNCurve, *, ultimate_strength: float | None = None
+) -> tuple[float, float, float]:
+    """Miner damage ``Σ n_i / N_i`` of a stress history (Pa) by rainflow counting: (damage,
+    counted cycles, largest amplitude). ``ultimate_strength`` (Pa) applies Goodman's
+    correction ``S_a / (1 − |S_m| / S_u)`` (a mean at or beyond S_u fails at once)."""
+    rng, mean, cnt = rainflow_cycles(history)
+    if not len(rng):
+        return 0.0, 0.0, 0.0
+    amp = rng / 2
+    if ultimate_strength is not None:
+        su = ultimate_strength
+        amp = np.where(np.abs(mean) < su, amp / (1 - np.abs(mean) / su), np.inf)
+    return float(np.sum(cnt / sn_curve.cycles_to_failure(amp))), float(cnt.sum()), float(amp.max())
 
 
 @dataclass(frozen=True)
@@ -252,21 +275,16 @@ def fatigue(
             )
     stress = transient.element_stress
     idx = np.arange(stress.shape[1]) if elements is None else np.asarray(elements, int)
-    dmg, ncyc, amax = [], [], []
-    for e in idx:
-        rng, mean, cnt = rainflow_cycles(stress[:, e])
-        amp = rng / 2
-        if su is not None:
-            amp = np.where(np.abs(mean) < su, amp / (1 - np.abs(mean) / su), np.inf)
-        dmg.append(float(np.sum(cnt / sn_curve.cycles_to_failure(amp))) if len(amp) else 0.0)
-        ncyc.append(float(cnt.sum()))
-        amax.append(float(amp.max()) if len(amp) else 0.0)
+    per = np.array(
+        [miner_damage(stress[:, e], sn_curve, ultimate_strength=su) for e in idx], float
+    ).reshape(-1, 3)
+    dmg, ncyc, amax = per.T
     return FatigueResult(
         transient=transient,
         sn_curve=sn_curve,
         elements=idx,
-        damage=np.array(dmg),
-        cycles=np.array(ncyc),
-        max_amplitude=np.array(amax),
+        damage=np.array(dmg, float),
+        cycles=np.array(ncyc, float),
+        max_amplitude=np.array(amax, float),
         mean_stress_correction=mean_stress_correction,
     )

@@ -31,7 +31,9 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 import scipy.linalg as la
+import scipy.sparse as sp
 from numpy.typing import NDArray
+from scipy.sparse.csgraph import connected_components
 
 from ...assembly import Assembly, _shaft_elements, assemble
 from ...errors import ModelError
@@ -40,8 +42,6 @@ from ...model import NodeRef, Train
 __all__ = ["TorsionalModel", "torsional_model", "MESH_MODELS"]
 
 MESH_MODELS = ("flexible", "rigid")
-#: strain-energy frequency (rad/s) below which an eigenvector is a rigid-body rotation
-RIGID_TOL = 1e-2
 
 
 @dataclass(frozen=True)
@@ -234,10 +234,21 @@ class TorsionalModel:
 
     # ---- static torque flow ----------------------------------------------------------------
     def rigid_modes(self) -> NDArray:
-        """(n, r) M-orthonormal rigid-body rotations of the reduced model (one per torsionally
-        free part of the train)."""
-        w2, V = la.eigh(self.K, self.M)
-        return V[:, np.sqrt(np.abs(w2)) < RIGID_TOL]
+        """(n, r) M-orthonormal rigid-body rotations of the reduced model, one per torsionally
+        free part of the train: every node of a part turning at its shaft's speed ratio (a
+        part held by a fixed node or whose rotation strains something has none). Built from
+        the connectivity rather than picked from the eigenvalues, whose zeros round-off can
+        lift well above any fixed threshold in a stiff, light model."""
+        pattern = sp.csr_array(np.abs(self.K) + np.abs(self.C) > 0)
+        n_parts, part = connected_components(pattern, directed=False)
+        r_all = self.speed_ratio[self.node_shaft[self.roots]]
+        scale = np.abs(self.K).max() if self.K.size else 1.0
+        modes = []
+        for c in range(n_parts):
+            r = np.where(part == c, r_all, 0.0)
+            if np.linalg.norm(self.K @ r) <= 1e-9 * scale * np.linalg.norm(r):
+                modes.append(r / np.sqrt(r @ self.M @ r))
+        return np.array(modes).T.reshape(self.n, len(modes))
 
     def static_twist(self, f_full: NDArray, *, balanced: bool = True) -> tuple[NDArray, NDArray]:
         """Static angles (n_full,) under nodal torques f (n_full,) N·m, with the rigid-body
@@ -479,7 +490,7 @@ def _with_mesh_damping_ratios(tm: TorsionalModel) -> TorsionalModel:
                 value=s.damping_ratio,
             )
     w2, V = la.eigh(tm.K, tm.M)
-    elastic = np.sqrt(np.abs(w2)) >= RIGID_TOL
+    elastic = np.arange(len(w2)) >= tm.rigid_modes().shape[1]
     C = tm.C.copy()
     Cf = tm.C_full.copy()
     damping = tm.mesh_damping.copy()

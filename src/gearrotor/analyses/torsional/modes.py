@@ -7,9 +7,9 @@ shaft material damping), each matched to its undamped mode by the modal assuranc
 (optimal one-to-one assignment), giving the damped frequency and damping ratio
 ζ = −Re λ / |λ| of that mode (over-damped modes: ζ = 1, damped frequency 0).
 
-Rigid-body modes (a free train turns as a whole; one per torsionally free part) are the modes
-whose strain-energy frequency is below ``RIGID_TOL``; they are listed with frequency 0 and
-``rigid_body`` set.
+Rigid-body modes (a free train turns as a whole; one per torsionally free part, found from the
+model's connectivity, :meth:`TorsionalModel.rigid_modes`) are the lowest eigenpairs; they are
+listed with frequency 0 and ``rigid_body`` set.
 
 Mode shapes are the angles of every node, normalised to a largest |θ| of 1 rad (positive).
 Per mode the shaft torques GJ/L Δθ and surface shear stresses τ = T r / J_p · SCF follow for
@@ -28,7 +28,7 @@ from scipy.optimize import linear_sum_assignment
 
 from ...assembly import Assembly
 from ...model import Train
-from .model import RIGID_TOL, TorsionalModel, torsional_model
+from .model import TorsionalModel, torsional_model
 
 __all__ = ["TorsionalModes", "torsional_modes"]
 
@@ -159,7 +159,8 @@ def _damping(tm: TorsionalModel, w: NDArray, V: NDArray, elastic: NDArray):
     A[n:, n:] = -Minv @ tm.C
     lam, X = la.eig(A)
     X = X[:n]
-    cand = np.flatnonzero((lam.imag >= -1e-9 * np.abs(lam)) & (np.abs(lam) > RIGID_TOL))
+    floor = 1e-6 * w[elastic].min()  # rigid-body eigenvalues sit at round-off below this
+    cand = np.flatnonzero((lam.imag >= -1e-9 * np.abs(lam)) & (np.abs(lam) > floor))
     el = np.flatnonzero(elastic)
     phi = V[:, el]
     num = np.abs(phi.T @ tm.M @ X[:, cand]) ** 2
@@ -198,12 +199,12 @@ def torsional_modes(
     the modes hold at every speed.
     """
     tm = model if isinstance(model, TorsionalModel) else torsional_model(model, mesh=mesh)
-    w2, V = la.eigh(tm.K, tm.M)
-    strain = np.einsum("ij,ij->j", V, tm.K @ V)
-    rigid = np.sqrt(np.abs(strain)) < RIGID_TOL  # φ M-normalised: strain = ω²
+    w2, V = la.eigh(tm.K, tm.M)  # ascending
+    R = tm.rigid_modes()
+    rigid = np.arange(len(w2)) < R.shape[1]
+    if R.shape[1]:  # the exact rigid rotations instead of round-off's mixture of them
+        V[:, rigid] = R
     w = np.where(rigid, 0.0, np.sqrt(np.abs(w2)))
-    order = np.argsort(w, kind="stable")
-    w, V, rigid = w[order], V[:, order], rigid[order]
     keep = np.ones(len(w), bool)
     if max_frequency is not None:
         keep &= w <= max_frequency
