@@ -16,12 +16,12 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from torsional_helpers import disk, geared_train, shaft
 
 from gearrotor.analyses.torsional import pack_laws, torsional_transient
 from gearrotor.analyses.torsional.drive_laws import advance_states, evaluate
 from gearrotor.errors import ModelError
 from gearrotor.io.model_file import model_from_dict
+from torsional_helpers import disk, geared_train, shaft
 
 CHAPMAN = {"r1": 0.641, "x1": 1.106, "r2": 0.332, "x2": 0.464, "xm": 26.3, "voltage": "460 V"}
 START = {
