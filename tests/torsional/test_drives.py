@@ -291,3 +291,18 @@ def test_drive_without_load_path():
     data["torsional"]["loads"] = []
     with pytest.raises(ModelError, match="no load path"):
         torsional_transient(model_from_dict(data), t_end=0.1)
+
+
+def test_the_documented_schema_validates():
+    """docs/torsional.md's [torsional] example is valid input (kept in step with the model)."""
+    import re
+    import tomllib
+    from pathlib import Path
+
+    from gearrotor.model import Torsional
+
+    doc = Path(__file__).resolve().parents[2] / "docs" / "torsional.md"
+    (block,) = re.findall(r"```toml\n(.*?)```", doc.read_text(), flags=re.S)
+    tors = Torsional.model_validate(tomllib.loads(block)["torsional"])
+    assert [d.type for d in tors.drives] == ["synchronous_motor", "induction_motor", "torque"]
+    assert tors.drives[0].rated_torque == pytest.approx(10e6 / (1800 * np.pi / 30))
