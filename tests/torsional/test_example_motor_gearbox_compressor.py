@@ -67,3 +67,30 @@ def test_example_start_up_and_fatigue(train):
     )
     assert f.allowable_starts == pytest.approx(1 / f.damage.max())
     assert np.isfinite(f.allowable_starts)
+
+
+def test_three_phase_short_circuit_from_steady_running(train):
+    """At rated speed the synchronous motor starts in step at the load angle that carries the
+    load (static initial twist): nothing moves until the fault at 0.1 s; then the fault's
+    line-frequency torque (representative: 5 p.u. decaying in 0.15 s) loads the train."""
+    data = json.loads(train.model_dump_json())
+    data["torsional"]["drives"][0]["short_circuit"] = {
+        "type": "three_phase",
+        "time": "0.1 s",
+        "clear_time": "0.4 s",
+        "a0": 0.5,
+        "tau0": "0.1 s",
+        "a1": 5.0,
+        "tau1": "0.15 s",
+    }
+    data["torsional"]["loads"][0]["steps"] = []
+    sc = model_from_dict(data)
+    res = torsional_transient(sc, t_end=0.6, initial_speed=1800 * RPM)
+    before = res.time < 0.1
+    ls = 9  # motor[8]: the LS coupling stub, on the load path
+    t0 = res.element_torque[0, ls]
+    np.testing.assert_allclose(res.element_torque[before, ls], t0, rtol=1e-6)
+    np.testing.assert_allclose(res.speed[before, 0], 1800 * RPM, rtol=1e-9)
+    assert abs(t0) == pytest.approx(abs(res.rated_element_torque[ls]), rel=1e-6)
+    assert res.peak_element_torque[ls] > 1.5 * abs(t0)  # 2.2x here: the rotor takes most
+    assert np.all(res.law_torque[res.time >= 0.4, 0] == 0.0)  # cleared: disconnected

@@ -848,7 +848,12 @@ def torsional_transient(
         np.add.at(f0, full, tq * laws.par[:, 1] * l_sense)
         p, _ = tm.static_reduced(f0, balanced=False)
         if np.any(kin_b > 0):
-            notes.append("static initial twist computed with the meshes in contact")
+            # the loaded flank of each backlash mesh is in contact: F = k (δ − s b), so the
+            # twist is the linear one plus the clearance taken up, a prestrain s b along w
+            for k in np.flatnonzero(kin_b > 0):
+                s_k = np.sign(kin_k[k] * (W[k] @ p))
+                f0[tm.mesh_dofs[k]] += kin_k[k] * kin_b[k] * s_k * tm.mesh_w[k]
+            p, _ = tm.static_reduced(f0, balanced=False)
         _synchronise_at_start(laws, state, l_dof, l_fac, l_sense, p, v)
     _laws(0.0, p, v, l_dof, l_fac, l_sense, state, *arrs, g, tq)
     mstate = np.zeros(nm if tm.mesh == "flexible" else 0, np.int64)
