@@ -775,10 +775,9 @@ def torsional_transient(
         for k in range(nm):
             K0 -= tm.mesh_stiffness[k] * np.outer(W[k], W[k])
             C0 -= tm.mesh_damping[k] * np.outer(W[k], W[k])
-        m_idx = np.array([np.flatnonzero(W[k])[:2] for k in range(nm)], np.int64).reshape(nm, 2)
-        if np.any([np.count_nonzero(W[k]) != 2 for k in range(nm)]):
-            raise SolverError("a flexible mesh does not act on two DOFs")  # pragma: no cover
-        m_w = np.array([W[k, m_idx[k]] for k in range(nm)], float).reshape(nm, 2)
+        # no fixed nodes and no rigid meshes: every gear node is its own reduced coordinate
+        m_idx = tm.master[tm.mesh_dofs].astype(np.int64).reshape(nm, 2)
+        m_w = (tm.mesh_w * tm.factor[tm.mesh_dofs]).reshape(nm, 2)
         bl = np.flatnonzero(tm.mesh_backlash > 0)
         if len(bl) > MAX_BACKLASH_MESHES:
             raise ModelError(
