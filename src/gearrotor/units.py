@@ -33,6 +33,9 @@ __all__ = [
     "Rate",
     "Frequency",
     "Dimensionless",
+    "Voltage",
+    "Resistance",
+    "Stress",
     "rpm_to_rad_s",
     "rad_s_to_rpm",
 ]
@@ -63,6 +66,9 @@ KINDS: dict[str, tuple[str, str, str]] = {
     "frequency": ("rad/s", "a frequency", "100 Hz"),
     "viscosity": ("Pa*s", "a dynamic viscosity", "0.02 Pa*s"),
     "dimensionless": ("", "a plain number", "0.3"),
+    "voltage": ("V", "a voltage", "13.8 kV"),
+    "resistance": ("ohm", "a resistance or reactance", "0.64 ohm"),
+    "stress": ("Pa", "a stress", "120 MPa"),
 }
 
 
@@ -130,6 +136,9 @@ Rate = _quantity("rate")
 Frequency = _quantity("frequency")
 Viscosity = _quantity("viscosity")
 Dimensionless = _quantity("dimensionless")
+Voltage = _quantity("voltage")
+Resistance = _quantity("resistance")
+Stress = _quantity("stress")
 
 
 def rpm_to_rad_s(rpm: float) -> float:

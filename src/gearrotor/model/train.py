@@ -32,10 +32,13 @@ from .components import (
     ThrustBearing,
     Unbalance,
 )
+from .drives import Torsional
 
 __all__ = ["Train", "Layout", "ShaftLayout"]
 
 _REL_TOL = 1e-6
+# optional Train fields left out of the model JSON when absent
+_OMIT_WHEN_ABSENT = ("torsional", "operating_speed_range", "max_continuous_speed")
 
 
 @dataclass(frozen=True)
@@ -86,6 +89,7 @@ class Train(Spec):
     unbalances: list[Unbalance] = Field(default_factory=list)
     probes: list[Probe] = Field(default_factory=list)
     torques: list[ExternalTorque] = Field(default_factory=list)
+    torsional: Torsional | None = None  # drives, loads, stress concentrations (model/drives.py)
     # API 617 operating range of the reference shaft: speed magnitudes, min <= max <= MCS
     operating_speed_range: tuple[AngularSpeed, AngularSpeed] | None = None
     max_continuous_speed: AngularSpeed | None = None
@@ -119,11 +123,12 @@ class Train(Spec):
         return self
 
     @model_serializer(mode="wrap")
-    def _without_absent_range(self, handler):
-        # a model without an operating range serialises as before the fields existed (study
-        # case keys and transient checkpoint fingerprints hash the model JSON)
+    def _without_absent_optionals(self, handler):
+        # a train without these optional inputs serialises as before the fields existed, so
+        # the model JSON (study case keys, transient checkpoint fingerprints) of existing
+        # models is kept
         out = handler(self)
-        for key in ("operating_speed_range", "max_continuous_speed"):
+        for key in _OMIT_WHEN_ABSENT:
             if getattr(self, key) is None:
                 out.pop(key, None)
         return out
@@ -372,6 +377,8 @@ class Train(Spec):
                     field=f"meshes[{k}].face_width",
                     expected="a length",
                 )
+        if self.torsional is not None:
+            self.torsional.check(self)
 
     def _check_speeds(self, ratios: list[float]) -> None:
         for i, s in enumerate(self.shafts):
