@@ -1,5 +1,6 @@
 """What a machine is: the train model and its validated components."""
 
+from .audit import ApiAudit, AuditSite, AuditStage
 from .components import (
     Backlash,
     Bearing,
@@ -41,6 +42,9 @@ from .drives import (
 from .train import Layout, ShaftLayout, Train
 
 __all__ = [
+    "ApiAudit",
+    "AuditSite",
+    "AuditStage",
     "Backlash",
     "Bearing",
     "BearingTable",

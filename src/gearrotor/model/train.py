@@ -18,6 +18,7 @@ from pydantic import Field, field_validator, model_serializer, model_validator
 
 from ..errors import ModelError
 from ..units import AngularSpeed
+from .audit import ApiAudit
 from .components import (
     Bearing,
     Coupling,
@@ -38,7 +39,7 @@ __all__ = ["Train", "Layout", "ShaftLayout"]
 
 _REL_TOL = 1e-6
 # optional Train fields left out of the model JSON when absent
-_OMIT_WHEN_ABSENT = ("torsional", "operating_speed_range", "max_continuous_speed")
+_OMIT_WHEN_ABSENT = ("torsional", "operating_speed_range", "max_continuous_speed", "api_audit")
 
 
 @dataclass(frozen=True)
@@ -93,6 +94,7 @@ class Train(Spec):
     # API 617 operating range of the reference shaft: speed magnitudes, min <= max <= MCS
     operating_speed_range: tuple[AngularSpeed, AngularSpeed] | None = None
     max_continuous_speed: AngularSpeed | None = None
+    api_audit: ApiAudit | None = None  # API 617 Level I inputs (model/audit.py)
 
     @field_validator("max_continuous_speed")
     @classmethod
@@ -379,6 +381,8 @@ class Train(Spec):
                 )
         if self.torsional is not None:
             self.torsional.check(self)
+        if self.api_audit is not None:
+            self.api_audit.check(self)
 
     def _check_speeds(self, ratios: list[float]) -> None:
         for i, s in enumerate(self.shafts):
