@@ -6,10 +6,10 @@ from __future__ import annotations
 import json
 
 import pytest
-from cli_models import Q_ONSET, RPM, WN, jeffcott_toml, uniform_toml
 from test_ucs import timoshenko_pinned_forward
 from typer.testing import CliRunner
 
+from audit_models import Q_ONSET, RPM, WN, jeffcott_toml, uniform_toml
 from gearrotor.analyses import ucs_map
 from gearrotor.cli import app
 from gearrotor.io import load_model

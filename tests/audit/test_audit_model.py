@@ -6,8 +6,8 @@ from __future__ import annotations
 import json
 
 import pytest
-from cli_models import jeffcott_toml
 
+from audit_models import jeffcott_toml
 from gearrotor.analyses import Site, Stage, level1_inputs
 from gearrotor.errors import ModelError
 from gearrotor.io import load_model, model_from_dict

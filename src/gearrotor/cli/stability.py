@@ -206,7 +206,6 @@ def stability_command(
     """API 617 stability audit: Level I (Q_0 by root search, Q_0/Q_A, screening chart) and
     Level II (log dec of every forward lateral mode with the model's destabilisers)."""
     from ..analyses.audit import stability_audit
-    from ..analyses.operating import model_max_continuous_speed
     from ..analyses.stability import Stage
     from ..io import load_model, parse_overrides
     from ..model import NodeRef
@@ -265,7 +264,14 @@ def stability_command(
 
     train = load_model(model, parse_overrides(set_))
     train = operating_range_from_options(train, operating_range, mcs)
-    model_max_continuous_speed(train, "the stability audit (Level I runs at the MCS; or --mcs)")
+    if train.max_continuous_speed is None:
+        raise ModelError(
+            "the stability audit runs Level I at the maximum continuous speed, and the model "
+            "states none",
+            file=str(model),
+            field="max_continuous_speed",
+            expected="max_continuous_speed = '... rpm' in the model, or --mcs RPM",
+        )
     for shaft, node, _ in sites:
         if node == "mid_span":
             train.shaft_index(shaft, "--at")

@@ -15,8 +15,12 @@ WN = np.sqrt(2 * KB / MASS)
 Q_ONSET = 2 * CB * WN
 
 
-def jeffcott_toml(extra: str = "", mcs_rpm: float | None = 2865.0, speed_rpm: float = 2865.0):
+def jeffcott_toml(
+    extra: str = "", mcs_rpm: float | None = 2865.0, speed_rpm: float = 2865.0, top: str = ""
+):
+    """The Jeffcott rotor's model file; ``top``: top-level keys, ``extra``: tables."""
     mcs = f'max_continuous_speed = "{mcs_rpm} rpm"\n' if mcs_rpm is not None else ""
+    mcs += top
     return f'''name = "jeffcott"
 speed = "{speed_rpm} rpm"
 {mcs}
