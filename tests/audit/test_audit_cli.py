@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 
+import numpy as np
 import pytest
 from test_ucs import timoshenko_pinned_forward
 from typer.testing import CliRunner
@@ -120,6 +121,33 @@ def test_ucs_table(uniform):
 )
 def test_ucs_bad_input(uniform, args, needles):
     one_line_error(invoke("ucs", uniform, *args), *needles)
+
+
+def test_unbalance_takes_the_models_range_and_the_options_override_it(tmp_path):
+    """gearrotor unbalance: separation margins against the model's (minimum operating speed,
+    MCS) and the API 617 unbalance at the MCS (U = 4 × 6350 W/N g·mm, W the shaft mass for
+    its single plane, N = 3150 rpm); --operating-range / --mcs replace them."""
+    p = tmp_path / "u.toml"
+    extra = """
+[[unbalances]]
+shaft = "s"
+node = 5
+amount = "10 g*mm"
+
+[[probes]]
+name = "mid"
+shaft = "s"
+node = 5
+"""
+    p.write_text(uniform_toml(extra=extra))
+    base = ["unbalance", p, "--n-speeds", 20, "--max-speed", 4000, "--format", "json"]
+    d = ok_json(invoke(*base))
+    assert d["operating_range_rpm"] == pytest.approx([2700, 3150])
+    d = ok_json(invoke(*base, "--operating-range", "2000,2500", "--mcs", 2600))
+    assert d["operating_range_rpm"] == pytest.approx([2000, 2600])
+    d = ok_json(invoke(*base, "--api"))
+    mass = 7850 * np.pi * 0.05**2 / 4 * 1.0  # kg, the whole shaft on one plane
+    assert d["unbalances"][0]["amount_g_mm"] == pytest.approx(4 * 6350 * mass / 3150, rel=1e-9)
 
 
 def test_ucs_unwritable_plot_is_checked_first(uniform, tmp_path):
