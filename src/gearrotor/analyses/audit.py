@@ -104,7 +104,8 @@ def level1_inputs(
 ) -> dict:
     """Keyword arguments of :func:`~.stability.level1`: the model's ``[api_audit]`` table with
     the given arguments in place of its values (``qa`` or ``stages`` replace both of the
-    table's Q_A sources; a site's node ``"mid_span"`` becomes the middle of its shaft's span).
+    table's Q_A sources, and then the table's sites are not used either; a site's node
+    ``"mid_span"`` becomes the middle of its shaft's span).
     """
     table = train.api_audit
     if qa is not None and stages:
@@ -113,7 +114,8 @@ def level1_inputs(
             field="qa / stages",
             expected="one of the two",
         )
-    if qa is None and not stages:
+    from_table = qa is None and not stages
+    if from_table:
         if table is None:
             raise ModelError(
                 "the stability audit needs the anticipated cross-coupling Q_A",
@@ -127,7 +129,7 @@ def level1_inputs(
             for s in table.stages
         ]
     sites = at
-    if not sites and table is not None:
+    if not sites and from_table:  # the table's sites go with the table's Q_A
         sites = [(s.shaft, s.node, s.weight) for s in table.at]
     resolved = []
     for k, s in enumerate(sites or ()):
