@@ -464,6 +464,7 @@ def static(
         residual=reaction + applied,
         iterations=iterations,
         bearing_solves=_counter["solves"] - solves0,
+        journals={k: film_of[k][3] for k in film_of},
     )
 
 

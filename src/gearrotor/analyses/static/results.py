@@ -178,6 +178,8 @@ class StaticResult:
     residual: NDArray = field(repr=False)
     iterations: int = 0
     bearing_solves: int = 0
+    # the journal equilibria of the fluid-film bearings, by index in the model's bearings
+    journals: dict = field(default_factory=dict, repr=False, compare=False)
 
     def bearing(self, name: str) -> BearingLoad:
         for b in self.bearings:
