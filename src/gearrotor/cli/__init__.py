@@ -9,6 +9,7 @@ command             module                      calls
 ``modal``           :mod:`.modal`               :func:`gearrotor.analyses.modal`
 ``campbell``        :mod:`.campbell`            :func:`gearrotor.analyses.campbell`
 ``unbalance``       :mod:`.unbalance`           :func:`gearrotor.analyses.unbalance_response`
+``static``          :mod:`.static`              :func:`gearrotor.analyses.static.static`
 ``bearing``         :mod:`.bearing`             :func:`gearrotor.bearings.coefficients`
 ``transient``,      :mod:`.transient`           :func:`gearrotor.analyses.transient.transient`
 ``transient-plot``
@@ -36,6 +37,7 @@ from .errors import EXIT_CODES_HELP
 from .floquet import floquet_command
 from .modal import modal_command
 from .report import report_command
+from .static import static_command
 from .study import study_app
 from .transient import plot_command, transient_command
 from .unbalance import unbalance_command
@@ -54,6 +56,7 @@ app = typer.Typer(
 app.command("modal", epilog=EXIT_CODES_HELP)(modal_command)
 app.command("campbell", epilog=EXIT_CODES_HELP)(campbell_command)
 app.command("unbalance", epilog=EXIT_CODES_HELP)(unbalance_command)
+app.command("static", epilog=EXIT_CODES_HELP)(static_command)
 app.command("bearing", epilog=EXIT_CODES_HELP)(bearing_cli)
 app.command("transient", epilog=EXIT_CODES_HELP)(transient_command)
 app.command("transient-plot", epilog=EXIT_CODES_HELP)(plot_command)

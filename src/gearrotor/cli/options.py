@@ -9,7 +9,15 @@ import typer
 
 from ..errors import ModelError
 
-__all__ = ["RPM", "FormatOpt", "SetOpt", "check_format", "speed_grid"]
+__all__ = [
+    "RPM",
+    "FormatOpt",
+    "OperatingPointOpt",
+    "SetOpt",
+    "check_format",
+    "check_operating_point",
+    "speed_grid",
+]
 
 RPM = np.pi / 30  # rpm -> rad/s
 
@@ -21,6 +29,26 @@ SetOpt = Annotated[
     ),
 ]
 FormatOpt = Annotated[str, typer.Option("--format", help="table or json")]
+OperatingPointOpt = Annotated[
+    str | None,
+    typer.Option(
+        "--operating-point",
+        help="run at this operating point of the model ([[operating_points]] name): fluid-film "
+        "bearings at the coefficients of its static loads, meshes on the loaded flank",
+    ),
+]
+
+
+def check_operating_point(train, name: str | None) -> None:
+    """``--operating-point`` must name one of the model's operating points."""
+    if name is None:
+        return
+    try:
+        train.operating_point(name)
+    except ModelError as exc:
+        raise ModelError(
+            exc.message, field="--operating-point", value=name, expected=exc.expected
+        ) from None
 
 
 def check_format(fmt: str) -> None:

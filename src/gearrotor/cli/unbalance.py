@@ -12,7 +12,15 @@ import typer
 
 from ..errors import ModelError
 from .errors import cli_errors
-from .options import RPM, FormatOpt, SetOpt, check_format, speed_grid
+from .options import (
+    RPM,
+    FormatOpt,
+    OperatingPointOpt,
+    SetOpt,
+    check_format,
+    check_operating_point,
+    speed_grid,
+)
 
 __all__ = ["unbalance_command"]
 
@@ -37,6 +45,7 @@ def unbalance_command(
     plot: Annotated[
         Path | None, typer.Option(help="write Bode and orbit plots to this directory")
     ] = None,
+    operating_point: OperatingPointOpt = None,
     set_: SetOpt = None,
 ) -> None:
     """Steady-state unbalance response: Bode, peaks, critical speeds, API 684 AF and margins."""
@@ -47,6 +56,7 @@ def unbalance_command(
 
     check_format(format)
     train = load_model(model, parse_overrides(set_))
+    check_operating_point(train, operating_point)
     hi = max_speed if max_speed is not None else 1.5 * abs(train.speed) / RPM
     speeds = speed_grid(min_speed, hi, n_speeds, "--min-speed/--max-speed")
     op = None
@@ -65,7 +75,13 @@ def unbalance_command(
     unb = list(train.unbalances)
     if api:
         unb = api617_unbalances(asm, op[1] if op else abs(train.speed))
-    res = unbalance_response(asm, speeds=speeds, unbalances=unb, operating_range=op)
+    res = unbalance_response(
+        asm,
+        speeds=speeds,
+        unbalances=unb,
+        operating_range=op,
+        operating_point=operating_point,
+    )
     if format == "json":
         d = res.to_dict()
         d["unbalances"] = [

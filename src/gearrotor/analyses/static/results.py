@@ -227,15 +227,21 @@ class StaticResult:
             f"{'bearing':<32}{'Fx N':>11}{'Fy N':>11}{'Fz N':>11}{'|F| N':>11}{'angle':>8}"
             f"{'ecc':>7}{'att deg':>8}{'hmin um':>9}{'pmax MPa':>9}{'loss kW':>8}",
         ]
+        big = max([b.magnitude for b in self.bearings] + [m.normal for m in self.meshes] + [1.0])
+
+        def clean(v):  # round-off (1e-12 of the largest force) shown as 0
+            return 0.0 if abs(v) < 1e-12 * big else float(v)
+
         for b in self.bearings:
             d = b.to_dict()
+            f = [clean(v) for v in b.force]
 
             def fmt(v, spec, width):
                 return f"{'-':>{width}}" if v is None else f"{v:>{width}{spec}}"
 
             lines.append(
-                f"{b.name[:31]:<32}{b.force[0]:>11.5g}{b.force[1]:>11.5g}{b.force[2]:>11.5g}"
-                f"{b.magnitude:>11.5g}{d['angle_deg']:>8.1f}"
+                f"{b.name[:31]:<32}{f[0]:>11.5g}{f[1]:>11.5g}{f[2]:>11.5g}"
+                f"{clean(b.magnitude):>11.5g}{d['angle_deg'] if clean(b.magnitude) else 0.0:>8.1f}"
                 + fmt(d["eccentricity_ratio"], ".3f", 7)
                 + fmt(d["attitude_deg"], ".1f", 8)
                 + fmt(d["min_film_um"], ".1f", 9)
@@ -249,8 +255,8 @@ class StaticResult:
             for m in self.meshes:
                 mis = "-" if math.isnan(m.misalignment) else f"{m.misalignment * 1e6:.2f}"
                 lines.append(
-                    f"{m.name[:31]:<32}{m.tangential:>11.5g}{m.separating:>11.5g}"
-                    f"{m.axial:>11.5g}{m.normal:>11.5g}{mis:>13}"
+                    f"{m.name[:31]:<32}{clean(m.tangential):>11.5g}{clean(m.separating):>11.5g}"
+                    f"{clean(m.axial):>11.5g}{clean(m.normal):>11.5g}{mis:>13}"
                 )
         lines.append(f"{'shaft':<32}{'max defl um':>12}{'max vM MPa':>12}")
         for s in self.shafts:
