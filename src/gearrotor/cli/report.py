@@ -33,7 +33,8 @@ def report_command(
     analyses: Annotated[
         str,
         typer.Option(
-            help="comma-separated: modal, campbell, unbalance (transient: give --transient)"
+            help="comma-separated: modal, campbell, unbalance, audit (the API 617 lateral audit: "
+            "needs the model's operating range, MCS and [api_audit]; transient: give --transient)"
         ),
     ] = "modal,campbell,unbalance",
     speed: Annotated[
