@@ -33,10 +33,8 @@ def best_of(fn, n=5):
 
 
 def main() -> None:
-    print(
-        f"machine: {platform.machine()} {platform.processor() or ''} cores={os.cpu_count()} "
-        f"python={platform.python_version()} numpy={np.__version__}"
-    )
+    print(f"machine: {platform.machine()} {platform.processor() or ''} cores={os.cpu_count()} "
+          f"python={platform.python_version()} numpy={np.__version__}")
     t_build, _, train = best_of(lambda: load_model(MODEL))
     t_asm, _, asm = best_of(lambda: assemble(train))
     t_dense, med_dense, rd = best_of(lambda: modal(asm, method="dense"))
@@ -47,31 +45,19 @@ def main() -> None:
     speeds = np.linspace(0, 12000, 60) * RPM
     t_camp, _, cres = best_of(lambda: campbell(asm, speeds=speeds, max_frequency=fmax), n=2)
     t_camp_d, _, cres_d = best_of(
-        lambda: campbell(asm, speeds=speeds, max_frequency=fmax, method="dense"), n=1
-    )
-    cerr = float(
-        np.max(
-            np.abs(
-                np.sort(cres.damped_frequency, axis=1) - np.sort(cres_d.damped_frequency, axis=1)
-            )
-            / np.sort(cres_d.damped_frequency, axis=1)
-        )
-    )
+        lambda: campbell(asm, speeds=speeds, max_frequency=fmax, method="dense"), n=1)
+    cerr = float(np.max(np.abs(np.sort(cres.damped_frequency, axis=1)
+                               - np.sort(cres_d.damped_frequency, axis=1))
+                        / np.sort(cres_d.damped_frequency, axis=1)))
     rows = [
         ("load + validate model file", t_build, ""),
         ("assemble (252 DOF)", t_asm, ""),
         ("damped eigen, dense (all 504)", t_dense, f"median {med_dense:.3f} s"),
-        (
-            "damped eigen, sparse (<80k cpm)",
-            t_sparse,
-            f"median {med_sparse:.3f} s, max rel dev vs dense {err:.1e}",
-        ),
+        ("damped eigen, sparse (<80k cpm)", t_sparse,
+         f"median {med_sparse:.3f} s, max rel dev vs dense {err:.1e}"),
         ("build + dense eigen", t_build + t_asm + t_dense, "goal <= 0.3 s"),
-        (
-            "Campbell 60 speeds, sparse",
-            t_camp,
-            f"goal <= 10 s, {cres.damped_frequency.shape[1]} modes, {len(cres.crossings)} crossings",
-        ),
+        ("Campbell 60 speeds, sparse", t_camp,
+         f"goal <= 10 s, {cres.damped_frequency.shape[1]} modes, {len(cres.crossings)} crossings"),
         ("Campbell 60 speeds, dense", t_camp_d, f"max rel dev sparse vs dense {cerr:.1e}"),
     ]
     print(f"{'step':<34} {'best s':>8}  notes")
