@@ -11,6 +11,7 @@ from .bearings import BearingsSection
 from .campbell import CampbellSection
 from .modes import ModesSection
 from .stability import StabilitySection
+from .static import OperatingPointsSection
 from .transient import TransientSection
 from .unbalance import UnbalanceSection
 
@@ -21,6 +22,7 @@ SECTIONS: tuple[Section, ...] = (
     StabilitySection(),
     CampbellSection(),
     UnbalanceSection(),
+    OperatingPointsSection(),
     BearingsSection(),
     TransientSection(),
 )
