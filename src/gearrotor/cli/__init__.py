@@ -15,6 +15,7 @@ command             module                      calls
 ``report``          :mod:`.report`              :func:`gearrotor.plots.report.make_report`
 ``floquet``         :mod:`.floquet`             :func:`gearrotor.analyses.floquet.floquet`
 ``study ...``       :mod:`.study`               :mod:`gearrotor.studies`
+``torsional ...``   :mod:`.torsional`           :mod:`gearrotor.analyses.torsional`
 ==================  ==========================  ==============================================
 
 Shared options (``--set``, ``--format``, rpm) are in :mod:`.options`; every command maps errors
@@ -37,6 +38,7 @@ from .floquet import floquet_command
 from .modal import modal_command
 from .report import report_command
 from .study import study_app
+from .torsional import torsional_app
 from .transient import plot_command, transient_command
 from .unbalance import unbalance_command
 
@@ -60,6 +62,7 @@ app.command("transient-plot", epilog=EXIT_CODES_HELP)(plot_command)
 app.command("report", epilog=EXIT_CODES_HELP)(report_command)
 app.command("floquet", epilog=EXIT_CODES_HELP)(floquet_command)
 app.add_typer(study_app, name="study")
+app.add_typer(torsional_app, name="torsional")
 
 
 def main() -> None:
