@@ -33,7 +33,8 @@ def report_command(
     analyses: Annotated[
         str,
         typer.Option(
-            help="comma-separated: modal, campbell, unbalance (transient: give --transient)"
+            help="comma-separated: modal, campbell, unbalance, torsional (not by default) "
+            "(transient: give --transient)"
         ),
     ] = "modal,campbell,unbalance",
     speed: Annotated[

@@ -11,6 +11,7 @@ from .bearings import BearingsSection
 from .campbell import CampbellSection
 from .modes import ModesSection
 from .stability import StabilitySection
+from .torsional import TorsionalSection
 from .transient import TransientSection
 from .unbalance import UnbalanceSection
 
@@ -22,5 +23,6 @@ SECTIONS: tuple[Section, ...] = (
     CampbellSection(),
     UnbalanceSection(),
     BearingsSection(),
+    TorsionalSection(),
     TransientSection(),
 )
