@@ -11,7 +11,15 @@ import typer
 
 from ..errors import ModelError
 from .errors import cli_errors
-from .options import RPM, FormatOpt, SetOpt, check_format, speed_grid
+from .options import (
+    RPM,
+    FormatOpt,
+    OperatingPointOpt,
+    SetOpt,
+    check_format,
+    check_operating_point,
+    speed_grid,
+)
 
 __all__ = ["campbell_command"]
 
@@ -29,6 +37,7 @@ def campbell_command(
     ] = None,
     format: FormatOpt = "table",
     plot: Annotated[Path | None, typer.Option(help="write the Campbell diagram PNG")] = None,
+    operating_point: OperatingPointOpt = None,
     set_: SetOpt = None,
 ) -> None:
     """Campbell diagram with MAC mode tracking, excitation orders and crossing speeds."""
@@ -37,6 +46,7 @@ def campbell_command(
 
     check_format(format)
     train = load_model(model, parse_overrides(set_))
+    check_operating_point(train, operating_point)
     hi = max_speed if max_speed is not None else 1.25 * abs(train.speed) / RPM
     speeds = speed_grid(min_speed, hi, n_speeds, "--min-speed/--max-speed")
     fmax = (max_frequency if max_frequency is not None else 3 * hi) * RPM
@@ -51,7 +61,13 @@ def campbell_command(
                 value=orders,
                 expected="comma-separated numbers, e.g. '10,42'",
             ) from None
-    res = run_campbell(train, speeds=speeds, max_frequency=fmax, extra_orders=extra)
+    res = run_campbell(
+        train,
+        speeds=speeds,
+        max_frequency=fmax,
+        extra_orders=extra,
+        operating_point=operating_point,
+    )
     if format == "json":
         typer.echo(json.dumps(res.to_dict(), indent=1))
     else:

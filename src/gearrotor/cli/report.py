@@ -33,8 +33,9 @@ def report_command(
     analyses: Annotated[
         str,
         typer.Option(
-            help="comma-separated: modal, campbell, unbalance, torsional (not by default) "
-            "(transient: give --transient)"
+            help="comma-separated: modal, campbell, unbalance, audit (the API 617 lateral audit: "
+            "needs the model's operating range, MCS and [api_audit]), torsional (the torsional "
+            "audit; not by default); transient: give --transient"
         ),
     ] = "modal,campbell,unbalance",
     speed: Annotated[
