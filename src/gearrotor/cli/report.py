@@ -35,8 +35,8 @@ def report_command(
         str,
         typer.Option(
             help="comma-separated: modal, campbell, unbalance, audit (the API 617 lateral audit: "
-            "needs the model's operating range, MCS and [api_audit]), operating_points "
-            "(transient: give --transient)"
+            "needs the model's operating range, MCS and [api_audit]), operating_points, "
+            "torsional (the torsional audit; not by default); transient: give --transient"
         ),
     ] = "modal,campbell,unbalance",
     speed: Annotated[

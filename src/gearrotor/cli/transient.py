@@ -48,7 +48,12 @@ def transient_command(
     ] = True,
     progress: Annotated[bool, typer.Option(help="progress on stderr")] = True,
     initial: Annotated[
-        str, typer.Option("--initial", help="'zero' or 'static' (deflection under the torques)")
+        str,
+        typer.Option(
+            "--initial",
+            help="'zero', 'static' (deflection under the torques) or 'rest' (standstill: a "
+            "start-up by the model's torsional drives)",
+        ),
     ] = "zero",
     checkpoint: Annotated[
         Path | None,
