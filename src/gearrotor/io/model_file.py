@@ -17,6 +17,7 @@ from typing import Any
 from pydantic import ValidationError
 
 from ..errors import ModelError
+from ..inputs import MAX_LISTED, read_table, read_toml
 from ..model import Train
 
 __all__ = [
@@ -51,11 +52,33 @@ def _lookup(data: Any, loc: tuple) -> Any:
     return cur
 
 
+_UNION_TYPES = frozenset({"model_type", "dict_type", "model_attributes_type"})
+
+
 def format_validation_error(exc: ValidationError, data: dict, file: str | None) -> ModelError:
-    """Turn a pydantic error into one :class:`ModelError` listing every problem."""
+    """Turn a pydantic error into one :class:`ModelError` listing the problems (at most
+    :data:`~gearrotor.inputs.MAX_LISTED` of them, then how many more; unknown keys of one table
+    are listed together)."""
     lines = []
     seen = set()
-    for err in exc.errors(include_url=False):
+    unknown: dict[str, list[str]] = {}
+    errors = exc.errors(include_url=False)
+    # a union field (a number or a table): when the number branch explains the error, drop the
+    # table branch's "should be a valid dictionary"
+    explained = {_loc_to_path(e["loc"]) for e in errors if e["type"] not in _UNION_TYPES}
+    errors = [
+        e
+        for e in errors
+        if e["type"] not in _UNION_TYPES or _loc_to_path(e["loc"]) not in explained
+    ]
+    for err in errors:
+        if err["type"] == "extra_forbidden" and err["loc"]:
+            parent = _loc_to_path(err["loc"][:-1]) if len(err["loc"]) > 1 else "(top level)"
+            if parent not in unknown:
+                unknown[parent] = []
+                lines.append(("unknown", parent))
+            unknown[parent].append(str(err["loc"][-1]))
+            continue
         path = _loc_to_path(err["loc"])
         msg = err["msg"].removeprefix("Value error, ")
         if err["type"] == "extra_forbidden":
@@ -71,8 +94,22 @@ def format_validation_error(exc: ValidationError, data: dict, file: str | None) 
             value = None
         text = f"{path}: {msg}"
         if value is not None and err["type"] != "extra_forbidden":
-            text += f" (got {value!r})"
+            shown = repr(value)
+            text += f" (got {shown if len(shown) <= 80 else shown[:77] + '...'})"
         lines.append(text)
+    for k, line in enumerate(lines):
+        if isinstance(line, tuple):
+            keys = unknown[line[1]]
+            if len(keys) == 1:
+                path = keys[0] if line[1] == "(top level)" else f"{line[1]}.{keys[0]}"
+                lines[k] = f"{path}: unknown key (not a field of this table; check the spelling)"
+            else:
+                lines[k] = (
+                    f"{line[1]}: {len(keys)} unknown keys {_list_some(keys)} (not fields of "
+                    "this table; check the spelling)"
+                )
+    if len(lines) > MAX_LISTED:
+        lines = [*lines[:MAX_LISTED], f"... and {len(lines) - MAX_LISTED} more errors"]
     head = f"{file}: " if file else ""
     if len(lines) == 1:
         return ModelError(lines[0], file=file)
@@ -84,6 +121,12 @@ def format_validation_error(exc: ValidationError, data: dict, file: str | None) 
         if head
         else ModelError(f"{len(lines)} errors in the model\n  " + "\n  ".join(lines))
     )
+
+
+def _list_some(keys: list[str]) -> str:
+    from ..inputs import list_some
+
+    return list_some([repr(k) for k in keys])
 
 
 def _parse_path(path: str) -> list[str | int]:
@@ -183,22 +226,31 @@ def load_model(path: str | Path, overrides: dict[str, Any] | None = None) -> Tra
     """Read, override and validate a TOML model file."""
     path = Path(path)
     name = str(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise ModelError("model file not found", file=name) from None
-    except OSError as exc:
-        raise ModelError(f"cannot read the model file: {exc.strerror}", file=name) from None
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise ModelError(f"invalid TOML: {exc}", file=name) from None
+    data = read_toml(path, "model")
     try:
         data = apply_overrides(data, overrides)
     except ModelError as exc:
         raise exc.with_file(name) from None
     _resolve_paths(data, path.parent)
-    return model_from_dict(data, file=name)
+    train = model_from_dict(data, file=name)
+    _check_files(train, name)
+    return train
+
+
+def _check_files(train: Train, file: str) -> None:
+    """Read the table and bearing files the model points to, before anything runs: an error
+    names the model file, the field and the file it points to."""
+    for group in ("bearings", "seals"):
+        for k, b in enumerate(getattr(train, group, None) or []):
+            table, ff = getattr(b, "table_file", None), getattr(b, "fluid_film", None)
+            field = f"{group}[{k}].table_file" if table is not None else f"{group}[{k}].fluid_film"
+            try:
+                if table is not None:
+                    read_table(table)
+                if ff is not None:
+                    read_toml(ff.file, "bearing")
+            except ModelError as exc:
+                raise ModelError(str(exc), field=field, file=file) from None
 
 
 def _resolve_paths(data: dict, base: Path) -> None:
