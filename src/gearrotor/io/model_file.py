@@ -22,6 +22,7 @@ from ..model import Train
 
 __all__ = [
     "load_model",
+    "model_from_file_data",
     "model_from_dict",
     "apply_overrides",
     "format_validation_error",
@@ -55,7 +56,9 @@ def _lookup(data: Any, loc: tuple) -> Any:
 _UNION_TYPES = frozenset({"model_type", "dict_type", "model_attributes_type"})
 
 
-def format_validation_error(exc: ValidationError, data: dict, file: str | None) -> ModelError:
+def format_validation_error(
+    exc: ValidationError, data: dict, file: str | None, what: str = "the model"
+) -> ModelError:
     """Turn a pydantic error into one :class:`ModelError` listing the problems (at most
     :data:`~gearrotor.inputs.MAX_LISTED` of them, then how many more; unknown keys of one table
     are listed together)."""
@@ -115,11 +118,11 @@ def format_validation_error(exc: ValidationError, data: dict, file: str | None) 
         return ModelError(lines[0], file=file)
     return (
         ModelError(
-            f"{len(lines)} errors in the model\n  " + "\n  ".join(lines),
+            f"{len(lines)} errors in {what}\n  " + "\n  ".join(lines),
             file=None if not file else file,
         )
         if head
-        else ModelError(f"{len(lines)} errors in the model\n  " + "\n  ".join(lines))
+        else ModelError(f"{len(lines)} errors in {what}\n  " + "\n  ".join(lines))
     )
 
 
@@ -225,12 +228,27 @@ def model_from_dict(data: dict, *, file: str | None = None) -> Train:
 def load_model(path: str | Path, overrides: dict[str, Any] | None = None) -> Train:
     """Read, override and validate a TOML model file."""
     path = Path(path)
+    return model_from_file_data(read_toml(path, "model"), path, overrides)
+
+
+def model_from_file_data(data: dict, path: str | Path, overrides: dict | None = None) -> Train:
+    """The model of a model file's parsed content ``data`` (as :func:`load_model` reads it):
+    overrides applied, relative paths resolved against the file's folder, validated, and the
+    table and bearing files it points to read. ``data`` is not modified."""
+    path = Path(path)
     name = str(path)
-    data = read_toml(path, "model")
+    if not data:
+        raise ModelError(
+            "the model file is empty",
+            file=name,
+            expected="a model (see docs/model_format.md)",
+        )
     try:
         data = apply_overrides(data, overrides)
     except ModelError as exc:
         raise exc.with_file(name) from None
+    if not overrides:  # apply_overrides copies only when it changes something
+        data = copy.deepcopy(data)
     _resolve_paths(data, path.parent)
     train = model_from_dict(data, file=name)
     _check_files(train, name)
