@@ -16,7 +16,7 @@ from typing import Annotated
 import typer
 
 from .errors import cli_errors
-from .options import RPM, SetOpt
+from .options import RPM, SetOpt, rpm
 
 __all__ = ["report_command"]
 
@@ -38,11 +38,16 @@ def report_command(
     ] = "modal,campbell,unbalance",
     speed: Annotated[
         float | None,
-        typer.Option(help="operating speed of the reference shaft, rpm (default: the model's)"),
+        typer.Option(
+            parser=rpm(), help="operating speed of the reference shaft, rpm (default: the model's)"
+        ),
     ] = None,
     max_frequency: Annotated[
         float | None,
-        typer.Option(help="highest damped frequency of modes and Campbell, cpm (default 5×speed)"),
+        typer.Option(
+            parser=rpm(0, strict=True),
+            help="highest damped frequency of modes and Campbell, cpm (default 5×speed)",
+        ),
     ] = None,
     api: Annotated[
         bool,

@@ -10,9 +10,18 @@ from typing import Annotated
 import numpy as np
 import typer
 
-from ..errors import ModelError
 from .errors import cli_errors
-from .options import RPM, FormatOpt, SetOpt, check_format, speed_grid
+from .options import (
+    MAX_SPEEDS,
+    RPM,
+    FormatOpt,
+    SetOpt,
+    check_format,
+    count,
+    parse_operating_range,
+    rpm,
+    speed_grid,
+)
 
 __all__ = ["unbalance_command"]
 
@@ -20,9 +29,13 @@ __all__ = ["unbalance_command"]
 @cli_errors()
 def unbalance_command(
     model: Annotated[Path, typer.Argument(help="TOML model file")],
-    min_speed: Annotated[float, typer.Option(help="rpm")] = 100.0,
-    max_speed: Annotated[float | None, typer.Option(help="rpm (default 1.5 × nominal)")] = None,
-    n_speeds: Annotated[int, typer.Option(help="number of speeds")] = 400,
+    min_speed: Annotated[float, typer.Option(parser=rpm(0), help="rpm")] = 100.0,
+    max_speed: Annotated[
+        float | None, typer.Option(parser=rpm(0, strict=True), help="rpm (default 1.5 × nominal)")
+    ] = None,
+    n_speeds: Annotated[
+        int, typer.Option(parser=count(2, MAX_SPEEDS), help="number of speeds")
+    ] = 400,
     operating_range: Annotated[
         str | None,
         typer.Option(
@@ -49,18 +62,7 @@ def unbalance_command(
     train = load_model(model, parse_overrides(set_))
     hi = max_speed if max_speed is not None else 1.5 * abs(train.speed) / RPM
     speeds = speed_grid(min_speed, hi, n_speeds, "--min-speed/--max-speed")
-    op = None
-    if operating_range:
-        try:
-            lo_op, hi_op = (float(x) * RPM for x in operating_range.split(","))
-        except ValueError:
-            raise ModelError(
-                "cannot read the operating range",
-                field="--operating-range",
-                value=operating_range,
-                expected="MIN,MAX in rpm",
-            ) from None
-        op = (lo_op, hi_op)
+    op = parse_operating_range(operating_range) if operating_range else None
     asm = assemble(train)
     unb = list(train.unbalances)
     if api:
