@@ -10,6 +10,7 @@ from typing import Annotated
 import typer
 
 from ..errors import ModelError
+from ..files import save_figure
 from .errors import cli_errors
 from .options import RPM, FormatOpt, SetOpt, check_format
 
@@ -136,6 +137,5 @@ def _plot(cases, n_speeds: int, kas: list[float | None], path: Path) -> None:
     ax.set_ylabel("largest Floquet growth rate (1/s)")
     ax.set_title("Parametric stability (positive: unstable)")
     ax.grid(alpha=0.3)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=120)
+    save_figure(fig, path, dpi=120)
     plt.close(fig)

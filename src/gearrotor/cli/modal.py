@@ -8,6 +8,7 @@ from typing import Annotated
 
 import typer
 
+from ..files import write_json
 from .errors import cli_errors
 from .options import RPM, FormatOpt, SetOpt, check_format
 
@@ -60,5 +61,5 @@ def modal_command(
         elastic = [i for i in range(len(res)) if not res.overdamped[i]]
         for k in range(0, min(len(elastic), 16), 8):
             plot_mode_shapes(res, modes=elastic[k : k + 8], path=plot / f"modes_{k // 8 + 1}.png")
-        (plot / "modal.json").write_text(json.dumps(res.to_dict(), indent=1))
+        write_json(plot / "modal.json", res.to_dict())
         typer.echo(f"plots written to {plot}/", err=format == "json")

@@ -33,6 +33,7 @@ from multiprocessing import get_context
 from typing import TextIO
 
 from ..errors import ModelError
+from ..files import write_json, write_netcdf
 from .cases import (
     CaseStatus,
     PlannedCase,
@@ -232,19 +233,12 @@ def _write_case(study: Study, out: dict) -> None:
     err = case_path(study, key, error=True)
     if out["status"] == "ok":
         path = case_path(study, key)
-        tmp = path.with_name(f"{path.name}.tmp-{os.getpid()}")
-        out["dataset"].to_netcdf(tmp, engine="h5netcdf")
-        os.replace(tmp, path)
+        write_netcdf(path, out["dataset"])
         err.unlink(missing_ok=True)
     else:
-        tmp = err.with_name(f"{err.name}.tmp-{os.getpid()}")
-        tmp.write_text(
-            json.dumps(
-                {k: out.get(k) for k in ("key", "index", "error", "traceback", "wall_time_s")},
-                indent=1,
-            )
+        write_json(
+            err, {k: out.get(k) for k in ("key", "index", "error", "traceback", "wall_time_s")}
         )
-        os.replace(tmp, err)
 
 
 def _write_manifest(study: Study, planned: tuple[PlannedCase, ...]) -> None:
@@ -271,9 +265,7 @@ def _write_manifest(study: Study, planned: tuple[PlannedCase, ...]) -> None:
         ],
     }
     path = study.folder / "study.json"
-    tmp = path.with_name(f"study.json.tmp-{os.getpid()}")
-    tmp.write_text(json.dumps(doc, indent=1, default=str))
-    os.replace(tmp, path)
+    write_json(path, doc, default=str)
 
 
 # ---- progress ----------------------------------------------------------------------------------

@@ -7,7 +7,6 @@ rpm, in cpm) of each case's stored window (Hann window, linear trend removed).
 
 from __future__ import annotations
 
-import json
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -15,6 +14,7 @@ import numpy as np
 import xarray as xr
 
 from ..errors import ModelError
+from ..files import save_figure, write_json
 from ..signals import padded_spectrum
 from .cases import case_path, plan, study_status
 from .collection import collect
@@ -235,7 +235,7 @@ def report(
         fig = trend_figure(ds, p, params)
         if fig is not None:
             path = out / f"trend_{p}.png"
-            fig.savefig(path, dpi=110)
+            save_figure(fig, path, dpi=110)
             plt.close(fig)
             written.append(path)
     if not isinstance(study.analysis, TransientSettings):
@@ -271,14 +271,14 @@ def report(
         for probe in names:
             fig = overlay_spectra(data, channel="probe", name=str(probe), title=study.name)
             path = out / f"spectra_{probe}_{tag}.png"
-            fig.savefig(path, dpi=110)
+            save_figure(fig, path, dpi=110)
             plt.close(fig)
             written.append(path)
         for shaft in first["shaft"].values:
             fig = overlay_spectra(data, channel="speed", name=str(shaft), title=study.name)
             path = out / f"spectra_speed_{shaft}_{tag}.png"
-            fig.savefig(path, dpi=110)
+            save_figure(fig, path, dpi=110)
             plt.close(fig)
             written.append(path)
-    (out / "figures.json").write_text(json.dumps([p.name for p in written], indent=1))
+    write_json(out / "figures.json", [p.name for p in written])
     return written

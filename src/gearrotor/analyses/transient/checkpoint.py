@@ -4,11 +4,11 @@ ties a file to its run (model, method, step, settings) and the atomic write of t
 from __future__ import annotations
 
 import hashlib
-import os
 from pathlib import Path
 
 import numpy as np
 
+from ...files import write_npz
 from ...model import Train
 
 
@@ -20,11 +20,7 @@ def _fingerprint(train: Train, kind: str, dt: float, extra: str) -> str:
 
 
 def _write_npz_atomic(path: Path, **arrays) -> None:
-    path = Path(path)
-    tmp = path.with_name(path.name + ".tmp")
-    with open(tmp, "wb") as fh:
-        np.savez(fh, **arrays)
-    os.replace(tmp, path)
+    write_npz(path, **arrays)
 
 
 def _read_checkpoint(path: Path, fingerprint: str) -> dict | None:

@@ -3,7 +3,6 @@
 
 from __future__ import annotations
 
-import json
 import math
 import os
 import shutil
@@ -14,6 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from ...errors import ModelError
+from ...files import write_json, write_text
 from .base import Context
 from .blocks import RPM
 from .page import _page
@@ -194,9 +194,9 @@ def make_report(
             "transient": None if transient is None else str(transient),
             "unbalance": "api617" if api else "model",
         }
-        (tmp / "report.json").write_text(json.dumps(_clean(summary), indent=1), encoding="utf-8")
+        write_json(tmp / "report.json", _clean(summary))
         page = _page(train, parts, summary, ctx.figures, ctx.notes, source=source, command=command)
-        (tmp / "report.html").write_text(page, encoding="utf-8")
+        write_text(tmp / "report.html", page)
         _publish(tmp, output)
     except BaseException:
         shutil.rmtree(tmp, ignore_errors=True)
