@@ -153,7 +153,7 @@ def test_check_output_directory(tmp_path):
     files.check_output(tmp_path / "a" / "b" / "c", "directory")  # created later, with parents
     assert not (tmp_path / "a").exists()  # the check creates nothing
     (tmp_path / "afile").write_text("")
-    with pytest.raises(ModelError, match="existing file, not a folder"):
+    with pytest.raises(ModelError, match="existing file, not a directory"):
         files.check_output(tmp_path / "afile", "directory", field="--plot")
     with pytest.raises(ModelError, match="is not a folder"):
         files.check_output(tmp_path / "afile" / "sub", "directory", field="--plot")

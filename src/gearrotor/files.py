@@ -207,7 +207,7 @@ def check_output(path: str | os.PathLike, kind: str = "file", *, field: str | No
         expected = "a folder (new or existing) in a writable location"
         if path.exists() and not path.is_dir():
             raise ModelError(
-                "the output is an existing file, not a folder",
+                "the output is an existing file, not a directory",
                 field=field,
                 value=str(path),
                 expected=expected,

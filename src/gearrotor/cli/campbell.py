@@ -10,6 +10,7 @@ from typing import Annotated
 import typer
 
 from ..errors import ModelError
+from ..files import check_output
 from .errors import cli_errors
 from .options import RPM, FormatOpt, SetOpt, check_format, speed_grid
 
@@ -36,6 +37,8 @@ def campbell_command(
     from ..io import load_model, parse_overrides
 
     check_format(format)
+    if plot is not None:
+        check_output(plot, "file", field="--plot")
     train = load_model(model, parse_overrides(set_))
     hi = max_speed if max_speed is not None else 1.25 * abs(train.speed) / RPM
     speeds = speed_grid(min_speed, hi, n_speeds, "--min-speed/--max-speed")

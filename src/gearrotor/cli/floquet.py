@@ -10,7 +10,7 @@ from typing import Annotated
 import typer
 
 from ..errors import ModelError
-from ..files import save_figure
+from ..files import check_output, save_figure
 from .errors import cli_errors
 from .options import RPM, FormatOpt, SetOpt, check_format
 
@@ -56,6 +56,8 @@ def floquet_command(
     from ..io import load_model, parse_overrides
 
     check_format(format)
+    if plot is not None:
+        check_output(plot, "file", field="--plot")
     if n < 1:
         raise ModelError("at least one exponent", field="--n", value=n, expected="≥ 1")
     train = load_model(model, parse_overrides(set_))

@@ -8,7 +8,7 @@ from typing import Annotated
 
 import typer
 
-from ..files import write_json
+from ..files import check_output, write_json
 from .errors import cli_errors
 from .options import RPM, FormatOpt, SetOpt, check_format
 
@@ -38,6 +38,8 @@ def modal_command(
     from ..io import load_model, parse_overrides
 
     check_format(format)
+    if plot is not None:
+        check_output(plot, "directory", field="--plot")
     train = load_model(model, parse_overrides(set_))
     res = run_modal(
         train,

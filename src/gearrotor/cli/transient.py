@@ -16,6 +16,7 @@ import numpy as np
 import typer
 
 from ..errors import ModelError
+from ..files import check_output
 from .errors import cli_errors
 from .options import FormatOpt, SetOpt, check_format
 
@@ -70,6 +71,13 @@ def transient_command(
 
     with cli_errors():
         check_format(format)
+        for path, kind, field in (
+            (output, "file", "--output"),
+            (plot, "directory", "--plot"),
+            (checkpoint, "file", "--checkpoint"),
+        ):
+            if path is not None:
+                check_output(path, kind, field=field)
         from ..io import load_model, parse_overrides
 
         train = load_model(model, parse_overrides(set_))
@@ -125,6 +133,8 @@ def plot_command(
     from ..analyses.transient import load_result
     from ..analyses.transient.plots import standard_figures
 
+    out = output if output is not None else file.with_name(file.stem + "_plots")
+    check_output(out, "directory", field="--output")
     try:
         ds = load_result(file)
     except ModelError:
@@ -135,6 +145,5 @@ def plot_command(
             file=str(file),
             expected="a NetCDF file written by 'gearrotor transient --output'",
         ) from None
-    out = output if output is not None else file.with_name(file.stem + "_plots")
     for p in standard_figures(ds, out, prefix=file.stem):
         typer.echo(str(p))

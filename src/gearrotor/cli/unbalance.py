@@ -11,6 +11,7 @@ import numpy as np
 import typer
 
 from ..errors import ModelError
+from ..files import check_output
 from .errors import cli_errors
 from .options import RPM, FormatOpt, SetOpt, check_format, speed_grid
 
@@ -46,6 +47,8 @@ def unbalance_command(
     from ..io import load_model, parse_overrides
 
     check_format(format)
+    if plot is not None:
+        check_output(plot, "directory", field="--plot")
     train = load_model(model, parse_overrides(set_))
     hi = max_speed if max_speed is not None else 1.5 * abs(train.speed) / RPM
     speeds = speed_grid(min_speed, hi, n_speeds, "--min-speed/--max-speed")

@@ -33,7 +33,7 @@ from multiprocessing import get_context
 from typing import TextIO
 
 from ..errors import ModelError
-from ..files import write_json, write_netcdf
+from ..files import check_output, remove_stale_temporaries, write_json, write_netcdf
 from .cases import (
     CaseStatus,
     PlannedCase,
@@ -43,6 +43,7 @@ from .cases import (
     study_status,
 )
 from .spec import Study
+from .workers import init_worker, sigint_ignored, stop_pool
 
 __all__ = [
     "THREAD_ENV",
@@ -320,9 +321,15 @@ def _thread_env() -> Iterator[None]:
 def _execute_local(payloads: list[dict], workers: int, on_done: Callable[[dict], None]) -> None:
     with (
         _thread_env(),
-        ProcessPoolExecutor(max_workers=workers, mp_context=get_context("spawn")) as pool,
+        ProcessPoolExecutor(
+            max_workers=workers,
+            mp_context=get_context("spawn"),
+            initializer=init_worker,
+            initargs=(os.getpid(),),
+        ) as pool,
     ):
-        futs = {pool.submit(run_case, p): p for p in payloads}
+        with sigint_ignored():  # submitting starts the workers: they inherit SIG_IGN
+            futs = {pool.submit(run_case, p): p for p in payloads}
         try:
             pending = set(futs)
             while pending:
@@ -339,8 +346,8 @@ def _execute_local(payloads: list[dict], workers: int, on_done: Callable[[dict],
                             "error": f"worker failed: {type(exc).__name__}: {exc}",
                         }
                     on_done(out)
-        except BaseException:  # interrupted: drop the queued cases, keep what is stored
-            pool.shutdown(wait=False, cancel_futures=True)
+        except BaseException:  # interrupted: stop the workers, keep what is stored
+            stop_pool(pool)
             raise
 
 
@@ -439,6 +446,9 @@ def run_study(
     """
     t0 = time.perf_counter()
     _require("xarray", "h5netcdf")
+    check_output(study.folder, "directory", field="output")
+    for d in (study.folder, study.folder / "cases"):  # left by a run that was killed
+        remove_stale_temporaries(d)
     if workers is not None and workers < 1:
         raise ModelError(
             "the number of workers must be positive",

@@ -14,7 +14,7 @@ import numpy as np
 import xarray as xr
 
 from ..errors import ModelError
-from ..files import save_figure, write_json
+from ..files import check_output, safe_name, save_figure, write_json
 from ..signals import padded_spectrum
 from .cases import case_path, plan, study_status
 from .collection import collect
@@ -226,6 +226,7 @@ def report(
     these probes). Returns the paths written."""
     plt = _pyplot()
     out = Path(output) if output is not None else study.folder / "report"
+    check_output(out, "directory", field="--output")
     out.mkdir(parents=True, exist_ok=True)
     planned = plan(study)
     ds = collect(study, planned=planned, write=False)
@@ -234,7 +235,7 @@ def report(
     for p in params:
         fig = trend_figure(ds, p, params)
         if fig is not None:
-            path = out / f"trend_{p}.png"
+            path = out / f"trend_{safe_name(p)}.png"
             save_figure(fig, path, dpi=110)
             plt.close(fig)
             written.append(path)
@@ -270,13 +271,13 @@ def report(
             names = [p for p in names if p in set(probes)]
         for probe in names:
             fig = overlay_spectra(data, channel="probe", name=str(probe), title=study.name)
-            path = out / f"spectra_{probe}_{tag}.png"
+            path = out / f"spectra_{safe_name(probe)}_{tag}.png"
             save_figure(fig, path, dpi=110)
             plt.close(fig)
             written.append(path)
         for shaft in first["shaft"].values:
             fig = overlay_spectra(data, channel="speed", name=str(shaft), title=study.name)
-            path = out / f"spectra_speed_{shaft}_{tag}.png"
+            path = out / f"spectra_speed_{safe_name(shaft)}_{tag}.png"
             save_figure(fig, path, dpi=110)
             plt.close(fig)
             written.append(path)

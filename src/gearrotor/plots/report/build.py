@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from ...errors import ModelError
-from ...files import write_json, write_text
+from ...files import check_output, write_json, write_text
 from .base import Context
 from .blocks import RPM
 from .page import _page
@@ -125,14 +125,7 @@ def make_report(
         )
     if transient is not None and "transient" not in analyses:
         analyses = (*analyses, "transient")
-    output = Path(output)
-    if output.exists() and not output.is_dir():
-        raise ModelError(
-            "the report output is not a directory",
-            field="--output",
-            value=str(output),
-            expected="a directory (new or existing)",
-        )
+    output = check_output(output, "directory", field="--output")
     asm = model if isinstance(model, Assembly) else assemble(model)
     train = asm.train
     nominal = abs(float(train.speed))
