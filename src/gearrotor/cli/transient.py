@@ -19,6 +19,7 @@ from ..errors import ModelError
 from ..files import check_output
 from .errors import cli_errors
 from .options import FormatOpt, SetOpt, check_format
+from .study import EXIT_INTERRUPTED
 
 __all__ = ["transient_command", "plot_command"]
 
@@ -54,14 +55,28 @@ def transient_command(
     checkpoint: Annotated[
         Path | None,
         typer.Option(
-            "--checkpoint", help="checkpoint file: written every minute, resumed from if present"
+            "--checkpoint",
+            help="checkpoint file: the state is saved there during the run (see "
+            "--checkpoint-every), the run resumes from it if present; removed at the end",
         ),
     ] = None,
+    checkpoint_every: Annotated[
+        float | None,
+        typer.Option(
+            "--checkpoint-every",
+            help="simulated seconds between checkpoints (default: 5 % of --t-end)",
+        ),
+    ] = None,
+    checkpoint_wall: Annotated[
+        float,
+        typer.Option(
+            "--checkpoint-wall", help="and at the latest every this many seconds of wall time"
+        ),
+    ] = 60.0,
 ) -> None:
     """Nonlinear transient (time-varying mesh, backlash, free speed) of a train."""
     from ..analyses.transient import (
         RK4,
-        Checkpoint,
         ModalRK4,
         build_system,
         rk4_max_step,
@@ -71,6 +86,7 @@ def transient_command(
 
     with cli_errors():
         check_format(format)
+        ck = _checkpoint(checkpoint, checkpoint_every, checkpoint_wall)
         for path, kind, field in (
             (output, "file", "--output"),
             (plot, "directory", "--plot"),
@@ -95,15 +111,28 @@ def transient_command(
             )
         if dt is not None and not dt > 0:
             raise ModelError("the time step must be positive", field="--dt", value=dt)
-        res = transient(
-            train,
-            t_end=t_end,
-            integrator=integ,
-            reactions=reactions,
-            progress=progress,
-            initial=initial,
-            checkpoint=Checkpoint(checkpoint) if checkpoint is not None else None,
-        )
+        try:
+            res = transient(
+                train,
+                t_end=t_end,
+                integrator=integ,
+                reactions=reactions,
+                progress=progress,
+                initial=initial,
+                checkpoint=ck,
+            )
+        except KeyboardInterrupt:
+            saved = checkpoint is not None and checkpoint.exists()
+            typer.echo(
+                "interrupted (Ctrl-C)"
+                + (
+                    f": the state is saved in {checkpoint}; run the same command again to resume"
+                    if saved
+                    else ""
+                ),
+                err=True,
+            )
+            raise typer.Exit(EXIT_INTERRUPTED) from None
         if output is not None:
             res.save(output)
         if plot is not None:
@@ -113,6 +142,36 @@ def transient_command(
     else:
         typer.echo(res.table())
     sys.stdout.flush()
+
+
+def _checkpoint(path: Path | None, every: float | None, wall: float):
+    """The :class:`Checkpoint` of the options, checked."""
+    from ..analyses.transient import Checkpoint
+
+    if path is None:
+        if every is not None:
+            raise ModelError(
+                "--checkpoint-every needs a checkpoint file",
+                field="--checkpoint-every",
+                value=every,
+                expected="--checkpoint FILE as well",
+            )
+        return None
+    if every is not None and not (np.isfinite(every) and every > 0):
+        raise ModelError(
+            "the checkpoint interval must be positive",
+            field="--checkpoint-every",
+            value=every,
+            expected="simulated seconds > 0",
+        )
+    if not (np.isfinite(wall) and wall >= 0):
+        raise ModelError(
+            "the checkpoint wall-time interval must be finite and >= 0",
+            field="--checkpoint-wall",
+            value=wall,
+            expected="seconds >= 0",
+        )
+    return Checkpoint(path, every=wall, simulated=every)
 
 
 def _jsonable(x):
