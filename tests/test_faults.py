@@ -321,3 +321,38 @@ def test_interrupted_study_run_is_one_line(examples, tmp_path, sig, code, how):
     assert "run the same command again to resume" in lines[0]
     assert not [w for w in workers if _alive(w)]
     assert _leftovers(tmp_path / "faults.study") == []
+
+
+# ---- numba's cache ----------------------------------------------------------------------------
+_WHERE = (
+    "import numba\n"
+    "from gearrotor.analyses.transient import kernels\n"
+    "from gearrotor.analyses.torsional import drive_laws\n"
+    "print(numba.config.CACHE_DIR)\n"
+    "print(kernels.rk4_modal._cache._cache_path)\n"
+    "print(drive_laws.law_torque._cache._cache_path)\n"
+)
+
+
+@pytest.mark.parametrize("user_choice", [False, True])
+def test_numba_cache_outside_the_package(tmp_path, user_choice):
+    """numba would write its cache next to the sources, into the installed package; it goes to
+    the user cache directory (XDG_CACHE_HOME on Linux) unless NUMBA_CACHE_DIR says otherwise.
+    numba decides where a kernel's cache is when the kernel is decorated: the paths of two
+    kernels are read, nothing is compiled."""
+    import gearrotor
+
+    env = {k: v for k, v in os.environ.items() if k != "NUMBA_CACHE_DIR"}
+    env["XDG_CACHE_HOME"] = str(tmp_path / "xdg")
+    env["PYTHONPATH"] = str(Path(gearrotor.__file__).parents[1])
+    expected = tmp_path / "xdg" / "gearrotor" / "numba"
+    if user_choice:
+        env["NUMBA_CACHE_DIR"] = str(tmp_path / "mine")
+        expected = tmp_path / "mine"
+    r = subprocess.run([sys.executable, "-c", _WHERE], env=env, capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    lines = r.stdout.split()
+    assert lines[0] == str(expected)
+    package = Path(gearrotor.__file__).parent
+    for cache in map(Path, lines[1:]):
+        assert cache.is_relative_to(expected) and not cache.is_relative_to(package), cache

@@ -23,6 +23,10 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from ..jit import configure_cache
+
+configure_cache()  # before the first @njit(cache=True): numba's cache outside the package
+
 __all__ = [
     "mesh_eval",
     "nl_forces",
