@@ -116,6 +116,26 @@ def test_modal_plot_into_proc_prints_no_table(examples):
     one_line_exit_2(r, "--plot", "/proc/nope")
 
 
+def test_transient_removes_the_temporaries_of_a_killed_run(examples, tmp_path, monkeypatch):
+    from gearrotor.errors import ModelError
+
+    def stop(*a, **k):
+        raise ModelError("stopped after the output checks")
+
+    monkeypatch.setattr("gearrotor.io.load_model", stop)
+    dead = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"], **_OUT)
+    planted = tmp_path / f"x.nc.tmp-{int(dead.stdout)}-a1b2c3"
+    unrelated = tmp_path / f"y.nc.tmp-{int(dead.stdout)}"
+    planted.write_bytes(b"partial")
+    unrelated.write_bytes(b"not ours to remove")
+    r = invoke("transient", examples / SINGLE, "--output", tmp_path / "x.nc")
+    assert r.exit_code == 2 and "stopped after the output checks" in r.stderr
+    assert not planted.exists() and unrelated.exists()
+
+
+_OUT = {"capture_output": True, "text": True, "check": True}
+
+
 STUDY = """
 name = "faults"
 model = "{model}"
@@ -356,3 +376,25 @@ def test_numba_cache_outside_the_package(tmp_path, user_choice):
     package = Path(gearrotor.__file__).parent
     for cache in map(Path, lines[1:]):
         assert cache.is_relative_to(expected) and not cache.is_relative_to(package), cache
+
+
+# ---- names used as file names ------------------------------------------------------------------
+@pytest.mark.slow
+def test_study_report_sanitises_probe_names(examples, tmp_path):
+    """A probe named ``../../x`` wrote outside the report folder, ``x/y`` failed after the
+    computation; both become plain file names inside it."""
+    study = _study(tmp_path, examples, rows=(360,), t_end=0.1)
+    text = study.read_text().replace(
+        "[set]\n", '[set]\n"probes[0].name" = "../../x"\n"probes[1].name" = "x/y"\n'
+    )
+    study.write_text(text)
+    r = invoke("study", "run", study, "--workers", "1", "--no-progress")
+    assert r.exit_code == 0, (r.output, r.exception)
+    out = tmp_path / "deep" / "er" / "report"
+    r = invoke("study", "report", study, "--output", out)
+    assert r.exit_code == 0, (r.output, r.exception)
+    written = [Path(p) for p in r.stdout.split()]
+    assert written and all(p.resolve().parent == out.resolve() for p in written), written
+    names = {p.name for p in written}
+    assert "spectra____x_00-00.png" in names and "spectra_x_y_00-00.png" in names, names
+    assert not list((tmp_path / "deep").glob("x*")) and not (tmp_path / "x_00-00.png").exists()

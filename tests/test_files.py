@@ -187,8 +187,12 @@ def test_stale_temporaries_of_dead_processes_are_removed(tmp_path):
     keep = tmp_path / "abc.nc"
     for p in (stale, stale_token, mine, keep):
         p.write_text("")
-    removed = files.remove_stale_temporaries(tmp_path)
+    other = tmp_path / f"other.nc.tmp-{dead_pid}"
+    other.write_text("")
+    removed = files.remove_stale_temporaries(tmp_path, prefix="abc.nc.tmp-")
     assert sorted(removed) == sorted([stale, stale_token])
+    assert other.exists()
+    assert files.remove_stale_temporaries(tmp_path) == [other]
     assert mine.exists() and keep.exists()
 
 

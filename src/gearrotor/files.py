@@ -262,8 +262,8 @@ def _pid_alive(pid: int) -> bool:
     return True
 
 
-def remove_stale_temporaries(directory: str | os.PathLike) -> list[Path]:
-    """Remove the temporaries (``*.tmp-PID[-TOKEN]``) of processes that no longer run from
+def remove_stale_temporaries(directory: str | os.PathLike, prefix: str = "") -> list[Path]:
+    """Remove the temporaries (``PREFIX*.tmp-PID[-TOKEN]``) of processes that no longer run from
     ``directory`` (not recursive). Returns the files removed."""
     directory = Path(directory)
     removed: list[Path] = []
@@ -271,7 +271,7 @@ def remove_stale_temporaries(directory: str | os.PathLike) -> list[Path]:
         return removed
     for p in directory.iterdir():
         m = _TMP.search(p.name)
-        if m and p.is_file() and not _pid_alive(int(m.group(1))):
+        if m and p.name.startswith(prefix) and p.is_file() and not _pid_alive(int(m.group(1))):
             _discard(p)
             removed.append(p)
     return removed

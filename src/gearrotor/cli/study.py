@@ -88,7 +88,9 @@ def run_command(
     retry_failed: Annotated[bool, typer.Option(help="run previously failed cases again")] = True,
     progress: Annotated[bool, typer.Option(help="progress bar on stderr")] = True,
 ) -> None:
-    """Run the cases of a study that have not finished (resumes an interrupted study)."""
+    """Run the cases of a study that have not finished (resumes an interrupted study).
+    Ctrl-C or SIGTERM stops it with one line (exit status 130 or 143); its workers stop with
+    it, also when it is killed; the finished cases are kept."""
     from ..studies.execute import run_study
     from ..studies.spec import load_study
     from ..studies.workers import Terminated, sigterm_raises

@@ -16,7 +16,7 @@ import numpy as np
 import typer
 
 from ..errors import ModelError
-from ..files import check_output
+from ..files import check_output, remove_stale_temporaries
 from .errors import cli_errors
 from .options import FormatOpt, SetOpt, check_format
 from .study import EXIT_INTERRUPTED
@@ -94,6 +94,8 @@ def transient_command(
         ):
             if path is not None:
                 check_output(path, kind, field=field)
+                if kind == "file":  # left by a run that was killed while writing it
+                    remove_stale_temporaries(path.parent, prefix=f"{path.name}.tmp-")
         from ..io import load_model, parse_overrides
 
         train = load_model(model, parse_overrides(set_))
