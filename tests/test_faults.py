@@ -228,6 +228,24 @@ def test_transient_output_on_a_read_only_file_system(examples, tmp_path, monkeyp
         one_line_exit_2(r, "--output", "read-only file system", str(mnt / "x.nc"))
 
 
+def test_report_on_a_full_disk_names_the_report_file(examples, tmp_path, monkeypatch):
+    """The report is built in a temporary folder: the error names the file in the report folder
+    the user asked for, and nothing is left (the full disk is injected at the writer's fsync)."""
+    import errno
+
+    from gearrotor import files
+
+    def full(fd):
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+    monkeypatch.setattr(files.os, "fsync", full)
+    out = tmp_path / "rep"
+    r = invoke("report", examples / SINGLE, "--output", out, "--analyses", "modal")
+    assert r.exit_code == 2, (r.output, r.exception)
+    assert re.fullmatch(rf"error: no space left on device writing {out}/\S+\.png", r.stderr.strip())
+    assert list(tmp_path.iterdir()) == []
+
+
 def test_study_run_on_a_full_disk(examples, tmp_path):
     """The case files (~100 kB each) fill a 128 kB file system: one line naming the case file,
     exit 2, no temporary left; the manifest written before is intact."""

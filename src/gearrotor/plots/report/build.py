@@ -191,8 +191,10 @@ def make_report(
         page = _page(train, parts, summary, ctx.figures, ctx.notes, source=source, command=command)
         write_text(tmp / "report.html", page)
         _publish(tmp, output)
-    except BaseException:
+    except BaseException as exc:
         shutil.rmtree(tmp, ignore_errors=True)
+        if isinstance(exc, ModelError) and str(tmp) in str(exc):  # a write error: name the
+            raise ModelError(str(exc).replace(str(tmp), str(output))) from None  # report's file
         raise
     return Report(
         directory=output,
