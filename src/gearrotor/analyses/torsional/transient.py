@@ -60,8 +60,11 @@ from scipy.sparse.csgraph import connected_components
 from ...assembly import Assembly
 from ...errors import ModelError, SolverError
 from ...model import Train
+from ..jit import configure_cache
 from .drive_laws import TorqueLaws, advance_states, check_load_paths, law_torque, pack_laws
 from .model import TorsionalModel, torsional_model
+
+configure_cache()  # before the first @njit(cache=True): numba's cache outside the package
 
 __all__ = ["TorsionalTransient", "torsional_transient", "MAX_BACKLASH_MESHES"]
 
