@@ -10,15 +10,21 @@ from typing import Annotated
 import numpy as np
 import typer
 
+from ..files import check_output
 from .errors import cli_errors
 from .options import (
+    MAX_SPEEDS,
     RPM,
     FormatOpt,
     McsOpt,
+    OperatingPointOpt,
     OperatingRangeOpt,
     SetOpt,
     check_format,
+    check_operating_point,
+    count,
     operating_range_from_options,
+    rpm,
     speed_grid,
 )
 
@@ -28,9 +34,13 @@ __all__ = ["unbalance_command"]
 @cli_errors()
 def unbalance_command(
     model: Annotated[Path, typer.Argument(help="TOML model file")],
-    min_speed: Annotated[float, typer.Option(help="rpm")] = 100.0,
-    max_speed: Annotated[float | None, typer.Option(help="rpm (default 1.5 × nominal)")] = None,
-    n_speeds: Annotated[int, typer.Option(help="number of speeds")] = 400,
+    min_speed: Annotated[float, typer.Option(parser=rpm(0), help="rpm")] = 100.0,
+    max_speed: Annotated[
+        float | None, typer.Option(parser=rpm(0, strict=True), help="rpm (default 1.5 × nominal)")
+    ] = None,
+    n_speeds: Annotated[
+        int, typer.Option(parser=count(2, MAX_SPEEDS), help="number of speeds")
+    ] = 400,
     operating_range: OperatingRangeOpt = None,
     mcs: McsOpt = None,
     api: Annotated[
@@ -41,6 +51,7 @@ def unbalance_command(
     plot: Annotated[
         Path | None, typer.Option(help="write Bode and orbit plots to this directory")
     ] = None,
+    operating_point: OperatingPointOpt = None,
     set_: SetOpt = None,
 ) -> None:
     """Steady-state unbalance response: Bode, peaks, critical speeds, API 684 AF and margins."""
@@ -50,7 +61,10 @@ def unbalance_command(
     from ..io import load_model, parse_overrides
 
     check_format(format)
+    if plot is not None:
+        check_output(plot, "directory", field="--plot")
     train = load_model(model, parse_overrides(set_))
+    check_operating_point(train, operating_point)
     # --operating-range / --mcs override the model's; the response takes the range from the
     # train (model_operating_range; the nominal speed when the model states none)
     train = operating_range_from_options(train, operating_range, mcs)
@@ -61,7 +75,7 @@ def unbalance_command(
     if api:
         top = model_operating_range(train)
         unb = api617_unbalances(asm, top[1] if top else abs(train.speed))
-    res = unbalance_response(asm, speeds=speeds, unbalances=unb)
+    res = unbalance_response(asm, speeds=speeds, unbalances=unb, operating_point=operating_point)
     if format == "json":
         d = res.to_dict()
         d["unbalances"] = [

@@ -39,9 +39,13 @@ from .drives import (
     Torsional,
     VoltageProfile,
 )
+from .operating_point import STANDARD_GRAVITY, OperatingPoint, StaticForce
 from .train import Layout, ShaftLayout, Train
 
 __all__ = [
+    "OperatingPoint",
+    "STANDARD_GRAVITY",
+    "StaticForce",
     "ApiAudit",
     "AuditSite",
     "AuditStage",
