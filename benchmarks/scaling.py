@@ -60,15 +60,21 @@ def chain(n_shafts: int, elements: int) -> dict:
                 "name": name,
                 "material": "steel",
                 "speed": f"{6500 * (-1) ** k} rpm",
-                "sections": [{"length": "1.02 m", "outer_diameter": "0.06 m",
-                              "elements": elements}],
+                "sections": [
+                    {"length": "1.02 m", "outer_diameter": "0.06 m", "elements": elements}
+                ],
                 **({"position": ["0 m", "0 m"]} if k == 0 else {}),
             }
         )
         for node in (0, elements):
             bearings.append(
-                {"name": f"{name}-b{node}", "shaft": name, "node": node, "k": "1.0e7 N/m",
-                 "c": "1.75e4 N*s/m"}
+                {
+                    "name": f"{name}-b{node}",
+                    "shaft": name,
+                    "node": node,
+                    "k": "1.0e7 N/m",
+                    "c": "1.75e4 N*s/m",
+                }
             )
         unbalances.append({"shaft": name, "node": mid, "amount": "720 g*mm", "phase": "0 deg"})
         if k + 1 < n_shafts:
@@ -124,8 +130,11 @@ def fit_exponent(dofs, times) -> float:
 def crossover(dofs, dense, sparse) -> float | None:
     """DOF at which sparse becomes faster than dense (log-log interpolation between the two
     measured models that bracket it), None when it does not within the measured range."""
-    pts = sorted((d, a, b) for d, a, b in zip(dofs, dense, sparse, strict=True)
-                 if np.isfinite(a) and np.isfinite(b))
+    pts = sorted(
+        (d, a, b)
+        for d, a, b in zip(dofs, dense, sparse, strict=True)
+        if np.isfinite(a) and np.isfinite(b)
+    )
     for (d0, a0, b0), (d1, a1, b1) in zip(pts, pts[1:], strict=False):
         r0, r1 = np.log(a0 / b0), np.log(a1 / b1)
         if r0 < 0 <= r1:
@@ -145,12 +154,18 @@ def main() -> None:
     elements = (20, 40) if args.quick else (20, 40, 80, 160)
     # DOF above which an analysis is skipped (dense eigen is O(n³) in memory-bound LAPACK;
     # the modal transient does a dense generalised eigen solve of the whole model in setup)
-    cap = {"modal dense": 2000, "modal sparse": 20000,
-           "campbell": 4000 if args.quick else 8000, "unbalance": 20000,
-           "transient": 2000 if args.quick else 4000}
-    print(f"machine: {platform.machine()} {_cpu()}, {os.cpu_count()} cores, python "
-          f"{platform.python_version()}, numpy {np.__version__}, 1 BLAS thread; load average "
-          f"{os.getloadavg()[0]:.2f}")
+    cap = {
+        "modal dense": 2000,
+        "modal sparse": 20000,
+        "campbell": 4000 if args.quick else 8000,
+        "unbalance": 20000,
+        "transient": 2000 if args.quick else 4000,
+    }
+    print(
+        f"machine: {platform.machine()} {_cpu()}, {os.cpu_count()} cores, python "
+        f"{platform.python_version()}, numpy {np.__version__}, 1 BLAS thread; load average "
+        f"{os.getloadavg()[0]:.2f}"
+    )
     # compile the transient kernels outside the timings
     transient(model_from_dict(chain(2, 4)), t_end=1e-3, integrator=ModalRK4())
     rows = []
@@ -168,31 +183,49 @@ def main() -> None:
                 "modal sparse": lambda asm=asm: modal(asm, method="sparse", max_frequency=FMAX),
                 "campbell": lambda asm=asm, s=speeds: campbell(asm, speeds=s, max_frequency=FMAX),
                 "unbalance": lambda asm=asm: unbalance_response(
-                    asm, speeds=np.linspace(500, 12000, 50) * RPM),
+                    asm, speeds=np.linspace(500, 12000, 50) * RPM
+                ),
                 "transient": lambda train=train: transient(train, t_end=0.2),
             }
             row = {"shafts": ns, "elements": ne, "dof": n}
             for task in TASKS:
                 row[task] = _timed(jobs[task]) if n <= cap[task] else float("nan")
             rows.append(row)
-            print(f"{ns:>6} {ne:>5} {n:>6}" + "".join(
-                f"{row[t]:>14.3f}" if np.isfinite(row[t]) else f"{'(skipped)':>14}"
-                for t in TASKS), flush=True)
+            print(
+                f"{ns:>6} {ne:>5} {n:>6}"
+                + "".join(
+                    f"{row[t]:>14.3f}" if np.isfinite(row[t]) else f"{'(skipped)':>14}"
+                    for t in TASKS
+                ),
+                flush=True,
+            )
     print()
     print("fitted exponent p of t ∝ DOF^p (models the analysis ran on):")
     fits = {}
     for task in TASKS:
         ok = [r for r in rows if np.isfinite(r[task])]
         fits[task] = fit_exponent([r["dof"] for r in ok], [r[task] for r in ok])
-        print(f"  {task:<14} p = {fits[task]:.2f}  ({len(ok)} models, up to "
-              f"{max((r['dof'] for r in ok), default=0)} DOF; cap {cap[task]} DOF)")
-    x = crossover([r["dof"] for r in rows], [r["modal dense"] for r in rows],
-                  [r["modal sparse"] for r in rows])
-    print("dense/sparse crossover: " + (f"sparse faster above ~{x:.0f} DOF" if x else
-                                        "sparse not faster within the measured range"))
+        print(
+            f"  {task:<14} p = {fits[task]:.2f}  ({len(ok)} models, up to "
+            f"{max((r['dof'] for r in ok), default=0)} DOF; cap {cap[task]} DOF)"
+        )
+    x = crossover(
+        [r["dof"] for r in rows],
+        [r["modal dense"] for r in rows],
+        [r["modal sparse"] for r in rows],
+    )
+    print(
+        "dense/sparse crossover: "
+        + (
+            f"sparse faster above ~{x:.0f} DOF"
+            if x
+            else "sparse not faster within the measured range"
+        )
+    )
     if args.json:
-        args.json.write_text(json.dumps({"rows": rows, "exponents": fits, "crossover": x},
-                                        indent=1))
+        args.json.write_text(
+            json.dumps({"rows": rows, "exponents": fits, "crossover": x}, indent=1)
+        )
 
 
 if __name__ == "__main__":
