@@ -181,9 +181,8 @@ def _prepare_modal(system: TransientSystem, integ: ModalRK4, out: NDArray) -> _P
         if integ.cutoff is not None
         else (integ.cutoff_factor * excitation_frequency(system))
     )
-    separated = integ.separated_modes
-    if separated is None:
-        separated = any(law.backlash > 0 for law in system.meshes)
+    backlash = any(law.backlash > 0 for law in system.meshes)
+    separated = bool(integ.separated_modes)
     if separated and system.meshes:
         _, Kf, _ = system.linear_matrices(meshes=False)
         separated = la.eigh(0.5 * (Kf + Kf.T), M)
@@ -191,7 +190,10 @@ def _prepare_modal(system: TransientSystem, integ: ModalRK4, out: NDArray) -> _P
         separated = None
     static = integ.static_correction
     if static is None:
-        static = len(system.torque_dof) > 0
+        # torques load the mesh through its compliance; with backlash the mesh force drops to
+        # zero in separation, a rank-one change along w whose response the modes plus the
+        # static shape under w span (see ModalRK4)
+        static = len(system.torque_dof) > 0 or backlash
     shapes = _static_shapes(system, M, K) if static else np.zeros((system.n, 0))
     Phi, w2r = _modal_basis(M, Ks, V, w2, wcut, separated, shapes)
     check = _harmonic_error(system, M, K, C, Phi, w2r, out)
