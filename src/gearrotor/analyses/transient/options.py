@@ -73,10 +73,11 @@ class ModalRK4:
     model has external torques or a mesh has backlash: teeth separation removes the mesh force,
     a rank-one change of the stiffness along the mesh's line w, and the response to it lies in
     the span of the modes and the static shape under w (the separated shafts' motion is
-    represented; contact-loss fraction and 1x against RK4 in tests/perf); tolerance : without an explicit ``cutoff``, the cut-off is raised
-    (×1.25 at a time) until the reduced model's linear 1x unbalance response at the recorded
-    lateral DOFs is within ``tolerance`` (relative to its largest amplitude) of the full
-    model's; the achieved value is reported as ``stats.harmonic_error``.
+    represented; contact-loss fraction and 1x against RK4 in tests/perf); tolerance : without
+    an explicit ``cutoff``, the cut-off is raised (×1.25 at a time) until the reduced model's
+    linear 1x unbalance response at the recorded lateral DOFs is within ``tolerance``
+    (relative to its largest amplitude) of the full model's; the achieved value is reported
+    as ``stats.harmonic_error``.
 
     The defaults (1.25, 0.9) were measured on the SPEC 6.1 gearbox against RK4
     (benchmarks/transient_app2.py): 1x within 0.5 %, speed fluctuation within 0.5 %.
