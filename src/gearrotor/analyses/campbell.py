@@ -166,7 +166,7 @@ def campbell(
     of radius 1.5×max_frequency about a small negative shift by shift-invert Arnoldi: the same
     eigenpairs as the dense solver (to round-off) at a fraction of the cost, since a Campbell
     diagram needs only the low modes. ``method="dense"`` computes the full spectrum.
-   
+
     ``operating_point`` (name or :class:`~gearrotor.model.OperatingPoint`): fluid-film bearings
     at the coefficients of the point's static loads at every speed, the point's ``hold``
     (power or torque) kept over the sweep (:func:`~gearrotor.analyses.static.at_operating_point`).

@@ -223,7 +223,7 @@ def unbalance_response(
     upper one also sets the API 617 vibration limit); default: the model's
     (:func:`~gearrotor.analyses.operating.model_operating_range`), else its nominal speed for
     both bounds.
-   
+
     ``operating_point`` (name or :class:`~gearrotor.model.OperatingPoint`): fluid-film bearings
     at the coefficients of the point's static loads at every speed, the point's ``hold``
     (power or torque) kept over the sweep (:func:`~gearrotor.analyses.static.at_operating_point`).

@@ -15,6 +15,8 @@ command             module                      calls
 ``transient-plot``
 ``report``          :mod:`.report`              :func:`gearrotor.plots.report.make_report`
 ``floquet``         :mod:`.floquet`             :func:`gearrotor.analyses.floquet.floquet`
+``ucs``             :mod:`.ucs`                 :func:`gearrotor.analyses.ucs.ucs_map`
+``stability``       :mod:`.stability`           :func:`gearrotor.analyses.audit.stability_audit`
 ``study ...``       :mod:`.study`               :mod:`gearrotor.studies`
 ==================  ==========================  ==============================================
 
@@ -37,9 +39,11 @@ from .errors import EXIT_CODES_HELP
 from .floquet import floquet_command
 from .modal import modal_command
 from .report import report_command
+from .stability import stability_command
 from .static import static_command
 from .study import study_app
 from .transient import plot_command, transient_command
+from .ucs import ucs_command
 from .unbalance import unbalance_command
 
 __all__ = ["app", "main"]
@@ -62,6 +66,8 @@ app.command("transient", epilog=EXIT_CODES_HELP)(transient_command)
 app.command("transient-plot", epilog=EXIT_CODES_HELP)(plot_command)
 app.command("report", epilog=EXIT_CODES_HELP)(report_command)
 app.command("floquet", epilog=EXIT_CODES_HELP)(floquet_command)
+app.command("ucs", epilog=EXIT_CODES_HELP)(ucs_command)
+app.command("stability", epilog=EXIT_CODES_HELP)(stability_command)
 app.add_typer(study_app, name="study")
 
 

@@ -34,8 +34,9 @@ def report_command(
     analyses: Annotated[
         str,
         typer.Option(
-            help="comma-separated: modal, campbell, unbalance, operating_points (transient: "
-            "give --transient)"
+            help="comma-separated: modal, campbell, unbalance, audit (the API 617 lateral audit: "
+            "needs the model's operating range, MCS and [api_audit]), operating_points "
+            "(transient: give --transient)"
         ),
     ] = "modal,campbell,unbalance",
     speed: Annotated[

@@ -1,5 +1,6 @@
 """What a machine is: the train model and its validated components."""
 
+from .audit import ApiAudit, AuditSite, AuditStage
 from .components import (
     Backlash,
     Bearing,
@@ -45,6 +46,9 @@ __all__ = [
     "OperatingPoint",
     "STANDARD_GRAVITY",
     "StaticForce",
+    "ApiAudit",
+    "AuditSite",
+    "AuditStage",
     "Backlash",
     "Bearing",
     "BearingTable",

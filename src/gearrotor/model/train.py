@@ -18,6 +18,7 @@ from pydantic import Field, field_validator, model_serializer, model_validator
 
 from ..errors import ModelError
 from ..units import AngularSpeed
+from .audit import ApiAudit
 from .components import (
     Bearing,
     Coupling,
@@ -39,7 +40,7 @@ __all__ = ["Train", "Layout", "ShaftLayout"]
 
 _REL_TOL = 1e-6
 # optional Train fields left out of the model JSON when absent
-_OMIT_WHEN_ABSENT = ("torsional", "operating_speed_range", "max_continuous_speed")
+_OMIT_WHEN_ABSENT = ("torsional", "operating_speed_range", "max_continuous_speed", "api_audit")
 # optional Train lists left out of the model JSON when empty
 _OMIT_WHEN_EMPTY = ("operating_points",)
 
@@ -98,6 +99,7 @@ class Train(Spec):
     max_continuous_speed: AngularSpeed | None = None
     # static operating points: speed, power or torque, gravity, static forces (issue 11)
     operating_points: list[OperatingPoint] = Field(default_factory=list)
+    api_audit: ApiAudit | None = None  # API 617 Level I inputs (model/audit.py)
 
     @field_validator("max_continuous_speed")
     @classmethod
@@ -409,6 +411,8 @@ class Train(Spec):
             self.torsional.check(self)
         for k, p in enumerate(self.operating_points):
             self.check_operating_point(p, f"operating_points[{k}]")
+        if self.api_audit is not None:
+            self.api_audit.check(self)
 
     def check_operating_point(self, p: OperatingPoint, field: str = "operating_point") -> None:
         """Check an operating point's nodes and speed against the train (ModelError)."""

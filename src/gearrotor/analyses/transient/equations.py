@@ -433,8 +433,7 @@ def static_state(system: TransientSystem) -> tuple[NDArray, float]:
         sol = solve_static(K, f, M=M, rigid=r[:, None], contacts=contacts, field="torques")
     except la.LinAlgError:
         raise ModelError(
-            "no static initial state: with the teeth separated the torques spin the shafts "
-            "apart",
+            "no static initial state: with the teeth separated the torques spin the shafts apart",
             field="torques",
             expected="torques that load the meshes",
         ) from None

@@ -96,8 +96,10 @@ def make_report(
     analyses : subset of ``("modal", "campbell", "unbalance")``; ``"transient"`` requires
         ``transient`` (the report reads a saved result, it does not run the solver)
     speed : rad/s, magnitude of the reference-shaft operating speed (default: the model's); the
-        modal analysis runs at it, the API checks use it as the operating range, the Campbell
-        sweep covers 0..1.25× and the unbalance sweep 0.02..1.5× of it
+        modal analysis runs at it, the Campbell sweep covers 0..1.25× and the unbalance sweep
+        0.02..1.5× of it (of the MCS when higher); the API checks use the model's operating
+        range and maximum continuous speed when the model states them and no speed is given,
+        else this speed
     max_frequency : rad/s, highest damped frequency of the modes and the Campbell diagram
         (default: 5 × speed)
     transient : path of a transient result (NetCDF written by ``TransientResult.save``)
@@ -197,11 +199,14 @@ def make_report(
             value=(n_campbell, n_unbalance),
             expected="n_campbell >= 2 and n_unbalance >= 3",
         )
+    from ...analyses.operating import model_operating_range
+
     ctx = Context(
         asm,
         analyses,
         w,
         fmax,
+        operating_range=model_operating_range(train) if speed is None else None,
         api=api,
         transient_file=None if transient is None else Path(transient),
         n_campbell=n_campbell,
@@ -233,6 +238,7 @@ def make_report(
             "command": command,
             "analyses": list(analyses),
             "speed_rpm": w * RPM,
+            "operating_range_rpm": [v * RPM for v in ctx.api_range],
             "max_frequency_rpm": fmax * RPM,
             "transient": None if transient is None else str(transient),
             "unbalance": "api617" if api else "model",

@@ -7,6 +7,7 @@ see ``docs/architecture.md``) and one line to :data:`SECTIONS`.
 from __future__ import annotations
 
 from ..base import Section
+from .audit import AuditSection
 from .bearings import BearingsSection
 from .campbell import CampbellSection
 from .modes import ModesSection
@@ -22,6 +23,7 @@ SECTIONS: tuple[Section, ...] = (
     StabilitySection(),
     CampbellSection(),
     UnbalanceSection(),
+    AuditSection(),
     OperatingPointsSection(),
     BearingsSection(),
     TransientSection(),
