@@ -13,7 +13,16 @@ import typer
 from ..errors import ModelError
 from ..files import check_output, save_figure
 from .errors import cli_errors
-from .options import RPM, FormatOpt, SetOpt, check_format, count, rpm
+from .options import (
+    RPM,
+    FormatOpt,
+    OperatingPointOpt,
+    SetOpt,
+    check_format,
+    check_operating_point,
+    count,
+    rpm,
+)
 
 __all__ = ["floquet_command"]
 
@@ -58,6 +67,7 @@ def floquet_command(
     plot: Annotated[
         Path | None, typer.Option(help="PNG: largest growth rate against speed (or Ka)")
     ] = None,
+    operating_point: OperatingPointOpt = None,
     set_: SetOpt = None,
 ) -> None:
     """Floquet exponents of the train under its periodic mesh stiffness (teeth in contact,
@@ -80,6 +90,14 @@ def floquet_command(
             raise ModelError(
                 "speeds must be positive", field="--speeds", value=v, expected="> 0 rpm"
             )
+    check_operating_point(train, operating_point)
+    if operating_point is not None:
+        from ..analyses.static.operating import model_at_operating_point
+
+        if sp == [None]:
+            w_op = train.operating_point(operating_point).reference_speed(train.speed)
+            sp = [abs(w_op) / RPM]
+        train = model_at_operating_point(train, operating_point, [v * RPM for v in sp])[0]
     system = build_system(train)
     cases = []
     for s in sp:

@@ -80,12 +80,15 @@ def _case(file: str):
 
 
 def journal_equilibrium(file: str, load: tuple[float, float], speed: float, start=None):
-    """Equilibrium and (synchronous) stiffness of the bearing of ``file`` under ``load`` (N)
-    at ``speed`` (rad/s, signed), cached by value: ``(Equilibrium, K (2, 2))``."""
+    """Equilibrium and static stiffness of the bearing of ``file`` under ``load`` (N) at
+    ``speed`` (rad/s, signed), cached by value (file version, load, speed):
+    ``(Equilibrium, K (2, 2))``."""
     from ...bearings import equilibrium, static_stiffness
 
     case = _case(file)
-    key = (file, float(load[0]), float(load[1]), float(speed))
+    p = Path(file)
+    version = p.stat().st_mtime_ns if p.exists() else 0  # an edited bearing file is re-solved
+    key = (file, version, float(load[0]), float(load[1]), float(speed))
     hit = _JOURNAL_CACHE.get(key)
     if hit is not None:
         return hit
