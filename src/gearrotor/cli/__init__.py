@@ -36,7 +36,7 @@ import typer
 
 from .bearing import bearing_cli
 from .campbell import campbell_command
-from .errors import EXIT_CODES_HELP
+from .errors import EXIT_CODES_HELP, OneLineGroup
 from .floquet import floquet_command
 from .modal import modal_command
 from .report import report_command
@@ -57,6 +57,7 @@ app = typer.Typer(
     no_args_is_help=True,
     add_completion=False,
     pretty_exceptions_enable=False,
+    cls=OneLineGroup,  # parser errors are one line, like every other error
 )
 
 app.command("modal", epilog=EXIT_CODES_HELP)(modal_command)

@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import json
+import math
 from pathlib import Path
 from typing import Annotated
 
@@ -11,17 +12,23 @@ import typer
 
 from ..errors import ModelError
 from .errors import cli_errors
-from .options import RPM, FormatOpt, SetOpt, check_format
+from .options import RPM, FormatOpt, SetOpt, check_format, count, rpm
 
 __all__ = ["floquet_command"]
 
 
 def _floats(text: str, field: str) -> list[float]:
     try:
-        return [float(v) for v in text.split(",") if v.strip()]
+        values = [float(v) for v in text.split(",") if v.strip()]
+        if not all(math.isfinite(v) for v in values):
+            raise ValueError
+        return values
     except ValueError:
         raise ModelError(
-            "expected comma-separated numbers", field=field, value=text, expected="e.g. 0,0.25,0.5"
+            "expected comma-separated finite numbers",
+            field=field,
+            value=text,
+            expected="e.g. 0,0.25,0.5",
         ) from None
 
 
@@ -38,9 +45,14 @@ def floquet_command(
     ] = None,
     cutoff: Annotated[
         float | None,
-        typer.Option(help="keep modes up to this frequency, cpm (default 2.5 × mesh frequency)"),
+        typer.Option(
+            parser=rpm(0, strict=True),
+            help="keep modes up to this frequency, cpm (default 2.5 × mesh frequency)",
+        ),
     ] = None,
-    n: Annotated[int, typer.Option(help="least stable exponents listed per case")] = 6,
+    n: Annotated[
+        int, typer.Option(parser=count(1), help="least stable exponents listed per case")
+    ] = 6,
     format: FormatOpt = "table",
     plot: Annotated[
         Path | None, typer.Option(help="PNG: largest growth rate against speed (or Ka)")

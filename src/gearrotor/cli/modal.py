@@ -9,7 +9,17 @@ from typing import Annotated
 import typer
 
 from .errors import cli_errors
-from .options import RPM, FormatOpt, OperatingPointOpt, SetOpt, check_format, check_operating_point
+from .options import (
+    RPM,
+    FormatOpt,
+    OperatingPointOpt,
+    SetOpt,
+    check_format,
+    check_operating_point,
+    choice,
+    count,
+    rpm,
+)
 
 __all__ = ["modal_command"]
 
@@ -18,13 +28,18 @@ __all__ = ["modal_command"]
 def modal_command(
     model: Annotated[Path, typer.Argument(help="TOML model file")],
     speed: Annotated[
-        float | None, typer.Option(help="reference shaft speed, rpm (default: the model's)")
+        float | None,
+        typer.Option(parser=rpm(), help="reference shaft speed, rpm (default: the model's)"),
     ] = None,
     max_frequency: Annotated[
-        float | None, typer.Option(help="highest damped frequency, rpm")
+        float | None, typer.Option(parser=rpm(0, strict=True), help="highest damped frequency, rpm")
     ] = None,
-    n_modes: Annotated[int | None, typer.Option(help="at most this many modes")] = None,
-    method: Annotated[str, typer.Option(help="auto, dense or sparse")] = "auto",
+    n_modes: Annotated[
+        int | None, typer.Option(parser=count(1), help="at most this many modes")
+    ] = None,
+    method: Annotated[
+        str, typer.Option(parser=choice("auto", "dense", "sparse"), help="auto, dense or sparse")
+    ] = "auto",
     format: FormatOpt = "table",
     plot: Annotated[
         Path | None, typer.Option(help="write mode-shape plots to this directory")

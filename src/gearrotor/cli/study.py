@@ -84,9 +84,10 @@ def run_command(
 ) -> None:
     """Run the cases of a study that have not finished (resumes an interrupted study)."""
     from ..studies.execute import run_study
-    from ..studies.spec import load_study
+    from ..studies.spec import check_cases, load_study
 
     st = load_study(study)
+    check_cases(st)  # every row's model is valid before anything runs (exit 2)
     summary = run_study(
         st,
         scheduler=scheduler,

@@ -17,22 +17,27 @@ import typer
 
 from ..errors import ModelError
 from .errors import cli_errors
-from .options import FormatOpt, SetOpt, check_format
+from .options import FormatOpt, SetOpt, check_format, choice, duration
 
 __all__ = ["transient_command", "plot_command"]
 
 
 def transient_command(
     model: Annotated[Path, typer.Argument(help="model file (TOML)")],
-    t_end: Annotated[float, typer.Option("--t-end", help="end time, s")] = 1.0,
+    t_end: Annotated[float, typer.Option("--t-end", parser=duration(), help="end time, s")] = 1.0,
     dt: Annotated[
         float | None,
         typer.Option(
-            "--dt", help="time step, s (default: rk4 0.95× its stability limit; modal: automatic)"
+            "--dt",
+            parser=duration(),
+            help="time step, s (default: rk4 0.95× its stability limit; modal: automatic)",
         ),
     ] = None,
     method: Annotated[
-        str, typer.Option("--method", help="'modal' (fast) or 'rk4' (reference)")
+        str,
+        typer.Option(
+            "--method", parser=choice("modal", "rk4"), help="'modal' (fast) or 'rk4' (reference)"
+        ),
     ] = "modal",
     set_: SetOpt = None,
     output: Annotated[
@@ -51,6 +56,7 @@ def transient_command(
         str,
         typer.Option(
             "--initial",
+            parser=choice("zero", "static", "rest"),
             help="'zero', 'static' (deflection under the torques) or 'rest' (standstill: a "
             "start-up by the model's torsional drives)",
         ),

@@ -12,6 +12,7 @@ import typer
 
 from .errors import cli_errors
 from .options import (
+    MAX_SPEEDS,
     RPM,
     FormatOpt,
     McsOpt,
@@ -20,7 +21,9 @@ from .options import (
     SetOpt,
     check_format,
     check_operating_point,
+    count,
     operating_range_from_options,
+    rpm,
     speed_grid,
 )
 
@@ -30,9 +33,13 @@ __all__ = ["unbalance_command"]
 @cli_errors()
 def unbalance_command(
     model: Annotated[Path, typer.Argument(help="TOML model file")],
-    min_speed: Annotated[float, typer.Option(help="rpm")] = 100.0,
-    max_speed: Annotated[float | None, typer.Option(help="rpm (default 1.5 × nominal)")] = None,
-    n_speeds: Annotated[int, typer.Option(help="number of speeds")] = 400,
+    min_speed: Annotated[float, typer.Option(parser=rpm(0), help="rpm")] = 100.0,
+    max_speed: Annotated[
+        float | None, typer.Option(parser=rpm(0, strict=True), help="rpm (default 1.5 × nominal)")
+    ] = None,
+    n_speeds: Annotated[
+        int, typer.Option(parser=count(2, MAX_SPEEDS), help="number of speeds")
+    ] = 400,
     operating_range: OperatingRangeOpt = None,
     mcs: McsOpt = None,
     api: Annotated[

@@ -7,7 +7,12 @@ import numpy as np
 
 from .figures import _plt, _save
 
-__all__ = ["plot_static_shafts", "plot_bearing_loads"]
+__all__ = [
+    "plot_bearing_loads",
+    "plot_eccentricity_locus",
+    "plot_log_dec_vs_power",
+    "plot_static_shafts",
+]
 
 
 def plot_static_shafts(result, path=None):
@@ -74,5 +79,66 @@ def plot_bearing_loads(results, path=None, bearings=None):
                 )
     ax.set_title("Bearing loads over operating points (kN; angle from +x)", fontsize=10)
     ax.legend(fontsize=8, loc="lower left", bbox_to_anchor=(-0.15, -0.12))
+    fig.tight_layout()
+    return _save(fig, path)
+
+
+def plot_eccentricity_locus(results, path=None):
+    """Journal centre positions of every fluid-film bearing over a sequence of static results,
+    as fractions of the clearance (x/c, y/c), inside the clearance circle; the operating points
+    labelled. ``None`` when the results have no fluid-film bearing."""
+    plt = _plt()
+    results = list(results)
+    names = [b.name for b in results[0].bearings if b.kind == "fluid-film"]
+    if not names:
+        return None
+    fig, ax = plt.subplots(figsize=(6.4, 6.2))
+    t = np.linspace(0, 2 * np.pi, 241)
+    ax.plot(np.cos(t), np.sin(t), color="0.5", lw=1.0)
+    ax.plot([0], [0], "k+", ms=10)
+    for i, name in enumerate(names):
+        bs = [r.bearing(name) for r in results]
+        x = np.array([b.journal[0] / b.clearance for b in bs])
+        y = np.array([b.journal[1] / b.clearance for b in bs])
+        ax.plot(x, y, "o-", color=f"C{i % 10}", ms=4, lw=1.2, label=name)
+        for r, xi, yi in zip(results, x, y, strict=True):
+            ax.annotate(
+                r.operating_point,
+                (xi, yi),
+                fontsize=7,
+                color=f"C{i % 10}",
+                xytext=(3, 3),
+                textcoords="offset points",
+            )
+    ax.set_aspect("equal")
+    ax.set_xlim(-1.05, 1.05)
+    ax.set_ylim(-1.05, 1.05)
+    ax.set_xlabel("x / c")
+    ax.set_ylabel("y / c")
+    ax.grid(alpha=0.3)
+    ax.set_title(
+        "Journal eccentricity locus over operating points (bearing clearance circle)", fontsize=10
+    )
+    ax.legend(fontsize=8, loc="lower left")
+    fig.tight_layout()
+    return _save(fig, path)
+
+
+def plot_log_dec_vs_power(power, log_dec, names=(), threshold=None, path=None):
+    """Least-stable log decrement against transmitted power (kW) over operating points."""
+    plt = _plt()
+    fig, ax = plt.subplots(figsize=(7.0, 4.2))
+    p = np.asarray(power, float) / 1e3
+    ax.plot(p, log_dec, "o-", color="C0")
+    for n, x, y in zip(names, p, log_dec, strict=False):
+        ax.annotate(n, (x, y), fontsize=7, xytext=(3, 3), textcoords="offset points")
+    if threshold is not None:
+        ax.axhline(threshold, color="C3", ls="--", lw=1.0, label=f"log dec {threshold}")
+        ax.legend(fontsize=8)
+    ax.axhline(0.0, color="0.4", lw=0.8)
+    ax.set_xlabel("power, kW")
+    ax.set_ylabel("least-stable log dec")
+    ax.grid(alpha=0.3)
+    ax.set_title("Least-stable mode over operating points", fontsize=10)
     fig.tight_layout()
     return _save(fig, path)

@@ -82,7 +82,9 @@ def at_operating_point(
             rows[abs(ratio * w)] = [*co.K.ravel(), *co.C.ravel()]
         speed = sorted(rows)
         vals = np.array([rows[s] for s in speed])
-        table = {"speed": speed, "extrapolate": spec.extrapolate}
+        # one speed: the point's coefficients, held at every speed (stated, not a fallback)
+        hold = "hold" if len(speed) == 1 else spec.extrapolate
+        table = {"speed": speed, "extrapolate": hold}
         for j, name in enumerate(("kxx", "kxy", "kyx", "kyy", "cxx", "cxy", "cyx", "cyy")):
             table[name] = vals[:, j].tolist()
         bearings[k] = {**bearings[k], "fluid_film": None, "table": table}

@@ -49,6 +49,27 @@ def _warn_rotating_damping_speed(system: TransientSystem, speeds: NDArray) -> No
             )
 
 
+#: Largest record a transient allocates (bytes): the saved histories live in memory.
+MAX_RECORD_BYTES = 2 * 1024**3
+#: Most steps a transient takes (about a day at a few microseconds per step).
+MAX_STEPS = 2 * 10**10
+
+
+def _check_memory(n_rec: int, n_out: int, n_shafts: int, n_steps: int, t_end: float) -> None:
+    """Refuse a run whose record would not fit in memory, or that would not end, before it
+    starts (an input error naming t_end, with the estimate)."""
+    need = n_rec * (3 * n_out + n_shafts + 1) * 8
+    if need > MAX_RECORD_BYTES or n_steps > MAX_STEPS:
+        raise ModelError(
+            f"the run is too long: {n_steps:.3g} steps, {n_rec:.3g} saved samples of "
+            f"{3 * n_out + n_shafts + 1} values would need {need / 1e9:.3g} GB of memory",
+            field="t_end",
+            value=t_end,
+            expected=f"a record of at most {MAX_RECORD_BYTES / 1e9:.3g} GB (a shorter t_end, "
+            "or a larger save interval)",
+        )
+
+
 def transient(
     model: Train | Assembly,
     *,
@@ -95,8 +116,10 @@ def transient(
     """
     setup0 = _time.perf_counter()
 
-    if not (t_end > 0):
-        raise ModelError("t_end must be positive", field="t_end", value=t_end, expected="> 0 s")
+    if not (0 < t_end < np.inf):
+        raise ModelError(
+            "t_end must be positive and finite", field="t_end", value=t_end, expected="> 0 s"
+        )
     integ = integrator if integrator is not None else ModalRK4()
     if isinstance(integ, RK4) and not integ.dt > 0:
         raise ModelError("the time step must be positive", field="dt", value=integ.dt)
@@ -110,6 +133,14 @@ def transient(
         transmission_error=transmission_error,
         back_flank=back_flank,
     )
+    if not excitation_frequency(system) > 0:
+        raise ModelError(
+            "the train does not turn: a transient needs a non-zero speed (its step, modal "
+            "cut-off and sampling follow the shaft and mesh frequencies)",
+            field="speed",
+            value=0.0,
+            expected="a non-zero speed of the reference shaft",
+        )
     out = _output_dofs(system, save.full_state)
     if isinstance(integ, RK4):
         prep = _prepare_physical(system, integ, out, frozen_speed)
@@ -129,6 +160,7 @@ def transient(
     )
     save_every = max(1, int(round(save_dt / dt)))
     n_rec = n_steps // save_every + 1
+    _check_memory(n_rec, len(out), len(system.a_weights), n_steps, t_end)
 
     # initial state
     q0, v0 = system.initial_state()

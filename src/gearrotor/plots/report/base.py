@@ -65,6 +65,10 @@ class Context:
     figures: list[Path] = field(default_factory=list)
     summary: dict = field(default_factory=dict)
     verdicts: list[dict] = field(default_factory=list)
+    # operating points (issue 11): the points of the operating-points section, and the model
+    # before an --operating-point put its bearings at that point's loads
+    operating_points: tuple[str, ...] = ()
+    base_train: Train | None = None
 
     @property
     def train(self) -> Train:

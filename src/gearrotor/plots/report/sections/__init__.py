@@ -12,6 +12,7 @@ from .bearings import BearingsSection
 from .campbell import CampbellSection
 from .modes import ModesSection
 from .stability import StabilitySection
+from .static import OperatingPointsSection
 from .torsional import TorsionalSection
 from .transient import TransientSection
 from .unbalance import UnbalanceSection
@@ -24,6 +25,7 @@ SECTIONS: tuple[Section, ...] = (
     CampbellSection(),
     UnbalanceSection(),
     AuditSection(),
+    OperatingPointsSection(),
     BearingsSection(),
     TorsionalSection(),
     TransientSection(),
