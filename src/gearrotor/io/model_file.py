@@ -273,7 +273,12 @@ def _check_files(train: Train, file: str) -> None:
 
 def _resolve_paths(data: dict, base: Path) -> None:
     """Make the bearing files of a model absolute, relative to the model file's folder."""
-    for b in data.get("bearings", []) if isinstance(data.get("bearings"), list) else []:
+    items = [
+        b
+        for group in ("bearings", "seals")
+        for b in (data.get(group) if isinstance(data.get(group), list) else [])
+    ]
+    for b in items:
         if not isinstance(b, dict):
             continue
         if isinstance(b.get("table_file"), str):

@@ -27,6 +27,7 @@ from .components import (
     Mesh,
     NodeRef,
     Probe,
+    Seal,
     Shaft,
     Spec,
     ThrustBearing,
@@ -39,6 +40,8 @@ __all__ = ["Train", "Layout", "ShaftLayout"]
 _REL_TOL = 1e-6
 # optional Train fields left out of the model JSON when absent
 _OMIT_WHEN_ABSENT = ("torsional", "operating_speed_range", "max_continuous_speed")
+# list fields added later, left out of the model JSON when empty (for the same reason)
+_OMIT_WHEN_EMPTY = ("seals",)
 
 
 @dataclass(frozen=True)
@@ -82,6 +85,7 @@ class Train(Spec):
     materials: dict[str, Material] = Field(min_length=1)
     shafts: list[Shaft] = Field(min_length=1)
     bearings: list[Bearing] = Field(default_factory=list)
+    seals: list[Seal] = Field(default_factory=list)  # annular seals: like bearings, any sign
     thrust_bearings: list[ThrustBearing] = Field(default_factory=list)
     cross_couplings: list[CrossCoupling] = Field(default_factory=list)
     couplings: list[Coupling] = Field(default_factory=list)
@@ -130,6 +134,9 @@ class Train(Spec):
         out = handler(self)
         for key in _OMIT_WHEN_ABSENT:
             if getattr(self, key) is None:
+                out.pop(key, None)
+        for key in _OMIT_WHEN_EMPTY:
+            if not getattr(self, key):
                 out.pop(key, None)
         return out
 
@@ -372,6 +379,7 @@ class Train(Spec):
         self._check_names()
         groups = [
             ("bearings", self.bearings),
+            ("seals", self.seals),
             ("thrust_bearings", self.thrust_bearings),
             ("cross_couplings", self.cross_couplings),
             ("unbalances", self.unbalances),
