@@ -53,6 +53,8 @@ def test_documented_codes():
         ["transient-plot"],
         ["report"],
         ["floquet"],
+        ["ucs"],
+        ["stability"],
         ["study", "run"],
         ["study", "status"],
         ["study", "report"],

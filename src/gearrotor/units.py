@@ -40,6 +40,7 @@ __all__ = [
     "Voltage",
     "Resistance",
     "Stress",
+    "Acceleration",
     "rpm_to_rad_s",
     "rad_s_to_rpm",
 ]
@@ -89,6 +90,7 @@ KINDS: dict[str, tuple[str, str, str]] = {
     "voltage": ("V", "a voltage", "13.8 kV"),
     "resistance": ("ohm", "a resistance or reactance", "0.64 ohm"),
     "stress": ("Pa", "a stress", "120 MPa"),
+    "acceleration": ("m/s^2", "an acceleration", "9.80665 m/s^2"),
 }
 
 
@@ -267,6 +269,7 @@ Dimensionless = _quantity("dimensionless")
 Voltage = _quantity("voltage")
 Resistance = _quantity("resistance")
 Stress = _quantity("stress")
+Acceleration = _quantity("acceleration")
 
 
 def rpm_to_rad_s(rpm: float) -> float:

@@ -11,7 +11,18 @@ import typer
 
 from ..errors import ModelError
 from .errors import cli_errors
-from .options import MAX_SPEEDS, RPM, FormatOpt, SetOpt, check_format, count, rpm, speed_grid
+from .options import (
+    MAX_SPEEDS,
+    RPM,
+    FormatOpt,
+    OperatingPointOpt,
+    SetOpt,
+    check_format,
+    check_operating_point,
+    count,
+    rpm,
+    speed_grid,
+)
 
 __all__ = ["campbell_command"]
 
@@ -36,6 +47,7 @@ def campbell_command(
     ] = None,
     format: FormatOpt = "table",
     plot: Annotated[Path | None, typer.Option(help="write the Campbell diagram PNG")] = None,
+    operating_point: OperatingPointOpt = None,
     set_: SetOpt = None,
 ) -> None:
     """Campbell diagram with MAC mode tracking, excitation orders and crossing speeds."""
@@ -44,6 +56,7 @@ def campbell_command(
 
     check_format(format)
     train = load_model(model, parse_overrides(set_))
+    check_operating_point(train, operating_point)
     hi = max_speed if max_speed is not None else 1.25 * abs(train.speed) / RPM
     speeds = speed_grid(min_speed, hi, n_speeds, "--min-speed/--max-speed")
     fmax = (max_frequency if max_frequency is not None else 3 * hi) * RPM
@@ -58,7 +71,13 @@ def campbell_command(
                 value=orders,
                 expected="comma-separated numbers, e.g. '10,42'",
             ) from None
-    res = run_campbell(train, speeds=speeds, max_frequency=fmax, extra_orders=extra)
+    res = run_campbell(
+        train,
+        speeds=speeds,
+        max_frequency=fmax,
+        extra_orders=extra,
+        operating_point=operating_point,
+    )
     if format == "json":
         typer.echo(json.dumps(res.to_dict(), indent=1))
     else:

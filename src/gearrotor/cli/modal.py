@@ -9,7 +9,17 @@ from typing import Annotated
 import typer
 
 from .errors import cli_errors
-from .options import RPM, FormatOpt, SetOpt, check_format, choice, count, rpm
+from .options import (
+    RPM,
+    FormatOpt,
+    OperatingPointOpt,
+    SetOpt,
+    check_format,
+    check_operating_point,
+    choice,
+    count,
+    rpm,
+)
 
 __all__ = ["modal_command"]
 
@@ -35,6 +45,7 @@ def modal_command(
         Path | None, typer.Option(help="write mode-shape plots to this directory")
     ] = None,
     shapes: Annotated[bool, typer.Option(help="include mode shapes in the JSON output")] = False,
+    operating_point: OperatingPointOpt = None,
     set_: SetOpt = None,
 ) -> None:
     """Damped eigenvalues at a speed: frequency, log dec, whirl per shaft, mode type."""
@@ -43,12 +54,14 @@ def modal_command(
 
     check_format(format)
     train = load_model(model, parse_overrides(set_))
+    check_operating_point(train, operating_point)
     res = run_modal(
         train,
         speed=None if speed is None else speed * RPM,
         max_frequency=None if max_frequency is None else max_frequency * RPM,
         n_modes=n_modes,
         method=method,
+        operating_point=operating_point,
     )
     if format == "json":
         typer.echo(json.dumps(res.to_dict(shapes=shapes), indent=1))

@@ -9,7 +9,9 @@ The parsers check an option's value when the command line is read, before anythi
 from __future__ import annotations
 
 import math
+import os
 from collections.abc import Callable
+from pathlib import Path
 from typing import Annotated
 
 import numpy as np
@@ -18,15 +20,21 @@ import typer
 from ..errors import ModelError
 
 __all__ = [
-    "MAX_SPEEDS",
     "RPM",
     "FormatOpt",
+    "OperatingPointOpt",
     "SetOpt",
     "check_format",
+    "check_operating_point",
+    "McsOpt",
+    "OperatingRangeOpt",
+    "check_png",
+    "operating_range_from_options",
+    "parse_range",
+    "MAX_SPEEDS",
     "choice",
     "count",
     "duration",
-    "parse_operating_range",
     "rpm",
     "speed_grid",
 ]
@@ -41,6 +49,44 @@ SetOpt = Annotated[
     ),
 ]
 FormatOpt = Annotated[str, typer.Option("--format", help="table or json")]
+OperatingPointOpt = Annotated[
+    str | None,
+    typer.Option(
+        "--operating-point",
+        help="run at this operating point of the model ([[operating_points]] name): fluid-film "
+        "bearings at the coefficients of its static loads, meshes on the loaded flank",
+    ),
+]
+
+
+def check_operating_point(train, name: str | None) -> None:
+    """``--operating-point`` must name one of the model's operating points."""
+    if name is None:
+        return
+    try:
+        train.operating_point(name)
+    except ModelError as exc:
+        raise ModelError(
+            exc.message, field="--operating-point", value=name, expected=exc.expected
+        ) from None
+
+
+OperatingRangeOpt = Annotated[
+    str | None,
+    typer.Option(
+        "--operating-range",
+        help="MIN,MAX operating speeds of the reference shaft, rpm (overrides the model's "
+        "operating_speed_range)",
+    ),
+]
+McsOpt = Annotated[
+    float | None,
+    typer.Option(
+        "--mcs",
+        help="maximum continuous speed of the reference shaft, rpm (overrides the model's "
+        "max_continuous_speed)",
+    ),
+]
 
 
 def check_format(fmt: str) -> None:
@@ -61,6 +107,61 @@ def speed_grid(lo: float, hi: float, n: int, field: str) -> np.ndarray:
             expected="max > min and at least 2 points",
         )
     return np.linspace(lo, hi, n) * RPM
+
+
+def operating_range_from_options(train, operating_range: str | None, mcs: float | None):
+    """The train with ``--operating-range`` / ``--mcs`` (rpm) in place of the model's
+    ``operating_speed_range`` / ``max_continuous_speed`` (unchanged without them); the
+    combination is checked as the model file's is (maximum operating speed <= MCS)."""
+    if operating_range is None and mcs is None:
+        return train
+    update = {}
+    if operating_range is not None:
+        update["operating_speed_range"] = parse_range(operating_range)
+    if mcs is not None:
+        if not (np.isfinite(mcs) and mcs > 0):
+            raise ModelError(
+                "the maximum continuous speed must be positive",
+                field="--mcs",
+                value=mcs,
+                expected="a speed > 0 rpm",
+            )
+        update["max_continuous_speed"] = mcs * RPM
+    op = update.get("operating_speed_range", train.operating_speed_range)
+    top = update.get("max_continuous_speed", train.max_continuous_speed)
+    if op is not None and top is not None and op[1] > top * (1 + 1e-9):
+        field = "--operating-range" if operating_range is not None else "--mcs"
+        raise ModelError(
+            "the maximum operating speed exceeds the maximum continuous speed",
+            field=field,
+            value=f"{op[1] / RPM:.6g} rpm > MCS {top / RPM:.6g} rpm",
+            expected="MAX of the operating range <= the maximum continuous speed",
+        )
+    return train.model_copy(update=update)
+
+
+def check_png(path: Path | None, field: str = "--plot") -> None:
+    """An output PNG path that can be written (checked before anything runs)."""
+    if path is None:
+        return
+    if path.suffix.lower() != ".png":
+        raise ModelError(
+            "the figure is written as PNG", field=field, value=str(path), expected="a .png file"
+        )
+    if path.is_dir():
+        raise ModelError(
+            "the figure path is a directory", field=field, value=str(path), expected="a file"
+        )
+    parent = path.parent
+    while not parent.exists() and parent != parent.parent:
+        parent = parent.parent
+    if not parent.is_dir() or not os.access(parent, os.W_OK | os.X_OK):
+        raise ModelError(
+            "cannot write the figure here",
+            field=field,
+            value=str(path),
+            expected=f"a path in a writable directory ({parent} is not)",
+        )
 
 
 #: Most speeds of a sweep (``--n-speeds``): each is an eigenvalue or a linear solve.
@@ -145,24 +246,24 @@ def choice(*names: str) -> Callable[[str], str]:
     return parse
 
 
-def parse_operating_range(text: str) -> tuple[float, float]:
+def parse_range(text: str, field: str = "--operating-range") -> tuple[float, float]:
     """``--operating-range MIN,MAX``: rpm (or with units), finite, 0 < MIN <= MAX → rad/s."""
     parts = str(text).split(",")
     if len(parts) != 2:
         raise ModelError(
             "cannot read the operating range",
-            field="--operating-range",
+            field=field,
             value=text,
             expected="MIN,MAX in rpm, e.g. 5800,7200",
         )
     try:
         lo, hi = (rpm()(p) for p in parts)
     except typer.BadParameter as exc:
-        raise ModelError(str(exc), field="--operating-range") from None
+        raise ModelError(str(exc), field=field) from None
     if not 0 < lo <= hi:
         raise ModelError(
             "the operating range must be ordered and positive",
-            field="--operating-range",
+            field=field,
             value=text,
             expected="MIN,MAX with 0 < MIN <= MAX rpm, e.g. 5800,7200",
         )

@@ -56,8 +56,9 @@ def transient_command(
         str,
         typer.Option(
             "--initial",
-            parser=choice("zero", "static"),
-            help="'zero' or 'static' (deflection under the torques)",
+            parser=choice("zero", "static", "rest"),
+            help="'zero', 'static' (deflection under the torques) or 'rest' (standstill: a "
+            "start-up by the model's torsional drives)",
         ),
     ] = "zero",
     checkpoint: Annotated[

@@ -100,7 +100,9 @@ def transient(
     reactions : include the reaction torques of the gyroscopic and unbalance θ̈ terms (the
         Lagrangian, energy-consistent form); False gives the dissertation's form
     initial : ``"zero"`` displacement, or ``"static"``: the static deflection under the external
-        torques at t = 0 (:func:`.equations.static_state`)
+        torques at t = 0 (:func:`.equations.static_state`); both at the nominal speeds;
+        ``"rest"``: zero displacement and speed (a start-up by the model's ``[torsional]``
+        drives, which act as in :func:`~gearrotor.analyses.torsional.torsional_transient`)
     initial_q, initial_qdot : (n_dof,) global perturbations added to the initial displacement and
         the nominal speeds (m, rad, m/s, rad/s)
     stiffness_tables, transmission_error : per mesh index, see :mod:`.mesh`
@@ -164,9 +166,14 @@ def transient(
     q0, v0 = system.initial_state()
     if initial == "static":
         q0 += static_state(system)[0]
+    elif initial == "rest":  # a start-up: the train at standstill (drives: [torsional])
+        v0[:] = 0.0
     elif initial != "zero":
         raise ModelError(
-            "unknown initial state", field="initial", value=initial, expected="'zero' or 'static'"
+            "unknown initial state",
+            field="initial",
+            value=initial,
+            expected="'zero', 'static' or 'rest'",
         )
     if initial_q is not None:
         q0 += np.asarray(initial_q, float)[system.active]
