@@ -39,6 +39,8 @@ SET_CASES = [
     ("elements-float", ["shafts[0].sections[0].elements=4.5"], ["elements", "4.5"]),
     ("bearing-dup-name", ["bearings[1].name=B1"], ["bearings[1].name", "bearings[0].name", "B1"]),
     ("probe-angle-nan", ["probes[0].angle=nan"], ["probes[0].angle", "finite"]),
+    ("set-deep", ["speed=" + "[" * 5000 + "]" * 5000], ["--set", "too deeply"]),
+    ("set-bad-path", ["meshes[0]]x=1"], ["meshes[0]]x"]),
 ]
 
 

@@ -152,10 +152,23 @@ def _parse_path(path: str) -> list[str | int]:
 
 def _coerce(value: str) -> Any:
     """A --set value: TOML scalar syntax if it parses (numbers, booleans, arrays), else a string."""
+    from ..inputs import MAX_DEPTH, depth_ok
+
     try:
-        return tomllib.loads(f"v = {value}")["v"]
+        out = tomllib.loads(f"v = {value}")["v"]
     except tomllib.TOMLDecodeError:
         return value
+    except RecursionError:
+        out = None
+    if out is None or not depth_ok(out):
+        shown = value if len(value) <= 40 else value[:37] + "..."
+        raise ModelError(
+            "the value nests arrays or tables too deeply",
+            field="--set",
+            value=shown,
+            expected=f"at most {MAX_DEPTH} levels",
+        )
+    return out
 
 
 def parse_overrides(items: list[str] | None) -> dict[str, str]:
