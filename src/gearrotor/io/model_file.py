@@ -111,19 +111,13 @@ def format_validation_error(
                     f"{line[1]}: {len(keys)} unknown keys {_list_some(keys)} (not fields of "
                     "this table; check the spelling)"
                 )
-    if len(lines) > MAX_LISTED:
-        lines = [*lines[:MAX_LISTED], f"... and {len(lines) - MAX_LISTED} more errors"]
-    head = f"{file}: " if file else ""
-    if len(lines) == 1:
+    n = len(lines)
+    if n > MAX_LISTED:
+        lines = [*lines[:MAX_LISTED], f"... and {n - MAX_LISTED} more"]
+    if n == 1:
         return ModelError(lines[0], file=file)
-    return (
-        ModelError(
-            f"{len(lines)} errors in {what}\n  " + "\n  ".join(lines),
-            file=None if not file else file,
-        )
-        if head
-        else ModelError(f"{len(lines)} errors in {what}\n  " + "\n  ".join(lines))
-    )
+    # one line, like every error message (the README's promise): the problems joined by "; "
+    return ModelError(f"{n} errors in {what}: " + "; ".join(lines), file=file or None)
 
 
 def _list_some(keys: list[str]) -> str:
@@ -256,6 +250,16 @@ def model_from_file_data(data: dict, path: str | Path, overrides: dict | None = 
             file=name,
             expected="a model (see docs/model_format.md)",
         )
+    if "shafts" not in data:
+        other = (
+            "a bearing file" if "bearing" in data else "a study file" if "cases" in data else None
+        )
+        if other:
+            raise ModelError(
+                f"this is {other}, not a rotor model file",
+                file=name,
+                expected="a model file with [[shafts]] (see docs/model_format.md)",
+            )
     try:
         data = apply_overrides(data, overrides)
     except ModelError as exc:
