@@ -30,7 +30,18 @@ import typer
 
 from ..errors import ModelError
 from .errors import EXIT_CODES_HELP, cli_errors
-from .options import RPM, FormatOpt, SetOpt, check_format, speed_grid
+from .options import (
+    MAX_SPEEDS,
+    RPM,
+    FormatOpt,
+    SetOpt,
+    check_format,
+    count,
+    duration,
+    number,
+    rpm,
+    speed_grid,
+)
 
 __all__ = [
     "torsional_app",
@@ -225,9 +236,14 @@ def modes_command(
     model: ModelArg,
     mesh: MeshOpt = "flexible",
     max_frequency: Annotated[
-        float | None, typer.Option("--max-frequency", help="Hz, keep modes up to it")
+        float | None,
+        typer.Option(
+            "--max-frequency", parser=number(0, strict=True), help="Hz, keep modes up to it"
+        ),
     ] = None,
-    n_modes: Annotated[int | None, typer.Option("--n-modes", help="keep the lowest N")] = 12,
+    n_modes: Annotated[
+        int | None, typer.Option("--n-modes", parser=count(1), help="keep the lowest N")
+    ] = 12,
     shapes: Annotated[bool, typer.Option(help="JSON: add each mode's twist per shaft")] = False,
     format: FormatOpt = "table",
     plot: PlotOpt = None,
@@ -266,15 +282,25 @@ def modes_command(
 def campbell_command(
     model: ModelArg,
     min_speed: Annotated[
-        float | None, typer.Option(help="rpm, minimum operating speed (default nominal)")
+        float | None,
+        typer.Option(parser=rpm(0), help="rpm, minimum operating speed (default nominal)"),
     ] = None,
     max_speed: Annotated[
-        float | None, typer.Option(help="rpm, maximum continuous speed (default nominal)")
+        float | None,
+        typer.Option(
+            parser=rpm(0, strict=True), help="rpm, maximum continuous speed (default nominal)"
+        ),
     ] = None,
-    margin: Annotated[float, typer.Option(help="required separation (fraction)")] = 0.10,
+    margin: Annotated[
+        float, typer.Option(parser=number(0, maximum=1), help="required separation (fraction)")
+    ] = 0.10,
     line_frequency: Annotated[
         float | None,
-        typer.Option("--line-frequency", help="Hz (default: the electric drives')"),
+        typer.Option(
+            "--line-frequency",
+            parser=number(0, strict=True),
+            help="Hz (default: the electric drives')",
+        ),
     ] = None,
     orders: Annotated[
         str | None, typer.Option(help="extra orders SHAFT:MULTIPLE, e.g. 'motor:6'")
@@ -284,7 +310,10 @@ def campbell_command(
         typer.Option(help="multiples of the first electric drive's stator frequency, e.g. '6,12'"),
     ] = None,
     max_frequency: Annotated[
-        float | None, typer.Option("--max-frequency", help="Hz, highest mode checked")
+        float | None,
+        typer.Option(
+            "--max-frequency", parser=number(0, strict=True), help="Hz, highest mode checked"
+        ),
     ] = None,
     mesh: MeshOpt = "flexible",
     format: FormatOpt = "table",
@@ -348,9 +377,15 @@ def response_command(
             "(e.g. 'shaft=motor,node=4,amplitude=5 kN*m,order=2'); repeatable",
         ),
     ],
-    min_speed: Annotated[float | None, typer.Option(help="rpm (default 0.5 × nominal)")] = None,
-    max_speed: Annotated[float | None, typer.Option(help="rpm (default 1.2 × nominal)")] = None,
-    n_speeds: Annotated[int, typer.Option(help="number of speeds")] = 200,
+    min_speed: Annotated[
+        float | None, typer.Option(parser=rpm(0), help="rpm (default 0.5 × nominal)")
+    ] = None,
+    max_speed: Annotated[
+        float | None, typer.Option(parser=rpm(0, strict=True), help="rpm (default 1.2 × nominal)")
+    ] = None,
+    n_speeds: Annotated[
+        int, typer.Option(parser=count(2, MAX_SPEEDS), help="number of speeds")
+    ] = 200,
     mesh: MeshOpt = "flexible",
     format: FormatOpt = "table",
     plot: PlotOpt = None,
@@ -386,19 +421,29 @@ def response_command(
 @cli_errors()
 def transient_command(
     model: ModelArg,
-    t_end: Annotated[float, typer.Option("--t-end", help="end time, s")] = 20.0,
+    t_end: Annotated[float, typer.Option("--t-end", parser=duration(), help="end time, s")] = 20.0,
     dt: Annotated[
-        float | None, typer.Option("--dt", help="time step, s (default: automatic)")
+        float | None,
+        typer.Option("--dt", parser=duration(), help="time step, s (default: automatic)"),
     ] = None,
     initial_speed: Annotated[
-        float, typer.Option("--initial-speed", help="rpm of the reference shaft at t = 0")
+        float,
+        typer.Option("--initial-speed", parser=rpm(), help="rpm of the reference shaft at t = 0"),
     ] = 0.0,
     mesh: MeshOpt = "flexible",
-    sn_m: Annotated[float, typer.Option("--sn-m", help="S-N curve exponent m (N = C S^-m)")] = 8.0,
+    sn_m: Annotated[
+        float,
+        typer.Option(
+            "--sn-m", parser=number(0, strict=True), help="S-N curve exponent m (N = C S^-m)"
+        ),
+    ] = 8.0,
     sn_stress: Annotated[
         str, typer.Option("--sn-stress", help="shear stress amplitude of the S-N point")
     ] = "200 MPa",
-    sn_cycles: Annotated[float, typer.Option("--sn-cycles", help="cycles at that stress")] = 1e4,
+    sn_cycles: Annotated[
+        float,
+        typer.Option("--sn-cycles", parser=number(0, strict=True), help="cycles at that stress"),
+    ] = 1e4,
     endurance_limit: Annotated[
         str | None, typer.Option("--endurance-limit", help="shear stress amplitude, e.g. '60 MPa'")
     ] = None,
