@@ -34,6 +34,7 @@ __all__ = [
     "choice",
     "count",
     "duration",
+    "number",
     "rpm",
     "speed_grid",
 ]
@@ -82,7 +83,7 @@ McsOpt = Annotated[
     float | None,
     typer.Option(
         "--mcs",
-        parser=lambda text: rpm(0, strict=True)(text),
+        parser=lambda text: rpm(0, strict=True)(text),  # rpm() is defined below
         help="maximum continuous speed of the reference shaft, rpm (overrides the model's "
         "max_continuous_speed)",
     ),
@@ -189,6 +190,29 @@ def rpm(minimum: float | None = None, *, strict: bool = False) -> Callable[[str]
         value = _number(text, "angular_speed", "rpm", RPM)
         if minimum is not None and (value <= minimum if strict else value < minimum):
             raise _bad(text, "out of range", f"{'>' if strict else '>='} {minimum:g} rpm")
+        return value
+
+    return parse
+
+
+def number(
+    minimum: float | None = None, *, strict: bool = False, maximum: float | None = None
+) -> Callable[[str], float]:
+    """Parser of a plain-number option (a fraction, an exponent, Hz): finite, at least
+    ``minimum`` (above it when ``strict``), at most ``maximum``."""
+
+    def parse(text: str) -> float:
+        try:
+            value = float(str(text).strip())
+        except ValueError:
+            raise _bad(text, "not a number", "a number") from None
+        if not math.isfinite(value):
+            raise _bad(text, "not a finite number", "a finite number")
+        low = minimum is not None and (value <= minimum if strict else value < minimum)
+        if low or (maximum is not None and value > maximum):
+            rng = [f"{'>' if strict else '>='} {minimum:g}"] if minimum is not None else []
+            rng += [f"<= {maximum:g}"] if maximum is not None else []
+            raise _bad(text, "out of range", " and ".join(rng))
         return value
 
     return parse

@@ -30,7 +30,9 @@ from .options import (
     check_format,
     check_operating_point,
     check_png,
+    number,
     operating_range_from_options,
+    rpm,
 )
 
 __all__ = ["stability_command", "parse_site", "parse_stage"]
@@ -169,7 +171,8 @@ def stability_command(
         typer.Option(help="H_c (min. diffuser / impeller discharge width) / blade height H_t, m"),
     ] = None,
     density_ratio: Annotated[
-        float | None, typer.Option(help="discharge / suction gas density ρ_d/ρ_s")
+        float | None,
+        typer.Option(parser=number(0, strict=True), help="discharge / suction gas density ρ_d/ρ_s"),
     ] = None,
     kind: Annotated[str, typer.Option(help="centrifugal (impeller) or axial (stage)")] = (
         "centrifugal"
@@ -187,7 +190,10 @@ def stability_command(
     ] = None,
     operating_speed: Annotated[
         float | None,
-        typer.Option(help="normal operating speed N_r of the formula, rpm (default: the model's)"),
+        typer.Option(
+            parser=rpm(0, strict=True),
+            help="normal operating speed N_r of the formula, rpm (default: the model's)",
+        ),
     ] = None,
     exclude_bearing: Annotated[
         list[str] | None,
