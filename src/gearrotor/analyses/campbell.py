@@ -154,6 +154,7 @@ def campbell(
     frequency_weight: float = 0.2,
     keep_results: bool = False,
     method: str = "sparse",
+    operating_point=None,
 ) -> CampbellResult:
     """Track damped modes over reference-shaft ``speeds`` (rad/s) up to ``max_frequency`` (rad/s).
 
@@ -165,7 +166,16 @@ def campbell(
     of radius 1.5×max_frequency about a small negative shift by shift-invert Arnoldi: the same
     eigenpairs as the dense solver (to round-off) at a fraction of the cost, since a Campbell
     diagram needs only the low modes. ``method="dense"`` computes the full spectrum.
+
+    ``operating_point`` (name or :class:`~gearrotor.model.OperatingPoint`): fluid-film bearings
+    at the coefficients of the point's static loads at every speed, the point's ``hold``
+    (power or torque) kept over the sweep (:func:`~gearrotor.analyses.static.at_operating_point`).
     """
+    if operating_point is not None:
+        # fluid-film bearings at the point's static loads at every speed (issue 11)
+        from .static.operating import model_at_operating_point
+
+        model = model_at_operating_point(model, operating_point, np.asarray(speeds, float))[0]
     asm = model if isinstance(model, Assembly) else assemble(model)
     speeds = np.asarray(speeds, float)
     orders = default_orders(asm, extra_orders) if orders is None else orders

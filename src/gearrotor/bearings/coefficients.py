@@ -43,6 +43,7 @@ __all__ = [
     "save_table",
     "load_table",
     "COEFFICIENT_NAMES",
+    "static_stiffness",
 ]
 
 COEFFICIENT_NAMES = ("kxx", "kxy", "kyx", "kyy", "cxx", "cxy", "cyx", "cyy")
@@ -205,6 +206,23 @@ def coefficients(
     m_full = _pad_mass(bearing)
     kr, cr = _reduce(k_full, c_full, m_full, eq.speed)
     return Coefficients(eq, kr, cr, k_full, c_full, m_full, tuple(dof_names(bearing)))
+
+
+def static_stiffness(
+    bearing: Bearing, eq: Equilibrium, *, options: SolverOptions | None = None
+) -> NDArray:
+    """Static journal stiffness −∂F/∂x (N/m, 2×2) at an equilibrium: the stiffness part of
+    :func:`coefficients` only (no velocity perturbations), tilting pads condensed statically
+    (the pads settle, zero whirl frequency). Used by the static analysis's journal iteration."""
+    opts = options or SolverOptions()
+    ev = _Evaluator(bearing, eq.speed, opts)
+    s = _lever_scale(bearing)
+    u = np.concatenate([[eq.x, eq.y], eq.pad_dofs * s[2:]])
+    k_lev, _ = ev.jacobians(u, velocity=False)
+    k = k_lev * s[:, None] * s[None, :]
+    if k.shape[0] == 2:
+        return k
+    return k[:2, :2] - k[:2, 2:] @ np.linalg.solve(k[2:, 2:], k[2:, :2])
 
 
 def load_sweep(

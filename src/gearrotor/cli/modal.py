@@ -10,7 +10,17 @@ import typer
 
 from ..files import check_output, write_json
 from .errors import cli_errors
-from .options import RPM, FormatOpt, SetOpt, check_format
+from .options import (
+    RPM,
+    FormatOpt,
+    OperatingPointOpt,
+    SetOpt,
+    check_format,
+    check_operating_point,
+    choice,
+    count,
+    rpm,
+)
 
 __all__ = ["modal_command"]
 
@@ -19,18 +29,24 @@ __all__ = ["modal_command"]
 def modal_command(
     model: Annotated[Path, typer.Argument(help="TOML model file")],
     speed: Annotated[
-        float | None, typer.Option(help="reference shaft speed, rpm (default: the model's)")
+        float | None,
+        typer.Option(parser=rpm(), help="reference shaft speed, rpm (default: the model's)"),
     ] = None,
     max_frequency: Annotated[
-        float | None, typer.Option(help="highest damped frequency, rpm")
+        float | None, typer.Option(parser=rpm(0, strict=True), help="highest damped frequency, rpm")
     ] = None,
-    n_modes: Annotated[int | None, typer.Option(help="at most this many modes")] = None,
-    method: Annotated[str, typer.Option(help="auto, dense or sparse")] = "auto",
+    n_modes: Annotated[
+        int | None, typer.Option(parser=count(1), help="at most this many modes")
+    ] = None,
+    method: Annotated[
+        str, typer.Option(parser=choice("auto", "dense", "sparse"), help="auto, dense or sparse")
+    ] = "auto",
     format: FormatOpt = "table",
     plot: Annotated[
         Path | None, typer.Option(help="write mode-shape plots to this directory")
     ] = None,
     shapes: Annotated[bool, typer.Option(help="include mode shapes in the JSON output")] = False,
+    operating_point: OperatingPointOpt = None,
     set_: SetOpt = None,
 ) -> None:
     """Damped eigenvalues at a speed: frequency, log dec, whirl per shaft, mode type."""
@@ -41,12 +57,14 @@ def modal_command(
     if plot is not None:
         check_output(plot, "directory", field="--plot")
     train = load_model(model, parse_overrides(set_))
+    check_operating_point(train, operating_point)
     res = run_modal(
         train,
         speed=None if speed is None else speed * RPM,
         max_frequency=None if max_frequency is None else max_frequency * RPM,
         n_modes=n_modes,
         method=method,
+        operating_point=operating_point,
     )
     if format == "json":
         typer.echo(json.dumps(res.to_dict(shapes=shapes), indent=1))

@@ -92,10 +92,11 @@ def run_command(
     Ctrl-C or SIGTERM stops it with one line (exit status 130 or 143); its workers stop with
     it, also when it is killed; the finished cases are kept."""
     from ..studies.execute import run_study
-    from ..studies.spec import load_study
+    from ..studies.spec import check_cases, load_study
     from ..studies.workers import Terminated, sigterm_raises
 
     st = load_study(study)
+    check_cases(st)  # every row's model is valid before anything runs (exit 2)
     try:
         with sigterm_raises():
             summary = run_study(

@@ -18,7 +18,7 @@ import typer
 from ..errors import ModelError
 from ..files import check_output, remove_stale_temporaries
 from .errors import cli_errors
-from .options import FormatOpt, SetOpt, check_format
+from .options import FormatOpt, SetOpt, check_format, choice, duration
 from .study import EXIT_INTERRUPTED
 
 __all__ = ["transient_command", "plot_command"]
@@ -26,15 +26,20 @@ __all__ = ["transient_command", "plot_command"]
 
 def transient_command(
     model: Annotated[Path, typer.Argument(help="model file (TOML)")],
-    t_end: Annotated[float, typer.Option("--t-end", help="end time, s")] = 1.0,
+    t_end: Annotated[float, typer.Option("--t-end", parser=duration(), help="end time, s")] = 1.0,
     dt: Annotated[
         float | None,
         typer.Option(
-            "--dt", help="time step, s (default: rk4 0.95× its stability limit; modal: automatic)"
+            "--dt",
+            parser=duration(),
+            help="time step, s (default: rk4 0.95× its stability limit; modal: automatic)",
         ),
     ] = None,
     method: Annotated[
-        str, typer.Option("--method", help="'modal' (fast) or 'rk4' (reference)")
+        str,
+        typer.Option(
+            "--method", parser=choice("modal", "rk4"), help="'modal' (fast) or 'rk4' (reference)"
+        ),
     ] = "modal",
     set_: SetOpt = None,
     output: Annotated[
@@ -50,7 +55,13 @@ def transient_command(
     ] = True,
     progress: Annotated[bool, typer.Option(help="progress on stderr")] = True,
     initial: Annotated[
-        str, typer.Option("--initial", help="'zero' or 'static' (deflection under the torques)")
+        str,
+        typer.Option(
+            "--initial",
+            parser=choice("zero", "static", "rest"),
+            help="'zero', 'static' (deflection under the torques) or 'rest' (standstill: a "
+            "start-up by the model's torsional drives)",
+        ),
     ] = "zero",
     checkpoint: Annotated[
         Path | None,
@@ -64,13 +75,16 @@ def transient_command(
         float | None,
         typer.Option(
             "--checkpoint-every",
+            parser=duration(),
             help="simulated seconds between checkpoints (default: 5 % of --t-end)",
         ),
     ] = None,
     checkpoint_wall: Annotated[
         float,
         typer.Option(
-            "--checkpoint-wall", help="and at the latest every this many seconds of wall time"
+            "--checkpoint-wall",
+            parser=duration(),
+            help="and at the latest every this many seconds of wall time",
         ),
     ] = 60.0,
 ) -> None:

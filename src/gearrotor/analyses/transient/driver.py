@@ -66,6 +66,27 @@ def _check_checkpoint_options(ck: Checkpoint) -> None:
         )
 
 
+#: Largest record a transient allocates (bytes): the saved histories live in memory.
+MAX_RECORD_BYTES = 2 * 1024**3
+#: Most steps a transient takes (about a day at a few microseconds per step).
+MAX_STEPS = 2 * 10**10
+
+
+def _check_memory(n_rec: int, n_out: int, n_shafts: int, n_steps: int, t_end: float) -> None:
+    """Refuse a run whose record would not fit in memory, or that would not end, before it
+    starts (an input error naming t_end, with the estimate)."""
+    need = n_rec * (3 * n_out + n_shafts + 1) * 8
+    if need > MAX_RECORD_BYTES or n_steps > MAX_STEPS:
+        raise ModelError(
+            f"the run is too long: {n_steps:.3g} steps, {n_rec:.3g} saved samples of "
+            f"{3 * n_out + n_shafts + 1} values would need {need / 1e9:.3g} GB of memory",
+            field="t_end",
+            value=t_end,
+            expected=f"a record of at most {MAX_RECORD_BYTES / 1e9:.3g} GB (a shorter t_end, "
+            "or a larger save interval)",
+        )
+
+
 def transient(
     model: Train | Assembly,
     *,
@@ -96,7 +117,9 @@ def transient(
     reactions : include the reaction torques of the gyroscopic and unbalance θ̈ terms (the
         Lagrangian, energy-consistent form); False gives the dissertation's form
     initial : ``"zero"`` displacement, or ``"static"``: the static deflection under the external
-        torques at t = 0 (:func:`.equations.static_state`)
+        torques at t = 0 (:func:`.equations.static_state`); both at the nominal speeds;
+        ``"rest"``: zero displacement and speed (a start-up by the model's ``[torsional]``
+        drives, which act as in :func:`~gearrotor.analyses.torsional.torsional_transient`)
     initial_q, initial_qdot : (n_dof,) global perturbations added to the initial displacement and
         the nominal speeds (m, rad, m/s, rad/s)
     stiffness_tables, transmission_error : per mesh index, see :mod:`.mesh`
@@ -110,8 +133,10 @@ def transient(
     """
     setup0 = _time.perf_counter()
 
-    if not (t_end > 0):
-        raise ModelError("t_end must be positive", field="t_end", value=t_end, expected="> 0 s")
+    if not (0 < t_end < np.inf):
+        raise ModelError(
+            "t_end must be positive and finite", field="t_end", value=t_end, expected="> 0 s"
+        )
     if checkpoint is not None:
         _check_checkpoint_options(checkpoint)
     integ = integrator if integrator is not None else ModalRK4()
@@ -127,6 +152,14 @@ def transient(
         transmission_error=transmission_error,
         back_flank=back_flank,
     )
+    if not excitation_frequency(system) > 0:
+        raise ModelError(
+            "the train does not turn: a transient needs a non-zero speed (its step, modal "
+            "cut-off and sampling follow the shaft and mesh frequencies)",
+            field="speed",
+            value=0.0,
+            expected="a non-zero speed of the reference shaft",
+        )
     out = _output_dofs(system, save.full_state)
     if isinstance(integ, RK4):
         prep = _prepare_physical(system, integ, out, frozen_speed)
@@ -146,14 +179,20 @@ def transient(
     )
     save_every = max(1, int(round(save_dt / dt)))
     n_rec = n_steps // save_every + 1
+    _check_memory(n_rec, len(out), len(system.a_weights), n_steps, t_end)
 
     # initial state
     q0, v0 = system.initial_state()
     if initial == "static":
         q0 += static_state(system)[0]
+    elif initial == "rest":  # a start-up: the train at standstill (drives: [torsional])
+        v0[:] = 0.0
     elif initial != "zero":
         raise ModelError(
-            "unknown initial state", field="initial", value=initial, expected="'zero' or 'static'"
+            "unknown initial state",
+            field="initial",
+            value=initial,
+            expected="'zero', 'static' or 'rest'",
         )
     if initial_q is not None:
         q0 += np.asarray(initial_q, float)[system.active]
