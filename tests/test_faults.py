@@ -443,3 +443,20 @@ def test_study_report_sanitises_probe_names(examples, tmp_path):
     names = {p.name for p in written}
     assert "spectra____x_00-00.png" in names and "spectra_x_y_00-00.png" in names, names
     assert not list((tmp_path / "deep").glob("x*")) and not (tmp_path / "x_00-00.png").exists()
+
+
+def test_ctrl_c_of_transient_is_one_line(examples, tmp_path, monkeypatch):
+    """Ctrl-C during the run (KeyboardInterrupt from the integration loop): one line, exit 130,
+    naming the checkpoint the same command resumes from."""
+    ck = tmp_path / "run.ck"
+
+    def interrupted(*args, checkpoint=None, **kwargs):
+        ck.write_bytes(b"state")  # the checkpoint a real run leaves
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr("gearrotor.analyses.transient.transient", interrupted)
+    r = invoke("transient", examples / SINGLE, "--checkpoint", ck, "--no-progress")
+    assert r.exit_code == 130, (r.output, r.exception)
+    assert r.stderr.strip() == (
+        f"interrupted (Ctrl-C): the state is saved in {ck}; run the same command again to resume"
+    )
