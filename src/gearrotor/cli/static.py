@@ -10,21 +10,11 @@ from typing import Annotated
 import typer
 
 from ..errors import ModelError
-from ..files import check_output, make_directory, write_text
+from ..files import check_output, write_text
 from .errors import cli_errors
 from .options import RPM, FormatOpt, OperatingPointOpt, SetOpt, check_format, check_operating_point
 
 __all__ = ["static_command"]
-
-
-def _check_dir(path: Path, field: str) -> None:
-    """An output directory that exists (or can be made) and is writable, before any run."""
-    check_output(path, "directory", field=field)
-    make_directory(path, field=field)
-
-
-def _write_atomic(path: Path, text: str) -> None:
-    write_text(path, text)
 
 
 def _slug(name: str) -> str:
@@ -71,7 +61,7 @@ def static_command(
             expected="[[operating_points]] entries in the model",
         )
     if plot is not None:
-        _check_dir(plot, "--plot")
+        check_output(plot, "directory", field="--plot")
     names = [p.name for p in train.operating_points] if all_ else [operating_point]
     w = None if speed is None else speed * RPM
     from ..assembly import assemble
@@ -94,7 +84,7 @@ def static_command(
         for r in results:
             plot_static_shafts(r, path=plot / f"static_{_slug(r.operating_point)}.png")
         plot_bearing_loads(results, path=plot / "bearing_loads.png")
-        _write_atomic(
+        write_text(
             plot / "static.json",
             json.dumps({"operating_points": [r.to_dict() for r in results]}, indent=1),
         )

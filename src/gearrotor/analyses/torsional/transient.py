@@ -58,7 +58,6 @@ from scipy.sparse.csgraph import connected_components
 
 from ...assembly import Assembly
 from ...errors import ModelError, SolverError
-from ...files import write_json, write_netcdf
 from ...model import Train
 from ..jit import configure_cache
 from .drive_laws import TorqueLaws, advance_states, check_load_paths, law_torque, pack_laws
@@ -283,6 +282,8 @@ class TorsionalTransient:
         ``os.replace``): ``.nc`` NetCDF (:meth:`to_xarray`, h5netcdf engine) or ``.json``
         (:meth:`to_dict`, the fatigue summary, and the histories of time, speed, drive and
         load torques, shaft, coupling torques and mesh forces)."""
+        from ...files import write_json, write_netcdf
+
         path = Path(path)
         if path.suffix.lower() == ".json":
             out = self.to_dict()
@@ -303,8 +304,10 @@ class TorsionalTransient:
                 ),
                 "mesh_force_N": dict(zip(tm.mesh_names, self.mesh_force.T.tolist(), strict=True)),
             }
-            return write_json(path, out, indent=None, allow_nan=False)
-        return write_netcdf(path, self.to_xarray(fatigue))
+            write_json(path, out, indent=None, allow_nan=False)
+        else:
+            write_netcdf(path, self.to_xarray(fatigue))
+        return path
 
     def table(self) -> str:
         rows = [

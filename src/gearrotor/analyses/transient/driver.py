@@ -49,23 +49,6 @@ def _warn_rotating_damping_speed(system: TransientSystem, speeds: NDArray) -> No
             )
 
 
-def _check_checkpoint_options(ck: Checkpoint) -> None:
-    if not (np.isfinite(ck.every) and ck.every >= 0):
-        raise ModelError(
-            "the wall-time interval of checkpoints must be finite and >= 0",
-            field="checkpoint.every",
-            value=ck.every,
-            expected="seconds >= 0 (0: at every chunk of the run)",
-        )
-    if ck.simulated is not None and not (np.isfinite(ck.simulated) and ck.simulated > 0):
-        raise ModelError(
-            "the simulated-time interval of checkpoints must be positive",
-            field="checkpoint.simulated",
-            value=ck.simulated,
-            expected="seconds > 0 (default: 5 % of t_end)",
-        )
-
-
 #: Largest record a transient allocates (bytes): the saved histories live in memory.
 MAX_RECORD_BYTES = 2 * 1024**3
 #: Most steps a transient takes (about a day at a few microseconds per step).
@@ -84,6 +67,23 @@ def _check_memory(n_rec: int, n_out: int, n_shafts: int, n_steps: int, t_end: fl
             value=t_end,
             expected=f"a record of at most {MAX_RECORD_BYTES / 1e9:.3g} GB (a shorter t_end, "
             "or a larger save interval)",
+        )
+
+
+def _check_checkpoint_options(ck: Checkpoint) -> None:
+    if not (np.isfinite(ck.every) and ck.every >= 0):
+        raise ModelError(
+            "the wall-time interval of checkpoints must be finite and >= 0",
+            field="checkpoint.every",
+            value=ck.every,
+            expected="seconds >= 0 (0: at every chunk of the run)",
+        )
+    if ck.simulated is not None and not (np.isfinite(ck.simulated) and ck.simulated > 0):
+        raise ModelError(
+            "the simulated-time interval of checkpoints must be positive",
+            field="checkpoint.simulated",
+            value=ck.simulated,
+            expected="seconds > 0 (default: 5 % of t_end)",
         )
 
 
