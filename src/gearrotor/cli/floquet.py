@@ -79,7 +79,7 @@ def floquet_command(
 
     check_format(format)
     if plot is not None:
-        check_output(plot, "file", field="--plot")
+        check_output(plot, "file", field="--plot", parents=True)
     if n < 1:
         raise ModelError("at least one exponent", field="--n", value=n, expected="≥ 1")
     train = load_model(model, parse_overrides(set_))
@@ -169,5 +169,6 @@ def _plot(cases, n_speeds: int, kas: list[float | None], path: Path) -> None:
     ax.set_ylabel("largest Floquet growth rate (1/s)")
     ax.set_title("Parametric stability (positive: unstable)")
     ax.grid(alpha=0.3)
+    path.parent.mkdir(parents=True, exist_ok=True)
     save_figure(fig, path, dpi=120)
     plt.close(fig)

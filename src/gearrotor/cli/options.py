@@ -17,6 +17,7 @@ import numpy as np
 import typer
 
 from ..errors import ModelError
+from ..files import check_output
 
 __all__ = [
     "RPM",
@@ -143,7 +144,6 @@ def operating_range_from_options(train, operating_range: str | None, mcs: float 
 
 def check_png(path: Path | None, field: str = "--plot") -> None:
     """A PNG output path in an existing, writable folder (checked before anything runs)."""
-    from ..files import check_output
 
     if path is None:
         return
@@ -151,7 +151,7 @@ def check_png(path: Path | None, field: str = "--plot") -> None:
         raise ModelError(
             "the figure is written as PNG", field=field, value=str(path), expected="a .png file"
         )
-    check_output(path, "file", field=field)
+    check_output(path, "file", field=field, parents=True)
 
 
 #: Most speeds of a sweep (``--n-speeds``): each is an eigenvalue or a linear solve.
