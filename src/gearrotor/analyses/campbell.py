@@ -171,6 +171,7 @@ def campbell(
     frequency_weight: float = 0.2,
     keep_results: bool = False,
     method: str = "sparse",
+    operating_point=None,
     reduced: bool = True,
     residual_tol: float = 1e-4,
 ) -> CampbellResult:
@@ -198,7 +199,16 @@ def campbell(
     ``method`` is the full solver: ``"sparse"`` (default) finds only the eigenvalues within the
     circle of radius 1.5×max_frequency about a small negative shift by shift-invert Arnoldi,
     ``"dense"`` computes the full spectrum (see :func:`~gearrotor.analyses.modal.modal`).
+
+    ``operating_point`` (name or :class:`~gearrotor.model.OperatingPoint`): fluid-film bearings
+    at the coefficients of the point's static loads at every speed, the point's ``hold``
+    (power or torque) kept over the sweep (:func:`~gearrotor.analyses.static.at_operating_point`).
     """
+    if operating_point is not None:
+        # fluid-film bearings at the point's static loads at every speed (issue 11)
+        from .static.operating import model_at_operating_point
+
+        model = model_at_operating_point(model, operating_point, np.asarray(speeds, float))[0]
     asm = model if isinstance(model, Assembly) else assemble(model)
     speeds = np.asarray(speeds, float)
     orders = default_orders(asm, extra_orders) if orders is None else orders

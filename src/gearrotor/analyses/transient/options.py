@@ -109,11 +109,24 @@ class Save:
 
 @dataclass(frozen=True)
 class Checkpoint:
-    """Write the state to ``path`` every ``every`` seconds of wall time (atomic replace) and
-    resume from it when it exists and matches the run (model, method, step)."""
+    """Write the state of the run to ``path`` (atomically) every ``simulated`` seconds of
+    simulated time (default: 5 % of ``t_end``, so a killed run loses at most a twentieth) and at
+    the latest every ``every`` seconds of wall time, whichever comes first; resume from it when
+    it exists and matches the run (model, method, step, end time, what is saved).
+
+    The run advances in chunks of about 0.05 s of simulated time; an interval longer than that
+    is rounded to whole chunks, a shorter one to whole save intervals (:class:`Save`). A resumed
+    run is bit-identical to an uninterrupted run with the same checkpoint settings (and to a run
+    without checkpoints when the interval is at least a chunk).
+
+    A checkpoint holds the state and everything recorded so far (its size grows to that of the
+    result). It is removed when the run ends. A file that cannot be read (truncated, not a
+    checkpoint) is an input error naming it; a checkpoint of another run is ignored and replaced.
+    """
 
     path: Path
     every: float = 60.0
+    simulated: float | None = None
 
 
 def excitation_frequency(system: TransientSystem) -> float:
