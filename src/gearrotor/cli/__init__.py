@@ -18,6 +18,7 @@ command             module                      calls
 ``ucs``             :mod:`.ucs`                 :func:`gearrotor.analyses.ucs.ucs_map`
 ``stability``       :mod:`.stability`           :func:`gearrotor.analyses.audit.stability_audit`
 ``study ...``       :mod:`.study`               :mod:`gearrotor.studies`
+``torsional ...``   :mod:`.torsional`           :mod:`gearrotor.analyses.torsional`
 ==================  ==========================  ==============================================
 
 Shared options (``--set``, ``--format``, rpm) are in :mod:`.options`; every command maps errors
@@ -35,13 +36,14 @@ import typer
 
 from .bearing import bearing_cli
 from .campbell import campbell_command
-from .errors import EXIT_CODES_HELP
+from .errors import EXIT_CODES_HELP, OneLineGroup
 from .floquet import floquet_command
 from .modal import modal_command
 from .report import report_command
 from .stability import stability_command
 from .static import static_command
 from .study import study_app
+from .torsional import torsional_app
 from .transient import plot_command, transient_command
 from .ucs import ucs_command
 from .unbalance import unbalance_command
@@ -55,6 +57,7 @@ app = typer.Typer(
     no_args_is_help=True,
     add_completion=False,
     pretty_exceptions_enable=False,
+    cls=OneLineGroup,  # parser errors are one line, like every other error
 )
 
 app.command("modal", epilog=EXIT_CODES_HELP)(modal_command)
@@ -69,6 +72,7 @@ app.command("floquet", epilog=EXIT_CODES_HELP)(floquet_command)
 app.command("ucs", epilog=EXIT_CODES_HELP)(ucs_command)
 app.command("stability", epilog=EXIT_CODES_HELP)(stability_command)
 app.add_typer(study_app, name="study")
+app.add_typer(torsional_app, name="torsional")
 
 
 def main() -> None:

@@ -10,14 +10,18 @@ from typing import Annotated
 import typer
 
 from ..errors import ModelError
+from ..files import check_output
 from .errors import cli_errors
 from .options import (
+    MAX_SPEEDS,
     RPM,
     FormatOpt,
     OperatingPointOpt,
     SetOpt,
     check_format,
     check_operating_point,
+    count,
+    rpm,
     speed_grid,
 )
 
@@ -27,10 +31,17 @@ __all__ = ["campbell_command"]
 @cli_errors()
 def campbell_command(
     model: Annotated[Path, typer.Argument(help="TOML model file")],
-    min_speed: Annotated[float, typer.Option(help="rpm")] = 0.0,
-    max_speed: Annotated[float | None, typer.Option(help="rpm (default 1.25 × nominal)")] = None,
-    n_speeds: Annotated[int, typer.Option(help="number of speeds")] = 60,
-    max_frequency: Annotated[float | None, typer.Option(help="rpm (default 3 × max speed)")] = None,
+    min_speed: Annotated[float, typer.Option(parser=rpm(0), help="rpm")] = 0.0,
+    max_speed: Annotated[
+        float | None, typer.Option(parser=rpm(0, strict=True), help="rpm (default 1.25 × nominal)")
+    ] = None,
+    n_speeds: Annotated[
+        int, typer.Option(parser=count(2, MAX_SPEEDS), help="number of speeds")
+    ] = 60,
+    max_frequency: Annotated[
+        float | None,
+        typer.Option(parser=rpm(0, strict=True), help="rpm (default 3 × max speed)"),
+    ] = None,
     orders: Annotated[
         str | None,
         typer.Option(help="extra excitation orders of the reference shaft, e.g. '10,42'"),
@@ -45,6 +56,8 @@ def campbell_command(
     from ..io import load_model, parse_overrides
 
     check_format(format)
+    if plot is not None:
+        check_output(plot, "file", field="--plot")
     train = load_model(model, parse_overrides(set_))
     check_operating_point(train, operating_point)
     hi = max_speed if max_speed is not None else 1.25 * abs(train.speed) / RPM

@@ -17,7 +17,7 @@ import typer
 
 from ..errors import ModelError
 from .errors import cli_errors
-from .options import RPM, OperatingPointOpt, SetOpt, check_operating_point
+from .options import RPM, OperatingPointOpt, SetOpt, check_operating_point, rpm
 
 __all__ = ["report_command"]
 
@@ -35,17 +35,22 @@ def report_command(
         str,
         typer.Option(
             help="comma-separated: modal, campbell, unbalance, audit (the API 617 lateral audit: "
-            "needs the model's operating range, MCS and [api_audit]), operating_points "
-            "(transient: give --transient)"
+            "needs the model's operating range, MCS and [api_audit]), operating_points, "
+            "torsional (the torsional audit; not by default); transient: give --transient"
         ),
     ] = "modal,campbell,unbalance",
     speed: Annotated[
         float | None,
-        typer.Option(help="operating speed of the reference shaft, rpm (default: the model's)"),
+        typer.Option(
+            parser=rpm(), help="operating speed of the reference shaft, rpm (default: the model's)"
+        ),
     ] = None,
     max_frequency: Annotated[
         float | None,
-        typer.Option(help="highest damped frequency of modes and Campbell, cpm (default 5×speed)"),
+        typer.Option(
+            parser=rpm(0, strict=True),
+            help="highest damped frequency of modes and Campbell, cpm (default 5×speed)",
+        ),
     ] = None,
     api: Annotated[
         bool,

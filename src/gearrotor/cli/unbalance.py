@@ -10,8 +10,10 @@ from typing import Annotated
 import numpy as np
 import typer
 
+from ..files import check_output
 from .errors import cli_errors
 from .options import (
+    MAX_SPEEDS,
     RPM,
     FormatOpt,
     McsOpt,
@@ -20,7 +22,9 @@ from .options import (
     SetOpt,
     check_format,
     check_operating_point,
+    count,
     operating_range_from_options,
+    rpm,
     speed_grid,
 )
 
@@ -30,9 +34,13 @@ __all__ = ["unbalance_command"]
 @cli_errors()
 def unbalance_command(
     model: Annotated[Path, typer.Argument(help="TOML model file")],
-    min_speed: Annotated[float, typer.Option(help="rpm")] = 100.0,
-    max_speed: Annotated[float | None, typer.Option(help="rpm (default 1.5 × nominal)")] = None,
-    n_speeds: Annotated[int, typer.Option(help="number of speeds")] = 400,
+    min_speed: Annotated[float, typer.Option(parser=rpm(0), help="rpm")] = 100.0,
+    max_speed: Annotated[
+        float | None, typer.Option(parser=rpm(0, strict=True), help="rpm (default 1.5 × nominal)")
+    ] = None,
+    n_speeds: Annotated[
+        int, typer.Option(parser=count(2, MAX_SPEEDS), help="number of speeds")
+    ] = 400,
     operating_range: OperatingRangeOpt = None,
     mcs: McsOpt = None,
     api: Annotated[
@@ -53,6 +61,8 @@ def unbalance_command(
     from ..io import load_model, parse_overrides
 
     check_format(format)
+    if plot is not None:
+        check_output(plot, "directory", field="--plot")
     train = load_model(model, parse_overrides(set_))
     check_operating_point(train, operating_point)
     # --operating-range / --mcs override the model's; the response takes the range from the

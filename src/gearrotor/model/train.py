@@ -359,7 +359,47 @@ class Train(Spec):
             ri, rj = ri / np.cos(at), rj / np.cos(at)
         return ri, rj
 
+    def _named_groups(self) -> dict[str, list[tuple[str, object]]]:
+        """The named components by kind: {kind: [(field, component), ...]}; a kind's names
+        label its outputs (result columns, file names), so they must be unique within it."""
+        groups: dict[str, list[tuple[str, object]]] = {}
+        for gname in (
+            "bearings",
+            "seals",
+            "thrust_bearings",
+            "cross_couplings",
+            "couplings",
+            "meshes",
+            "probes",
+            "torques",
+        ):
+            items = getattr(self, gname, None) or []
+            groups[gname] = [(f"{gname}[{k}]", it) for k, it in enumerate(items)]
+        groups["disks"] = [
+            (f"shafts[{i}].disks[{k}]", d)
+            for i, s in enumerate(self.shafts)
+            for k, d in enumerate(s.disks)
+        ]
+        return groups
+
+    def _check_names(self) -> None:
+        for items in self._named_groups().values():
+            seen: dict[str, str] = {}
+            for field, it in items:
+                name = getattr(it, "name", None)
+                if name is None:
+                    continue
+                if name in seen:
+                    raise ModelError(
+                        f"duplicate name: {seen[name]}.name is also {name!r}",
+                        field=f"{field}.name",
+                        value=name,
+                        expected="a name not used by another component of this kind",
+                    )
+                seen[name] = field
+
     def _check_nodes(self) -> None:
+        self._check_names()
         groups = [
             ("bearings", self.bearings),
             ("thrust_bearings", self.thrust_bearings),

@@ -13,6 +13,7 @@ from .campbell import CampbellSection
 from .modes import ModesSection
 from .stability import StabilitySection
 from .static import OperatingPointsSection
+from .torsional import TorsionalSection
 from .transient import TransientSection
 from .unbalance import UnbalanceSection
 
@@ -26,5 +27,6 @@ SECTIONS: tuple[Section, ...] = (
     AuditSection(),
     OperatingPointsSection(),
     BearingsSection(),
+    TorsionalSection(),
     TransientSection(),
 )
