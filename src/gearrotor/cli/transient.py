@@ -18,7 +18,15 @@ import typer
 from ..errors import ModelError
 from ..files import check_output, remove_stale_temporaries
 from .errors import cli_errors
-from .options import FormatOpt, SetOpt, check_format, choice, duration
+from .options import (
+    FormatOpt,
+    OperatingPointOpt,
+    SetOpt,
+    check_format,
+    check_operating_point,
+    choice,
+    duration,
+)
 from .study import EXIT_INTERRUPTED
 
 __all__ = ["transient_command", "plot_command"]
@@ -55,14 +63,15 @@ def transient_command(
     ] = True,
     progress: Annotated[bool, typer.Option(help="progress on stderr")] = True,
     initial: Annotated[
-        str,
+        str | None,
         typer.Option(
             "--initial",
             parser=choice("zero", "static", "rest"),
             help="'zero', 'static' (deflection under the torques) or 'rest' (standstill: a "
-            "start-up by the model's torsional drives)",
+            "start-up by the model's torsional drives); default 'zero', or 'static' with "
+            "--operating-point",
         ),
-    ] = "zero",
+    ] = None,
     checkpoint: Annotated[
         Path | None,
         typer.Option(
@@ -87,6 +96,7 @@ def transient_command(
             help="and at the latest every this many seconds of wall time",
         ),
     ] = 60.0,
+    operating_point: OperatingPointOpt = None,
 ) -> None:
     """Nonlinear transient (time-varying mesh, backlash, free speed) of a train."""
     from ..analyses.transient import (
@@ -95,6 +105,7 @@ def transient_command(
         build_system,
         rk4_max_step,
         transient,
+        transient_at_operating_point,
     )
     from ..analyses.transient.plots import standard_figures
 
@@ -113,9 +124,16 @@ def transient_command(
         from ..io import load_model, parse_overrides
 
         train = load_model(model, parse_overrides(set_))
+        check_operating_point(train, operating_point)
         if method == "rk4":
             if dt is None:
-                dt = 0.95 * rk4_max_step(build_system(train))
+                if operating_point is None:
+                    system = build_system(train)
+                else:
+                    run, extra = transient_at_operating_point(train, operating_point)
+                    extra.pop("name")
+                    system = build_system(run, **extra)
+                dt = 0.95 * rk4_max_step(system)
                 unit = 10.0 ** (np.floor(np.log10(dt)) - 1)
                 dt = float(f"{np.floor(dt / unit) * unit:.2g}")  # 2 digits, rounded down
             integ = RK4(dt=dt)
@@ -136,6 +154,7 @@ def transient_command(
                 progress=progress,
                 initial=initial,
                 checkpoint=ck,
+                operating_point=operating_point,
             )
         except KeyboardInterrupt:
             saved = checkpoint is not None and checkpoint.exists()

@@ -15,7 +15,7 @@ Figures of a result: :mod:`.plots`; spectra and order amplitudes: :mod:`gearroto
 """
 
 from ...signals import amplitude_at, order_amplitudes, spectrum
-from .driver import transient
+from .driver import transient, transient_at_operating_point
 from .equations import TransientSystem, build_system, mesh_damping_from_ratio, static_state
 from .mesh import MeshLaw, backlash_h, fourier_coefficients, stiffness
 from .options import RK4, Checkpoint, ModalRK4, Save
@@ -43,4 +43,5 @@ __all__ = [
     "static_state",
     "stiffness",
     "transient",
+    "transient_at_operating_point",
 ]

@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import NDArray
 
-from ...assembly import Assembly
+from ...assembly import Assembly, assemble
 from ...errors import ModelError, SolverError
 from ...model import Train
 from . import kernels as kn
@@ -28,7 +28,67 @@ from .options import RK4, Checkpoint, ModalRK4, Save, excitation_frequency
 from .prepare import _prepare_modal, _prepare_physical
 from .results import TransientResult, build_result
 
-__all__ = ["transient"]
+__all__ = ["transient", "transient_at_operating_point"]
+
+
+def transient_at_operating_point(model: Train | Assembly, operating_point) -> tuple[Train, dict]:
+    """The train a transient runs at an operating point, and the constant loads
+    (:func:`.equations.build_system` keywords ``constant_force``, ``bearing_preload``; and
+    ``name``, the point's).
+
+    * the train at the point (:func:`~gearrotor.analyses.static.at_operating_point`): fluid-film
+      bearings at the coefficients of the point's static loads (held at every speed), meshes on
+      the flank the torque loads; its speed the point's;
+    * the point's drive torque at its drive node and the reacting load torque at its load node
+      (from the static analysis) added to the model's torques, so the train runs at the load;
+    * constant loads: the weight (consistent mass times the gravity field), the static forces
+      and moments, and on each fluid-film journal the constant part of its film force
+      linearised about the static equilibrium, ``F = −W_s − K (d − d_s)`` (``W_s`` the static
+      load, ``d_s`` the static journal position): the journals carry the static load through
+      the run, and the static state of the point is an equilibrium of the transient.
+    """
+    from ..static import static
+    from ..static.analysis import _gravity_field
+    from ..static.operating import model_at_operating_point
+
+    if not isinstance(model, (Train, Assembly)):
+        raise TypeError("transient(operating_point=...) takes a Train or its Assembly")
+    train = model if isinstance(model, Train) else model.train
+    op = train.operating_point(operating_point)
+    at, w = model_at_operating_point(train, operating_point)
+    st = static(train, op)
+    data = at.model_dump()
+    data["speed"] = w
+    torques = list(data.get("torques") or [])
+    if op.drive is not None and (op.power or op.torque):
+        torques.append({"shaft": op.drive.shaft, "node": op.drive.node, "value": st.drive_torque})
+        torques.append({"shaft": op.load.shaft, "node": op.load.node, "value": st.load_torque})
+    data["torques"] = torques
+    run = Train.model_validate(data)
+    asm0 = assemble(train)
+    asm = assemble(run)
+    f = asm0.M @ _gravity_field(asm0, op)
+    for j, sf in enumerate(op.forces):
+        si, node = train.node_index(sf, f"operating_point.forces[{j}]")
+        f[asm0.node_offset[si][node] + np.arange(6)] += np.concatenate([sf.force, sf.moment])
+    preload = np.zeros((len(asm.bearings), 2))
+    for k, (spec, info) in enumerate(zip(train.bearings, asm.bearings, strict=True)):
+        if spec.fluid_film is None:
+            continue
+        d = st.q[info.dofs].copy()
+        if info.support_dofs is not None:
+            d -= st.q[info.support_dofs]
+        kb = info.element.K(asm.shaft_speeds(w)[info.shaft])
+        g = kb @ d - st.bearings[k].force[:2]  # −W_s + K d_s, on the journal
+        preload[k] = g
+        f[info.dofs] += g
+        if info.support_dofs is not None:
+            f[info.support_dofs] -= g
+    return run, {
+        "constant_force": f if f.any() else None,
+        "bearing_preload": preload if preload.any() else None,
+        "name": op.name,
+    }
 
 
 def _warn_rotating_damping_speed(system: TransientSystem, speeds: NDArray) -> None:
@@ -109,13 +169,14 @@ def transient(
     reactions: bool = True,
     initial_q: NDArray | None = None,
     initial_qdot: NDArray | None = None,
-    initial: str = "zero",
+    initial: str | None = None,
     stiffness_tables: dict[int, tuple[NDArray, NDArray]] | None = None,
     transmission_error: dict[int, NDArray] | None = None,
     back_flank: str = "same",
     blowup: float = 0.05,
     progress: bool = False,
     checkpoint: Checkpoint | None = None,
+    operating_point=None,
 ) -> TransientResult:
     """Nonlinear transient of a train from t = 0 to ``t_end`` (s).
 
@@ -128,7 +189,8 @@ def transient(
     frozen_speed : keep every θz at nominal rigid rotation (constant speed, SPEC's linear case)
     reactions : include the reaction torques of the gyroscopic and unbalance θ̈ terms (the
         Lagrangian, energy-consistent form); False gives the dissertation's form
-    initial : ``"zero"`` displacement, or ``"static"``: the static deflection under the external
+    initial : ``"zero"`` displacement (the default without an operating point), or
+        ``"static"``: the static deflection under the external
         torques at t = 0 (:func:`.equations.static_state`); both at the nominal speeds;
         ``"rest"``: zero displacement and speed (a start-up by the model's ``[torsional]``
         drives, which act as in :func:`~gearrotor.analyses.torsional.torsional_transient`)
@@ -140,6 +202,11 @@ def transient(
         divergent (non-finite values always are)
     progress : print progress to stderr
     checkpoint : :class:`Checkpoint` for long runs (resume when the file matches)
+    operating_point : name or :class:`~gearrotor.model.OperatingPoint` of a Train model: run at
+        the point (:func:`transient_at_operating_point`): its speed, fluid-film bearings at the
+        coefficients of its static loads, meshes on the loaded flank, its drive and load torques
+        added to the model's, its weight and static forces (and the journals' static film
+        loads) as constant loads; ``initial`` defaults to ``"static"``, the point's static state
 
     Returns a :class:`~.results.TransientResult`.
     """
@@ -155,8 +222,16 @@ def transient(
     if isinstance(integ, RK4) and not integ.dt > 0:
         raise ModelError("the time step must be positive", field="dt", value=integ.dt)
     save = save or Save()
+    extra = {}
+    op_name = ""
+    if operating_point is not None:
+        model, extra = transient_at_operating_point(model, operating_point)
+        op_name = f"|op={extra.pop('name')}"
+        initial = "static" if initial is None else initial
+    initial = "zero" if initial is None else initial
     system = build_system(
         model,
+        **extra,
         frozen_speed=frozen_speed,
         reactions=reactions,
         initial_q=initial_q,
@@ -232,7 +307,8 @@ def transient(
         system.train,
         prep.kind,
         dt,
-        f"{t_end}|{save_every}|{frozen_speed}|{reactions}|{integ!r}|{initial}|{back_flank}",
+        f"{t_end}|{save_every}|{frozen_speed}|{reactions}|{integ!r}|{initial}|{back_flank}"
+        + op_name,
     )
     ck = _read_checkpoint(checkpoint.path, fp) if checkpoint is not None else None
     if ck is not None:

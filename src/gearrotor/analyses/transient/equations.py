@@ -94,6 +94,12 @@ class TransientSystem:
     bearing_shaft: NDArray  # (n_brg,)
     bearing_dynamic: NDArray  # (n_brg,) bool: speed-dependent (applied as a force)
     reactions: bool = True
+    # constant loads (n,) over active DOFs (an operating point's weight, static forces and the
+    # fluid-film journals' static load), or None; applied like constant torques
+    constant_force: NDArray | None = None
+    # (n_brg, 2) constant part of each journal's force, N on the journal (an operating point's
+    # linearised film force about its static equilibrium), or None
+    bearing_preload: NDArray | None = None
 
     @property
     def n(self) -> int:
@@ -185,6 +191,8 @@ def build_system(
     stiffness_tables: dict[int, tuple[NDArray, NDArray]] | None = None,
     transmission_error: dict[int, NDArray] | None = None,
     back_flank: str = "same",
+    constant_force: NDArray | None = None,
+    bearing_preload: NDArray | None = None,
 ) -> TransientSystem:
     """Resolve a train to the arrays of the transient equations.
 
@@ -192,6 +200,9 @@ def build_system(
         are then still in the state but their accelerations are zero.
     initial_q : (n_dof,) global initial displacement (makes its DOFs active).
     stiffness_tables, transmission_error, back_flank : see :func:`.mesh.mesh_laws`.
+    constant_force : (n_dof,) global constant loads (an operating point's static loads), N and
+        N·m; bearing_preload : (n_brg, 2) their part that is a journal's film force (reported
+        with the bearing forces).
     """
     asm = model if isinstance(model, Assembly) else assemble(model)
     train = asm.train
@@ -268,6 +279,11 @@ def build_system(
                 expected=f"({n_all},) global DOFs",
             )
         forced |= initial_q != 0
+    if constant_force is not None:
+        constant_force = np.asarray(constant_force, float)
+        if constant_force.shape != (n_all,):
+            raise ValueError(f"constant_force must have shape ({n_all},)")
+        forced |= constant_force != 0
     if extra_r:
         r = np.concatenate(extra_r)
         c = np.concatenate(extra_c)
@@ -347,6 +363,8 @@ def build_system(
         bearing_shaft=np.array([b.shaft for b in asm.bearings], int),
         bearing_dynamic=np.array([b.element.speed_dependent for b in asm.bearings], bool),
         reactions=reactions,
+        constant_force=None if constant_force is None else constant_force[active],
+        bearing_preload=None if bearing_preload is None else np.asarray(bearing_preload, float),
     )
     if any(law.damping_ratio is not None for law in laws):
         resolved = []
@@ -385,7 +403,8 @@ def mesh_damping_from_ratio(
 
 
 def static_state(system: TransientSystem) -> tuple[NDArray, float]:
-    """Static deflection under the external torques at t = 0 (the users' usual initial state).
+    """Static deflection under the external torques at t = 0 (the users' usual initial state),
+    and the constant loads of an operating point (weight, static forces, journal loads).
 
     Solves ``K q + M r α = f``, ``rᵀ M q = 0``: the deflection in a frame that follows the rigid
     rotation r of the train (θz_s = ratio_s·α) with its uniform angular acceleration α (rad/s²,
@@ -405,6 +424,8 @@ def static_state(system: TransientSystem) -> tuple[NDArray, float]:
         if tq.speed_exponent:
             val *= (abs(system.nominal_speeds[sh]) / tq.reference_speed) ** tq.speed_exponent
         f[dof] += val
+    if system.constant_force is not None:
+        f += system.constant_force
     if not f.any():
         return np.zeros(system.n), 0.0
     M, K, _ = system.linear_matrices(meshes=False)

@@ -69,6 +69,8 @@ def _force_dofs(system: TransientSystem) -> NDArray:
     idx = set(system.mesh_dofs[system.mesh_dofs >= 0].tolist())
     idx |= set(system.unbalance_dofs.ravel().tolist())
     idx |= set(system.torque_dof.tolist())
+    if system.constant_force is not None:
+        idx |= set(np.flatnonzero(system.constant_force).tolist())
     idx |= set(_drive_laws(system)[1].tolist())
     for j in range(len(system.bearing_dofs)):
         if system.bearing_dynamic[j]:
@@ -136,8 +138,15 @@ def _pack_forces(system: TransientSystem, sel: NDArray, *, modal: bool, bearing_
             t_time.extend(tq.time)
             t_vals.extend(tq.values)
         t_ptr.append(len(t_time))
+    t_dof = system.torque_dof
+    if system.constant_force is not None:  # constant loads: constant "torques" on their DOFs
+        c_dof = np.flatnonzero(system.constant_force)
+        for d in c_dof:
+            t_par.append([system.constant_force[d], 0.0, 1.0])
+            t_ptr.append(len(t_time))
+        t_dof = np.concatenate([np.asarray(t_dof, np.int64), c_dof])
     torq = (
-        at(system.torque_dof).astype(np.int64),
+        at(t_dof).astype(np.int64),
         np.array(t_par, float).reshape(-1, 3),
         np.array(t_ptr, np.int64),
         np.array(t_time + [0.0], float),

@@ -211,7 +211,9 @@ def _prepare_modal(system: TransientSystem, integ: ModalRK4, out: NDArray) -> _P
         # torques load the mesh through its compliance; with backlash the mesh force drops to
         # zero in separation, a rank-one change along w whose response the modes plus the
         # static shape under w span (see ModalRK4)
-        static = len(system.torque_dof) + len(l_dof) > 0 or backlash
+        static = (
+            len(system.torque_dof) + len(l_dof) > 0 or backlash or system.constant_force is not None
+        )
     # drives and loads get static correction shapes as the external torques do
     torqued = replace(system, torque_dof=np.concatenate([system.torque_dof, l_dof]))
     shapes = _static_shapes(torqued, M, K) if static else np.zeros((system.n, 0))

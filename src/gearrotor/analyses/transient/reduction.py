@@ -28,6 +28,8 @@ def _static_shapes(system, M, K) -> NDArray:
         b = np.zeros(system.n)
         b[dof] = 1.0
         pats.append(b)
+    if getattr(system, "constant_force", None) is not None:
+        pats.append(np.asarray(system.constant_force, float))
     if not pats:
         return np.zeros((system.n, 0))
     A = np.block([[K, Mr[:, None]], [Mr[None, :], np.zeros((1, 1))]])

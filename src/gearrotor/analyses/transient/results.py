@@ -552,6 +552,9 @@ def build_result(
             vy = vy - hist(rv, b.support_dofs[1])
         fx = -(c[:, 0] * x + c[:, 1] * y + c[:, 4] * vx + c[:, 5] * vy)
         fy = -(c[:, 2] * x + c[:, 3] * y + c[:, 6] * vx + c[:, 7] * vy)
+        if system.bearing_preload is not None:  # the journal's static film load
+            fx = fx + system.bearing_preload[j, 0]
+            fy = fy + system.bearing_preload[j, 1]
         bforce[:, j, 0], bforce[:, j, 1] = fx, fy
         whirl_names.append(f"bearing:{b.name}")
         whirl.append(fx * hist(rv, b.dofs[0]) + fy * hist(rv, b.dofs[1]))
