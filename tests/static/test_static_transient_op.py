@@ -151,3 +151,34 @@ def test_cli_transient_operating_point(model_file):
     assert bad.exit_code == 2
     assert len(bad.stderr.strip().splitlines()) == 1, bad.stderr
     assert "--operating-point" in bad.stderr and "NOPE" in bad.stderr
+
+
+def test_cli_ucs_operating_point_bearing_curves(model_file, examples):
+    """``gearrotor ucs --operating-point``: each journal's Kxx/Kyy at each of its speeds are
+    those of the standalone bearing solver under the static load the train puts on it at that
+    speed (the torque held); to 1e-6, the journal equilibrium's tolerance (1e-9 in force)
+    amplified by the coefficients' sensitivity to the eccentricity."""
+    from gearrotor.bearings import coefficients, equilibrium, load_bearing
+
+    # the bearing curves do not depend on the stiffness sweep: the smallest one keeps it quick
+    r = invoke(
+        "ucs", model_file, "--operating-point", "P", "--format", "json",
+        "--n-points", "2", "--n-modes", "1",
+    )  # fmt: skip
+    assert r.exit_code == 0, r.output
+    curves = json.loads(r.stdout)["bearings"]
+    train = load_model(model_file)
+    case = load_bearing(examples / "bearings" / "plain_ld1.toml")
+    for k in (0, 1):
+        c = curves[k]
+        assert len(c["speeds_rpm"]) == 3
+        for rpm, kxx, kyy in zip(c["speeds_rpm"], c["kxx_N_per_m"], c["kyy_N_per_m"], strict=True):
+            w = rpm * np.pi / 30
+            load = static(train, "P", speed=w).bearings[k].force[:2]
+            eq = equilibrium(case.bearing, tuple(load), w, options=case.options)
+            co = coefficients(case.bearing, eq, options=case.options)
+            assert kxx == pytest.approx(co.K[0, 0], rel=1e-6)
+            assert kyy == pytest.approx(co.K[1, 1], rel=1e-6)
+    bad = invoke("ucs", model_file, "--operating-point", "NOPE")
+    assert bad.exit_code == 2
+    assert len(bad.stderr.strip().splitlines()) == 1, bad.stderr

@@ -422,6 +422,21 @@ def _default_stiffness(asm: Assembly, n: int) -> NDArray:
     return np.logspace(lo, hi, n)
 
 
+def _at_operating_point(model, operating_point) -> Train:
+    """The train with its fluid-film bearings tabulated at the operating point's static loads
+    at the reference speeds of their own ``speeds``."""
+    from .static.operating import model_at_operating_point
+
+    train = model if isinstance(model, Train) else model.train
+    layout = train.layout()
+    sweep: set[float] = set()
+    for b in train.bearings:
+        if b.fluid_film is not None:
+            ratio = abs(layout.shafts[train.shaft_index(b.shaft, "")].speed_ratio)
+            sweep |= {abs(float(w)) / ratio for w in b.fluid_film.speeds}
+    return model_at_operating_point(train, operating_point, sorted(sweep) or None)[0]
+
+
 def _bearing_curves(asm: Assembly) -> tuple[BearingCurve, ...]:
     names = [s.name for s in asm.train.shafts]
     out = []
@@ -513,6 +528,7 @@ def ucs_map(
     min_share: float = 0.2,
     method: str = "auto",
     rigid_tol: float = 1e-2,
+    operating_point=None,
 ) -> UCSResult:
     """Undamped critical speed map (see the module docstring).
 
@@ -529,7 +545,13 @@ def ucs_map(
         Arnoldi for the lowest, asking for more until ``n_modes`` per shaft are found); auto:
         dense up to ``SPARSE_FROM`` DOFs
     rigid_tol : rad/s, frequencies below it are rigid-body motions (free torsion of the train)
+    operating_point : name or :class:`~gearrotor.model.OperatingPoint` (issue 11): the
+        fluid-film bearings' Kxx/Kyy curves at the point's static loads, at each of the speeds
+        their ``fluid_film.speeds`` list, the point's ``hold`` (power or torque) kept
+        (:func:`~gearrotor.analyses.static.at_operating_point`)
     """
+    if operating_point is not None:
+        model = _at_operating_point(model, operating_point)
     asm = model if isinstance(model, Assembly) else assemble(model)
     train = asm.train
     if not train.bearings:

@@ -14,9 +14,11 @@ from .options import (
     RPM,
     FormatOpt,
     McsOpt,
+    OperatingPointOpt,
     OperatingRangeOpt,
     SetOpt,
     check_format,
+    check_operating_point,
     check_png,
     choice,
     count,
@@ -73,6 +75,7 @@ def ucs_command(
         Path | None, typer.Option(help="write the map (one panel per shaft) to this PNG")
     ] = None,
     set_: SetOpt = None,
+    operating_point: OperatingPointOpt = None,
 ) -> None:
     """Undamped critical speed map: criticals of every shaft against the bearing stiffness,
     the bearings' Kxx/Kyy over speed, their intersections and the rigid-support criticals."""
@@ -87,6 +90,7 @@ def ucs_command(
         )
     train = load_model(model, parse_overrides(set_))
     train = operating_range_from_options(train, operating_range, mcs)
+    check_operating_point(train, operating_point)
     lo = _stiffness(min_stiffness, "--min-stiffness")
     hi = _stiffness(max_stiffness, "--max-stiffness")
     if (lo is None) != (hi is None):
@@ -109,6 +113,7 @@ def ucs_command(
         n_stiffness=n_points,
         n_modes=n_modes,
         method=method,
+        operating_point=operating_point,
     )
     if format == "json":
         typer.echo(json.dumps({"model": train.name, **res.to_dict()}, indent=1))
