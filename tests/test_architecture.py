@@ -176,6 +176,7 @@ LAYERS = {
     "signals": 0,
     "elements": 1,
     "inputs": 1,
+    "files": 1,
     "model": 1,
     "bearings": 2,
     "io": 2,

@@ -27,6 +27,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import ModelError
+from ..files import atomic_file, write_text
 from .equilibrium import Equilibrium, equilibrium
 from .film import SolverOptions, _Evaluator, _lever_scale, dof_names
 from .geometry import Bearing, TiltingPadBearing
@@ -372,7 +373,7 @@ def save_table(table: BearingTable, path: str | Path) -> Path:
     path = Path(path)
     cols = ["speed_rpm", *COEFFICIENT_NAMES]
     if path.suffix.lower() == ".csv":
-        with path.open("w", newline="") as fh:
+        with atomic_file(path, "w", encoding="utf-8", newline="") as fh:
             fh.write(
                 f"# bearing: {table.name}; load Fx,Fy = {table.load[0]!r},{table.load[1]!r} N\n"
             )
@@ -390,7 +391,7 @@ def save_table(table: BearingTable, path: str | Path) -> Path:
         for c in cols:
             vals = ", ".join(repr(float(v)) for v in getattr(table, c))
             lines.append(f"{c} = [{vals}]")
-        path.write_text("\n".join(lines) + "\n")
+        write_text(path, "\n".join(lines) + "\n")
     else:
         raise ModelError(
             "unknown table format", field="path", value=str(path), expected="a .csv or .toml file"

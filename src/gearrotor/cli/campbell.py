@@ -10,6 +10,7 @@ from typing import Annotated
 import typer
 
 from ..errors import ModelError
+from ..files import check_output
 from .errors import cli_errors
 from .options import (
     MAX_SPEEDS,
@@ -55,6 +56,8 @@ def campbell_command(
     from ..io import load_model, parse_overrides
 
     check_format(format)
+    if plot is not None:
+        check_output(plot, "file", field="--plot")
     train = load_model(model, parse_overrides(set_))
     check_operating_point(train, operating_point)
     hi = max_speed if max_speed is not None else 1.25 * abs(train.speed) / RPM

@@ -11,6 +11,7 @@ from typing import Annotated
 import typer
 
 from ..errors import ModelError
+from ..files import check_output, save_figure
 from .errors import cli_errors
 from .options import RPM, FormatOpt, SetOpt, check_format, count, rpm
 
@@ -67,6 +68,8 @@ def floquet_command(
     from ..io import load_model, parse_overrides
 
     check_format(format)
+    if plot is not None:
+        check_output(plot, "file", field="--plot")
     if n < 1:
         raise ModelError("at least one exponent", field="--n", value=n, expected="≥ 1")
     train = load_model(model, parse_overrides(set_))
@@ -148,6 +151,5 @@ def _plot(cases, n_speeds: int, kas: list[float | None], path: Path) -> None:
     ax.set_ylabel("largest Floquet growth rate (1/s)")
     ax.set_title("Parametric stability (positive: unstable)")
     ax.grid(alpha=0.3)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=120)
+    save_figure(fig, path, dpi=120)
     plt.close(fig)

@@ -8,6 +8,7 @@ from typing import Annotated
 
 import typer
 
+from ..files import check_output, write_json
 from .errors import cli_errors
 from .options import (
     RPM,
@@ -53,6 +54,8 @@ def modal_command(
     from ..io import load_model, parse_overrides
 
     check_format(format)
+    if plot is not None:
+        check_output(plot, "directory", field="--plot")
     train = load_model(model, parse_overrides(set_))
     check_operating_point(train, operating_point)
     res = run_modal(
@@ -78,5 +81,5 @@ def modal_command(
         elastic = [i for i in range(len(res)) if not res.overdamped[i]]
         for k in range(0, min(len(elastic), 16), 8):
             plot_mode_shapes(res, modes=elastic[k : k + 8], path=plot / f"modes_{k // 8 + 1}.png")
-        (plot / "modal.json").write_text(json.dumps(res.to_dict(), indent=1))
+        write_json(plot / "modal.json", res.to_dict())
         typer.echo(f"plots written to {plot}/", err=format == "json")

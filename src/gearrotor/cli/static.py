@@ -4,13 +4,13 @@
 from __future__ import annotations
 
 import json
-import os
 from pathlib import Path
 from typing import Annotated
 
 import typer
 
 from ..errors import ModelError
+from ..files import check_output, write_text
 from .errors import cli_errors
 from .options import (
     RPM,
@@ -23,32 +23,6 @@ from .options import (
 )
 
 __all__ = ["static_command"]
-
-
-def _check_dir(path: Path, field: str) -> None:
-    """An output directory that exists (or can be made) and is writable, before any run."""
-    try:
-        path.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise ModelError(
-            f"cannot create the output directory: {exc.strerror}",
-            field=field,
-            value=str(path),
-            expected="a writable directory",
-        ) from None
-    if not os.access(path, os.W_OK):
-        raise ModelError(
-            "the output directory is not writable",
-            field=field,
-            value=str(path),
-            expected="a writable directory",
-        )
-
-
-def _write_atomic(path: Path, text: str) -> None:
-    tmp = path.with_name(path.name + ".tmp")
-    tmp.write_text(text, encoding="utf-8")
-    os.replace(tmp, path)
 
 
 def _slug(name: str) -> str:
@@ -98,7 +72,7 @@ def static_command(
             expected="[[operating_points]] entries in the model",
         )
     if plot is not None:
-        _check_dir(plot, "--plot")
+        check_output(plot, "directory", field="--plot")
     names = [p.name for p in train.operating_points] if all_ else [operating_point]
     w = None if speed is None else speed * RPM
     from ..assembly import assemble
@@ -121,7 +95,7 @@ def static_command(
         for r in results:
             plot_static_shafts(r, path=plot / f"static_{_slug(r.operating_point)}.png")
         plot_bearing_loads(results, path=plot / "bearing_loads.png")
-        _write_atomic(
+        write_text(
             plot / "static.json",
             json.dumps({"operating_points": [r.to_dict() for r in results]}, indent=1),
         )

@@ -10,6 +10,7 @@ from typing import Annotated
 import numpy as np
 import typer
 
+from ..files import check_output
 from .errors import cli_errors
 from .options import (
     MAX_SPEEDS,
@@ -60,6 +61,8 @@ def unbalance_command(
     from ..io import load_model, parse_overrides
 
     check_format(format)
+    if plot is not None:
+        check_output(plot, "directory", field="--plot")
     train = load_model(model, parse_overrides(set_))
     check_operating_point(train, operating_point)
     # --operating-range / --mcs override the model's; the response takes the range from the

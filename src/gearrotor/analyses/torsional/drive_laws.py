@@ -26,6 +26,9 @@ from numpy.typing import NDArray
 
 from ...errors import ModelError
 from ...model import InductionMotor, SynchronousMotor, TorqueDrive, Train
+from ..jit import configure_cache
+
+configure_cache()  # before the first @njit(cache=True): numba's cache outside the package
 
 __all__ = [
     "TorqueLaws",

@@ -45,7 +45,6 @@ kinetic and potential energy, and its residual.
 from __future__ import annotations
 
 import json
-import os
 import time as _time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -60,8 +59,11 @@ from scipy.sparse.csgraph import connected_components
 from ...assembly import Assembly
 from ...errors import ModelError, SolverError
 from ...model import Train
+from ..jit import configure_cache
 from .drive_laws import TorqueLaws, advance_states, check_load_paths, law_torque, pack_laws
 from .model import TorsionalModel, torsional_model
+
+configure_cache()  # before the first @njit(cache=True): numba's cache outside the package
 
 __all__ = ["TorsionalTransient", "torsional_transient", "MAX_BACKLASH_MESHES"]
 
@@ -280,8 +282,9 @@ class TorsionalTransient:
         ``os.replace``): ``.nc`` NetCDF (:meth:`to_xarray`, h5netcdf engine) or ``.json``
         (:meth:`to_dict`, the fatigue summary, and the histories of time, speed, drive and
         load torques, shaft, coupling torques and mesh forces)."""
+        from ...files import write_json, write_netcdf
+
         path = Path(path)
-        tmp = path.with_name(path.name + ".tmp")
         if path.suffix.lower() == ".json":
             out = self.to_dict()
             if fatigue is not None:
@@ -301,10 +304,9 @@ class TorsionalTransient:
                 ),
                 "mesh_force_N": dict(zip(tm.mesh_names, self.mesh_force.T.tolist(), strict=True)),
             }
-            tmp.write_text(json.dumps(out, allow_nan=False))
+            write_json(path, out, indent=None, allow_nan=False)
         else:
-            self.to_xarray(fatigue).to_netcdf(tmp, engine="h5netcdf")
-        os.replace(tmp, path)
+            write_netcdf(path, self.to_xarray(fatigue))
         return path
 
     def table(self) -> str:

@@ -21,7 +21,7 @@ from ...assembly import Assembly
 from ...errors import ModelError, SolverError
 from ...model import Train
 from . import kernels as kn
-from .checkpoint import _fingerprint, _read_checkpoint, _write_npz_atomic
+from .checkpoint import _check_state, _fingerprint, _read_checkpoint, _write_npz_atomic
 from .equations import TransientSystem, build_system, static_state
 from .forces import _output_dofs
 from .options import RK4, Checkpoint, ModalRK4, Save, excitation_frequency
@@ -67,6 +67,23 @@ def _check_memory(n_rec: int, n_out: int, n_shafts: int, n_steps: int, t_end: fl
             value=t_end,
             expected=f"a record of at most {MAX_RECORD_BYTES / 1e9:.3g} GB (a shorter t_end, "
             "or a larger save interval)",
+        )
+
+
+def _check_checkpoint_options(ck: Checkpoint) -> None:
+    if not (np.isfinite(ck.every) and ck.every >= 0):
+        raise ModelError(
+            "the wall-time interval of checkpoints must be finite and >= 0",
+            field="checkpoint.every",
+            value=ck.every,
+            expected="seconds >= 0 (0: at every chunk of the run)",
+        )
+    if ck.simulated is not None and not (np.isfinite(ck.simulated) and ck.simulated > 0):
+        raise ModelError(
+            "the simulated-time interval of checkpoints must be positive",
+            field="checkpoint.simulated",
+            value=ck.simulated,
+            expected="seconds > 0 (default: 5 % of t_end)",
         )
 
 
@@ -120,6 +137,8 @@ def transient(
         raise ModelError(
             "t_end must be positive and finite", field="t_end", value=t_end, expected="> 0 s"
         )
+    if checkpoint is not None:
+        _check_checkpoint_options(checkpoint)
     integ = integrator if integrator is not None else ModalRK4()
     if isinstance(integ, RK4) and not integ.dt > 0:
         raise ModelError("the time step must be positive", field="dt", value=integ.dt)
@@ -205,7 +224,15 @@ def transient(
     )
     ck = _read_checkpoint(checkpoint.path, fp) if checkpoint is not None else None
     if ck is not None:
-        step0 = int(ck["step"])
+        step0 = _check_state(
+            checkpoint.path,
+            ck,
+            n_steps=n_steps,
+            save_every=save_every,
+            q=q,
+            rec_q=rec_q,
+            rec_om=rec_om,
+        )
         q, v = ck["q"].copy(), ck["v"].copy()
         nr = step0 // save_every
         rec_q[:nr], rec_v[:nr], rec_a[:nr] = ck["rec_q"], ck["rec_v"], ck["rec_a"]
@@ -216,6 +243,16 @@ def transient(
                 file=sys.stderr,
             )
     chunk = save_every * max(1, int(0.05 / (dt * save_every)))  # ~0.05 s of simulated time
+    # checkpoints every ck_steps steps, and the chunks end there: an interval longer than a
+    # chunk is rounded to whole chunks (the chunks stay those of a run without checkpoints,
+    # whose time stamps t0 + k dt are then bit-identical), a shorter one to whole save
+    # intervals (the records stay aligned)
+    ck_steps = n_steps
+    if checkpoint is not None:
+        want = (checkpoint.simulated or 0.05 * t_end) / dt
+        unit = chunk if want >= chunk else save_every
+        ck_steps = unit * max(1, round(want / unit))
+    last_ck_step = step0
     wall0 = _time.perf_counter()
     setup = wall0 - setup0
     last_ck = wall0
@@ -224,7 +261,7 @@ def transient(
     runner = kn.rk4_physical if prep.kind == "physical" else kn.rk4_modal
     out_arg = out if prep.kind == "physical" else prep.Phi_out
     while step < n_steps:
-        nst = min(chunk, n_steps - step)
+        nst = min(chunk, n_steps - step, last_ck_step + ck_steps - step)
         status, done = runner(
             step * dt,
             dt,
@@ -269,7 +306,11 @@ def transient(
                 file=sys.stderr,
             )
             last_pr = now
-        if checkpoint is not None and (now - last_ck > checkpoint.every) and step < n_steps:
+        if (
+            checkpoint is not None
+            and step < n_steps
+            and (step - last_ck_step >= ck_steps or now - last_ck > checkpoint.every)
+        ):
             nr = step // save_every
             _write_npz_atomic(
                 Path(checkpoint.path),
@@ -284,6 +325,7 @@ def transient(
                 rec_t=rec_t[:nr],
             )
             last_ck = now
+            last_ck_step = step
     wall = _time.perf_counter() - wall0
     if checkpoint is not None and Path(checkpoint.path).exists():
         Path(checkpoint.path).unlink()

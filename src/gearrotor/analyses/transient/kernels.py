@@ -26,7 +26,10 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from ..jit import configure_cache
 from ..torsional.drive_laws import advance_state, law_torque
+
+configure_cache()  # before the first @njit(cache=True): numba's cache outside the package
 
 __all__ = [
     "mesh_eval",

@@ -11,6 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ...files import save_figure
 from ...signals import spectrum
 from .results import RPM
 
@@ -219,6 +220,6 @@ def standard_figures(result, directory: str | Path, prefix: str = "transient") -
             continue
         fig = fn(ds)
         path = directory / f"{prefix}_{name}.png"
-        fig.savefig(path, dpi=110)
+        save_figure(fig, path, dpi=110)
         out.append(path)
     return out

@@ -18,7 +18,7 @@ from ..torsional.drive_laws import P_WLINE
 from .equations import TransientSystem
 from .forces import _drive_laws, _force_dofs, _pack_forces
 from .options import RK4, ModalRK4, excitation_frequency
-from .reduction import _harmonic_error, _modal_basis, _static_shapes
+from .reduction import _harmonic_error, _harmonic_shapes, _modal_basis, _static_shapes
 from .step_limits import _linearised, _rk4_step_limit, _unstable_step
 
 
@@ -182,9 +182,8 @@ def _prepare_modal(system: TransientSystem, integ: ModalRK4, out: NDArray) -> _P
         if integ.cutoff is not None
         else (integ.cutoff_factor * excitation_frequency(system))
     )
-    separated = integ.separated_modes
-    if separated is None:
-        separated = any(law.backlash > 0 for law in system.meshes)
+    backlash = any(law.backlash > 0 for law in system.meshes)
+    separated = bool(integ.separated_modes)
     if separated and system.meshes:
         _, Kf, _ = system.linear_matrices(meshes=False)
         separated = la.eigh(0.5 * (Kf + Kf.T), M)
@@ -193,12 +192,22 @@ def _prepare_modal(system: TransientSystem, integ: ModalRK4, out: NDArray) -> _P
     static = integ.static_correction
     l_dof = _drive_laws(system)[1]
     if static is None:
-        static = len(system.torque_dof) + len(l_dof) > 0
+        # torques load the mesh through its compliance; with backlash the mesh force drops to
+        # zero in separation, a rank-one change along w whose response the modes plus the
+        # static shape under w span (see ModalRK4)
+        static = len(system.torque_dof) + len(l_dof) > 0 or backlash
     # drives and loads get static correction shapes as the external torques do
     torqued = replace(system, torque_dof=np.concatenate([system.torque_dof, l_dof]))
     shapes = _static_shapes(torqued, M, K) if static else np.zeros((system.n, 0))
     Phi, w2r = _modal_basis(M, Ks, V, w2, wcut, separated, shapes)
     check = _harmonic_error(system, M, K, C, Phi, w2r, out)
+    if integ.cutoff is None and check > integ.tolerance:
+        # the modes above the cut-off carry part of the 1x response (their quasi-static
+        # compliance, heavily damped bearings): add the full model's 1x response shapes
+        # before raising the cut-off (issue 16: 173 → 65 modes for the compressor example)
+        shapes = np.hstack([shapes, _harmonic_shapes(system, M, K, C)])
+        Phi, w2r = _modal_basis(M, Ks, V, w2, wcut, separated, shapes)
+        check = _harmonic_error(system, M, K, C, Phi, w2r, out)
     while integ.cutoff is None and check > integ.tolerance and wcut < om_all.max():
         wcut *= 1.25
         Phi, w2r = _modal_basis(M, Ks, V, w2, wcut, separated, shapes)

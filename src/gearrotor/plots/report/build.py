@@ -3,7 +3,6 @@
 
 from __future__ import annotations
 
-import json
 import math
 import os
 import shutil
@@ -14,6 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from ...errors import ModelError
+from ...files import check_output, write_json, write_text
 from .base import Context
 from .blocks import RPM
 from .page import _page
@@ -136,14 +136,7 @@ def make_report(
         )
     if transient is not None and "transient" not in analyses:
         analyses = (*analyses, "transient")
-    output = Path(output)
-    if output.exists() and not output.is_dir():
-        raise ModelError(
-            "the report output is not a directory",
-            field="--output",
-            value=str(output),
-            expected="a directory (new or existing)",
-        )
+    output = check_output(output, "directory", field="--output")
     base_train = model.train if isinstance(model, Assembly) else model
     if operating_points:
         operating_points = tuple(operating_points)
@@ -244,12 +237,14 @@ def make_report(
             "unbalance": "api617" if api else "model",
             "operating_point": operating_point,
         }
-        (tmp / "report.json").write_text(json.dumps(_clean(summary), indent=1), encoding="utf-8")
+        write_json(tmp / "report.json", _clean(summary))
         page = _page(train, parts, summary, ctx.figures, ctx.notes, source=source, command=command)
-        (tmp / "report.html").write_text(page, encoding="utf-8")
+        write_text(tmp / "report.html", page)
         _publish(tmp, output)
-    except BaseException:
+    except BaseException as exc:
         shutil.rmtree(tmp, ignore_errors=True)
+        if isinstance(exc, ModelError) and str(tmp) in str(exc):  # a write error: name the
+            raise ModelError(str(exc).replace(str(tmp), str(output))) from None  # report's file
         raise
     return Report(
         directory=output,
