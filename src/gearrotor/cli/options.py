@@ -9,7 +9,6 @@ The parsers check an option's value when the command line is read, before anythi
 from __future__ import annotations
 
 import math
-import os
 from collections.abc import Callable
 from pathlib import Path
 from typing import Annotated
@@ -18,6 +17,7 @@ import numpy as np
 import typer
 
 from ..errors import ModelError
+from ..files import check_output
 
 __all__ = [
     "RPM",
@@ -143,27 +143,15 @@ def operating_range_from_options(train, operating_range: str | None, mcs: float 
 
 
 def check_png(path: Path | None, field: str = "--plot") -> None:
-    """An output PNG path that can be written (checked before anything runs)."""
+    """A PNG output path in an existing, writable folder (checked before anything runs)."""
+
     if path is None:
         return
     if path.suffix.lower() != ".png":
         raise ModelError(
             "the figure is written as PNG", field=field, value=str(path), expected="a .png file"
         )
-    if path.is_dir():
-        raise ModelError(
-            "the figure path is a directory", field=field, value=str(path), expected="a file"
-        )
-    parent = path.parent
-    while not parent.exists() and parent != parent.parent:
-        parent = parent.parent
-    if not parent.is_dir() or not os.access(parent, os.W_OK | os.X_OK):
-        raise ModelError(
-            "cannot write the figure here",
-            field=field,
-            value=str(path),
-            expected=f"a path in a writable directory ({parent} is not)",
-        )
+    check_output(path, "file", field=field, parents=True)
 
 
 #: Most speeds of a sweep (``--n-speeds``): each is an eigenvalue or a linear solve.

@@ -24,9 +24,11 @@ from .options import (
     RPM,
     FormatOpt,
     McsOpt,
+    OperatingPointOpt,
     OperatingRangeOpt,
     SetOpt,
     check_format,
+    check_operating_point,
     check_png,
     number,
     operating_range_from_options,
@@ -199,6 +201,7 @@ def stability_command(
     ] = None,
     operating_range: OperatingRangeOpt = None,
     mcs: McsOpt = None,
+    operating_point: OperatingPointOpt = None,
     format: FormatOpt = "table",
     plot: Annotated[
         Path | None,
@@ -269,6 +272,7 @@ def stability_command(
         )
 
     train = load_model(model, parse_overrides(set_))
+    check_operating_point(train, operating_point)
     train = operating_range_from_options(train, operating_range, mcs)
     if train.max_continuous_speed is None:
         raise ModelError(
@@ -320,11 +324,13 @@ def stability_command(
         operating_speed=None if operating_speed is None else operating_speed * RPM,
         average_density=rho,
         exclude_bearings=exclude_bearing or None,
+        operating_point=operating_point,
     )
     if format == "json":
         typer.echo(json.dumps({"model": train.name, **res.to_dict()}, indent=1))
     else:
-        typer.echo(f"{train.name}: API 617 stability audit")
+        at = f" at operating point {operating_point}" if operating_point else ""
+        typer.echo(f"{train.name}: API 617 stability audit{at}")
         typer.echo(res.table())
     if plot is not None:
         import matplotlib.pyplot as plt
