@@ -23,13 +23,13 @@ from __future__ import annotations
 
 import json
 import math
-import os
 from pathlib import Path
 from typing import Annotated
 
 import typer
 
 from ..errors import ModelError
+from ..files import check_output
 from .errors import EXIT_CODES_HELP, cli_errors
 from .options import (
     MAX_SPEEDS,
@@ -68,7 +68,7 @@ MeshOpt = Annotated[
     typer.Option("--mesh", help="'flexible' (mesh spring on the line of action) or 'rigid'"),
 ]
 PlotOpt = Annotated[Path | None, typer.Option("--plot", help="directory for PNG figures")]
-HZ = 2 * 3.141592653589793
+HZ = 2 * math.pi
 
 
 def _finite(text: str) -> float:
@@ -98,26 +98,13 @@ def _check_mesh(mesh: str) -> None:
 
 
 def check_plot_dir(plot: Path | None) -> None:
-    """``--plot DIR`` must be a directory that can be created and written (checked before the
-    analysis runs)."""
-    if plot is None:
-        return
-    if plot.exists() and not plot.is_dir():
-        raise ModelError(
-            "the plot directory is a file", field="--plot", value=str(plot), expected="a directory"
-        )
-    parent = plot if plot.exists() else _existing_parent(plot)
-    if not os.access(parent, os.W_OK | os.X_OK):
-        raise ModelError(
-            "cannot write the plot directory",
-            field="--plot",
-            value=str(plot),
-            expected=f"a writable location ({parent} is not writable)",
-        )
+    """``--plot DIR``: a folder that exists or can be created, writable (before anything runs)."""
+    if plot is not None:
+        check_output(plot, "directory", field="--plot")
 
 
 def check_output_file(path: Path | None, suffixes: tuple[str, ...]) -> None:
-    """``--output FILE``: a known suffix, in a writable existing directory."""
+    """``--output FILE``: a known suffix, in a writable existing folder."""
     if path is None:
         return
     if path.suffix.lower() not in suffixes:
@@ -127,35 +114,7 @@ def check_output_file(path: Path | None, suffixes: tuple[str, ...]) -> None:
             value=str(path),
             expected=" or ".join(f"a {s} file" for s in suffixes),
         )
-    parent = path.parent if str(path.parent) else Path(".")
-    if not parent.is_dir():
-        raise ModelError(
-            "the output directory does not exist",
-            field="--output",
-            value=str(path),
-            expected=f"an existing directory ({parent})",
-        )
-    if path.is_dir() or not os.access(parent, os.W_OK | os.X_OK):
-        raise ModelError(
-            "cannot write the output file",
-            field="--output",
-            value=str(path),
-            expected="a writable file path",
-        )
-
-
-def _existing_parent(p: Path) -> Path:
-    p = p.absolute()
-    while not p.exists():
-        p = p.parent
-    if not p.is_dir():
-        raise ModelError(
-            "the plot directory cannot be created (a parent is a file)",
-            field="--plot",
-            value=str(p),
-            expected="a directory path",
-        )
-    return p
+    check_output(path, "file", field="--output")
 
 
 def parse_orders(text: str | None) -> list[tuple[str, float]]:
