@@ -39,6 +39,7 @@ from .options import (
     check_format,
     count,
     duration,
+    number,
     rpm,
     speed_grid,
 )
@@ -216,10 +217,12 @@ def modes_command(
     mesh: MeshOpt = "flexible",
     max_frequency: Annotated[
         float | None,
-        typer.Option("--max-frequency", parser=_hz, help="Hz, keep modes up to it"),
+        typer.Option(
+            "--max-frequency", parser=number(0, strict=True), help="Hz, keep modes up to it"
+        ),
     ] = None,
     n_modes: Annotated[
-        int, typer.Option("--n-modes", parser=count(1), help="keep the lowest N")
+        int | None, typer.Option("--n-modes", parser=count(1), help="keep the lowest N")
     ] = 12,
     shapes: Annotated[bool, typer.Option(help="JSON: add each mode's twist per shaft")] = False,
     format: FormatOpt = "table",
@@ -258,9 +261,7 @@ def campbell_command(
     model: ModelArg,
     min_speed: Annotated[
         float | None,
-        typer.Option(
-            parser=rpm(0, strict=True), help="rpm, minimum operating speed (default nominal)"
-        ),
+        typer.Option(parser=rpm(0), help="rpm, minimum operating speed (default nominal)"),
     ] = None,
     max_speed: Annotated[
         float | None,
@@ -269,11 +270,15 @@ def campbell_command(
         ),
     ] = None,
     margin: Annotated[
-        float, typer.Option(parser=_finite, help="required separation (fraction)")
+        float, typer.Option(parser=number(0, maximum=1), help="required separation (fraction)")
     ] = 0.10,
     line_frequency: Annotated[
         float | None,
-        typer.Option("--line-frequency", parser=_hz, help="Hz (default: the electric drives')"),
+        typer.Option(
+            "--line-frequency",
+            parser=number(0, strict=True),
+            help="Hz (default: the electric drives')",
+        ),
     ] = None,
     orders: Annotated[
         str | None, typer.Option(help="extra orders SHAFT:MULTIPLE, e.g. 'motor:6'")
@@ -284,7 +289,9 @@ def campbell_command(
     ] = None,
     max_frequency: Annotated[
         float | None,
-        typer.Option("--max-frequency", parser=_hz, help="Hz, highest mode checked"),
+        typer.Option(
+            "--max-frequency", parser=number(0, strict=True), help="Hz, highest mode checked"
+        ),
     ] = None,
     mesh: MeshOpt = "flexible",
     format: FormatOpt = "table",
@@ -399,17 +406,21 @@ def transient_command(
     ] = None,
     initial_speed: Annotated[
         float,
-        typer.Option("--initial-speed", parser=rpm(0), help="rpm of the reference shaft at t = 0"),
+        typer.Option("--initial-speed", parser=rpm(), help="rpm of the reference shaft at t = 0"),
     ] = 0.0,
     mesh: MeshOpt = "flexible",
     sn_m: Annotated[
-        float, typer.Option("--sn-m", parser=_finite, help="S-N curve exponent m (N = C S^-m)")
+        float,
+        typer.Option(
+            "--sn-m", parser=number(0, strict=True), help="S-N curve exponent m (N = C S^-m)"
+        ),
     ] = 8.0,
     sn_stress: Annotated[
         str, typer.Option("--sn-stress", help="shear stress amplitude of the S-N point")
     ] = "200 MPa",
     sn_cycles: Annotated[
-        float, typer.Option("--sn-cycles", parser=_finite, help="cycles at that stress")
+        float,
+        typer.Option("--sn-cycles", parser=number(0, strict=True), help="cycles at that stress"),
     ] = 1e4,
     endurance_limit: Annotated[
         str | None, typer.Option("--endurance-limit", help="shear stress amplitude, e.g. '60 MPa'")

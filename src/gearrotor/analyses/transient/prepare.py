@@ -188,10 +188,21 @@ def _prepare_modal(system: TransientSystem, integ: ModalRK4, out: NDArray) -> _P
         else (integ.cutoff_factor * excitation_frequency(system))
     )
     backlash = any(law.backlash > 0 for law in system.meshes)
-    separated = bool(integ.separated_modes)
+    separated = integ.separated_modes
+    if separated is None:
+        separated = "torsional" if backlash else False
     if separated and system.meshes:
         _, Kf, _ = system.linear_matrices(meshes=False)
-        separated = la.eigh(0.5 * (Kf + Kf.T), M)
+        w2s, Vs = la.eigh(0.5 * (Kf + Kf.T), M)
+        if separated == "torsional":
+            # the free shafts' torsional modes: what the speeds do while the teeth are apart
+            # (their lateral modes only add Ritz vectors far above the cut-off, issue 16)
+            tors = system.assembly.dof_kind()[system.active] == 2
+            ke = np.einsum("ij,ij->j", Vs, M @ Vs)
+            kt = np.einsum("ij,ij->j", Vs[tors], M[np.ix_(tors, tors)] @ Vs[tors])
+            keep = kt > 0.5 * ke
+            w2s, Vs = w2s[keep], Vs[:, keep]
+        separated = (w2s, Vs)
     else:
         separated = None
     static = integ.static_correction
