@@ -133,7 +133,6 @@ def test_transient_outputs_agree_with_the_printed_summary(model, tmp_path):
         (["transient", "{m}", "--plot", "{tmp}/afile"], "--plot"),
         (["transient", "{m}", "--t-end", "0"], "--t-end"),
         (["transient", "{m}", "--t-end", "nan"], "--t-end"),
-        (["transient", "{m}", "--initial-speed", "-5"], "--initial-speed"),
         (
             [
                 "response",

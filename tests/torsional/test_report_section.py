@@ -62,6 +62,9 @@ def _train():
 
 @pytest.fixture(scope="module")
 def report(tmp_path_factory):
+    import matplotlib.pyplot as plt
+
+    plt.close("all")  # figures other tests of this worker left open count towards pyplot's 20
     out = tmp_path_factory.mktemp("rep") / "tors"
     return make_report(_train(), out, analyses="torsional")
 

@@ -69,7 +69,7 @@ MeshOpt = Annotated[
     typer.Option("--mesh", help="'flexible' (mesh spring on the line of action) or 'rigid'"),
 ]
 PlotOpt = Annotated[Path | None, typer.Option("--plot", help="directory for PNG figures")]
-HZ = 2 * 3.141592653589793
+HZ = 2 * math.pi
 
 
 def _finite(text: str) -> float:
@@ -99,14 +99,13 @@ def _check_mesh(mesh: str) -> None:
 
 
 def check_plot_dir(plot: Path | None) -> None:
-    """``--plot DIR`` must be a directory that can be created and written (checked before the
-    analysis runs)."""
+    """``--plot DIR``: a folder that exists or can be created, writable (before anything runs)."""
     if plot is not None:
         check_output(plot, "directory", field="--plot")
 
 
 def check_output_file(path: Path | None, suffixes: tuple[str, ...]) -> None:
-    """``--output FILE``: a known suffix, in a writable existing directory."""
+    """``--output FILE``: a known suffix, in a writable existing folder."""
     if path is None:
         return
     if path.suffix.lower() not in suffixes:
