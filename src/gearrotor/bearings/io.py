@@ -382,4 +382,13 @@ def load_bearing(path: str | Path) -> BearingCase:
         ) from None
     except tomllib.TOMLDecodeError as exc:
         raise ModelError(f"not valid TOML: {exc}", file=str(path)) from None
+    if "bearing" not in doc and ("shafts" in doc or "meshes" in doc):
+        raise ModelError(
+            "this is a rotor model file, not a bearing file (it has "
+            + " and ".join(repr(k) for k in ("shafts", "meshes") if k in doc)
+            + "; rotor models go to modal, campbell, unbalance, transient, report, floquet)",
+            file=str(path),
+            field="bearing",
+            expected="a bearing file with a [bearing] table (docs/bearings.md)",
+        )
     return parse_bearing(doc, str(path))

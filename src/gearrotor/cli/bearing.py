@@ -19,7 +19,6 @@ from typing import TYPE_CHECKING, Annotated
 import typer
 
 from ..errors import ModelError
-from ..units import to_si
 from .errors import cli_errors
 from .options import FormatOpt
 
@@ -67,6 +66,8 @@ def parse_load(text: str) -> tuple[float, float]:
             value=text,
             expected="FX,FY in N, e.g. 2,-826 or '2 kN,-3 kN'",
         )
+    from ..units import to_si  # pint: only when a command parses units
+
     try:
         return to_si(_num(parts[0]), "force"), to_si(_num(parts[1]), "force")
     except ValueError as exc:
@@ -81,6 +82,8 @@ def parse_speed(text: str) -> float:
         return float(text) * math.pi / 30.0
     except ValueError:
         pass
+    from ..units import to_si
+
     try:
         return to_si(text, "angular_speed")
     except ValueError as exc:
@@ -137,7 +140,7 @@ def format_table(rows: list[dict], header: str = "") -> str:
     lines = [header] if header else []
     lines.append(
         f"{'case':>4} {'Fx N':>9} {'Fy N':>9} {'rpm':>7} {'ecc':>6} {'att deg':>8} "
-        f"{'hmin um':>8} {'pmax MPa':>8} {'P kW':>7} {'Q l/min':>8} {'S':>8} "
+        f"{'hmin µm':>8} {'pmax MPa':>8} {'P kW':>7} {'Q l/min':>8} {'S':>8} "
         f"{'whirl':>6} {'m_crit kg':>10}"
     )
     for r in rows:
@@ -157,6 +160,11 @@ def format_table(rows: list[dict], header: str = "") -> str:
     for r in rows:
         vals = [r[f"{n}_N_per_m"] for n in names[:4]] + [r[f"{n}_N_s_per_m"] for n in names[4:]]
         lines.append(f"{r['case']:>4} " + " ".join(f"{v:>11.4e}" for v in vals))
+    lines.append(
+        "ecc: eccentricity ratio; att: attitude angle; S: Sommerfeld number; whirl and m_crit: "
+        "Lund's rigid-rotor stability threshold (whirl frequency ratio, critical journal mass); "
+        "'-': no threshold, stable for any mass"
+    )
     return "\n".join(lines)
 
 

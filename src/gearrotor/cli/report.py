@@ -42,7 +42,10 @@ def report_command(
     ] = None,
     max_frequency: Annotated[
         float | None,
-        typer.Option(help="highest damped frequency of modes and Campbell, cpm (default 5×speed)"),
+        typer.Option(
+            help="highest damped frequency of modes and Campbell, cpm (default 1.1 × the mesh "
+            "frequency; 5 × speed without gears)"
+        ),
     ] = None,
     api: Annotated[
         bool,

@@ -61,6 +61,11 @@ def unbalance_command(
                 expected="MIN,MAX in rpm",
             ) from None
         op = (lo_op, hi_op)
+    if op is not None:
+        # the operating range's ends are sweep points: the orbits are drawn at the maximum
+        # continuous speed itself, not at the nearest grid speed (7211 rpm for a range to 7200)
+        ends = [v for v in op if speeds[0] <= v <= speeds[-1]]
+        speeds = np.union1d(speeds, ends)
     asm = assemble(train)
     unb = list(train.unbalances)
     if api:

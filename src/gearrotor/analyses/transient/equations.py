@@ -348,14 +348,8 @@ def build_system(
         bearing_dynamic=np.array([b.element.speed_dependent for b in asm.bearings], bool),
         reactions=reactions,
     )
-    if any(law.damping_ratio is not None for law in laws):
-        resolved = []
-        for k, law in enumerate(laws):
-            if law.damping_ratio is not None:
-                c, _ = mesh_damping_from_ratio(system, k, law.damping_ratio)
-                law = replace(law, damping=c)
-            resolved.append(law)
-        system = replace(system, meshes=tuple(resolved))
+    # a mesh damping_ratio is already resolved into MeshInfo.damping by the assembly (the same
+    # damper for every analysis)
     return system
 
 

@@ -71,6 +71,23 @@ def parse_analyses(text: str | tuple[str, ...] | list[str]) -> tuple[str, ...]:
     return tuple(out)
 
 
+def _default_max_frequency(asm, w: float, given: float | None) -> tuple[float, str]:
+    """(rad/s, why): the given value, or 1.1 × the highest mesh frequency at the operating
+    speed ``w`` (the mesh-frequency region and the coupled L-T modes below it), or 5 × speed
+    for a train without gears."""
+    if given is not None:
+        return float(given), "as given"
+    speeds = np.abs(asm.shaft_speeds(w))
+    mesh = [m.teeth[0] * speeds[m.shafts[0]] for m in asm.meshes]
+    if mesh and max(mesh) > 0:
+        f = max(mesh)
+        return (
+            1.1 * f,
+            f"default: 1.1 × the mesh frequency {f * RPM:,.0f} cpm at {w * RPM:,.0f} rpm",
+        )
+    return 5 * w, f"default: 5 × the operating speed {w * RPM:,.0f} rpm (no gear mesh)"
+
+
 def make_report(
     model,
     output: str | Path,
@@ -97,7 +114,9 @@ def make_report(
         modal analysis runs at it, the API checks use it as the operating range, the Campbell
         sweep covers 0..1.25× and the unbalance sweep 0.02..1.5× of it
     max_frequency : rad/s, highest damped frequency of the modes and the Campbell diagram
-        (default: 5 × speed)
+        (default: 1.1 × the highest mesh frequency at the operating speed, so that the coupled
+        lateral-torsional modes a gear engineer looks for are in; 5 × speed without meshes);
+        the report states the range and why
     transient : path of a transient result (NetCDF written by ``TransientResult.save``)
     api : the unbalance section uses the API 617 unbalance, 4 × 6350 W/N g·mm per plane of the
         model's unbalances (W the plane's share of its shaft's mass, kg; N its shaft's speed at
@@ -144,7 +163,7 @@ def make_report(
             value=None if speed is None else f"{w * RPM:.6g} rpm",
             expected="a speed > 0 rpm (the direction of rotation follows the model)",
         )
-    fmax = 5 * w if max_frequency is None else float(max_frequency)
+    fmax, fmax_basis = _default_max_frequency(asm, w, max_frequency)
     if not (np.isfinite(fmax) and fmax > 0):
         raise ModelError(
             "the maximum frequency must be positive",
@@ -167,6 +186,10 @@ def make_report(
         transient_file=None if transient is None else Path(transient),
         n_campbell=n_campbell,
         n_unbalance=n_unbalance,
+    )
+    ctx.notes.append(
+        f"Modes and Campbell diagram up to {fmax * RPM:,.0f} cpm ({fmax_basis}; "
+        "--max-frequency sets another range)."
     )
     requested = [s for s in SECTIONS if s.analysis in analyses]
     for section in requested:
@@ -191,6 +214,7 @@ def make_report(
             "analyses": list(analyses),
             "speed_rpm": w * RPM,
             "max_frequency_rpm": fmax * RPM,
+            "max_frequency_basis": fmax_basis,
             "transient": None if transient is None else str(transient),
             "unbalance": "api617" if api else "model",
         }

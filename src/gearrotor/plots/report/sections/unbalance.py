@@ -39,6 +39,8 @@ class UnbalanceSection(Section):
         from ....analyses import unbalance_response
 
         speeds = ctx.sweep(0.02 * ctx.speed, 1.5 * ctx.speed, ctx.n_unbalance, "unbalance sweep")
+        if speeds[0] <= ctx.speed <= speeds[-1]:
+            speeds = np.union1d(speeds, [ctx.speed])  # the orbits at the operating speed itself
         ctx.results["unbalance"] = unbalance_response(
             ctx.assembly,
             speeds=speeds,
