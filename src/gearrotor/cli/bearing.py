@@ -261,7 +261,7 @@ def bearing_command(
                 header=(
                     f"{b.name} ({path}): D = {b.diameter * 1e3:.2f} mm, "
                     f"L = {b.length * 1e3:.1f} mm, "
-                    f"c = {b.clearance * 1e6:.1f} um, mu = {b.viscosity:.4g} Pa*s, "
+                    f"c = {b.clearance * 1e6:.1f} µm, μ = {b.viscosity:.4g} Pa·s, "
                     f"{w * 30 / math.pi:.0f} rpm; grid {case.options.grid.n_theta}x"
                     f"{case.options.grid.n_z}/pad; {wall:.2f} s"
                 ),
