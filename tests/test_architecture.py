@@ -175,6 +175,8 @@ LAYERS = {
     "units": 0,
     "signals": 0,
     "elements": 1,
+    "inputs": 1,
+    "files": 1,
     "model": 1,
     "bearings": 2,
     "io": 2,

@@ -53,6 +53,8 @@ def test_documented_codes():
         ["transient-plot"],
         ["report"],
         ["floquet"],
+        ["ucs"],
+        ["stability"],
         ["study", "run"],
         ["study", "status"],
         ["study", "report"],
@@ -91,7 +93,7 @@ def test_bad_field_names_file_field_value_expected(examples, tmp_path):
     [
         (["modal", UNITY, "--format", "xml"], ["--format", "'xml'", "expected 'table' or 'json'"]),
         (["campbell", UNITY, "--orders", "ten"], ["--orders", "'ten'"]),
-        (["campbell", UNITY, "--n-speeds", "1"], ["--min-speed/--max-speed"]),
+        (["campbell", UNITY, "--n-speeds", "1"], ["--n-speeds", "'1'", "2.."]),
         (["unbalance", UNITY, "--operating-range", "6000"], ["--operating-range", "MIN,MAX"]),
         (["unbalance", UNITY, "--set", "meshes[0].stiffness"], ["PATH=VALUE"]),
         (["bearing", "bearings/plain_ld1.toml", "--load", "1"], ["--load", "FX,FY"]),
@@ -161,13 +163,27 @@ def test_study_input_error_exits_2(examples, tmp_path):
     check(invoke("study", "status", tmp_path / "none.toml"), EXIT_INPUT, "none.toml")
 
 
-def test_study_with_failed_cases_exits_1(examples, tmp_path):
-    """A case that fails is listed and recorded; the run exits 1 (not 2 or 3: the study ran)."""
+def test_study_with_invalid_row_exits_2(examples, tmp_path):
+    """A row whose model is invalid is an input error of the study file, found before anything
+    runs (issue 17): exit 2 naming the study file and the row."""
     p = tmp_path / "s.toml"
     p.write_text(STUDY.format(model=(examples / UNITY).as_posix(), ka=-0.5))
     r = invoke("study", "run", p, "--workers", "1", "--no-progress")
+    check(r, EXIT_INPUT, "s.toml", "cases.rows[0]", "ka_ratio", "-0.5")
+    assert not (tmp_path / "s.study").exists()
+
+
+def test_study_with_failed_cases_exits_1(examples, tmp_path):
+    """A case that fails is listed and recorded; the run exits 1 (not 2 or 3: the study ran)."""
+    p = tmp_path / "s.toml"
+    text = STUDY.format(model=(examples / UNITY).as_posix(), ka=0.1)
+    # 1000 kg*m of unbalance: the run diverges (a solver failure of that case)
+    p.write_text(
+        text.replace("[parameters]", '[set]\n"unbalances[0].amount" = "1000 kg*m"\n\n[parameters]')
+    )
+    r = invoke("study", "run", p, "--workers", "1", "--no-progress")
     assert r.exit_code == EXIT_CASES_FAILED, r.output
-    assert "case 0 failed" in r.stderr and "ka_ratio" in r.stderr
+    assert "case 0 failed" in r.stderr and "diverged" in r.stderr
 
 
 # ---- solver failures: 3 -----------------------------------------------------------------------

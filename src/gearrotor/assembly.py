@@ -246,11 +246,12 @@ def mesh_stiffness(train: Train, k: int) -> float:
 
 def _film_table(b, field: str, shaft) -> CoefficientTable:
     """Speed table of a bearing from a saved file or from the fluid-film solver."""
-    from .bearings import load_bearing, load_table
+    from .bearings import load_bearing
+    from .bearings.io import load_table_file
 
     try:
         if b.table_file is not None:
-            t = load_table(b.table_file)
+            t = load_table_file(b.table_file)
             speed = np.abs(np.asarray(t.speed_rpm)) * np.pi / 30
             vals = np.column_stack([t.kxx, t.kxy, t.kyx, t.kyy, t.cxx, t.cxy, t.cyx, t.cyy])
         else:

@@ -4,15 +4,19 @@
 
 from __future__ import annotations
 
+import ast
+import math
 import re
 from functools import cache
-from typing import Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any
 
-import pint
 from pydantic import BeforeValidator
 
+if TYPE_CHECKING:  # pragma: no cover
+    import pint
+
 __all__ = [
-    "ureg",
+    "registry",
     "to_si",
     "Length",
     "Mass",
@@ -36,11 +40,28 @@ __all__ = [
     "Voltage",
     "Resistance",
     "Stress",
+    "Acceleration",
     "rpm_to_rad_s",
     "rad_s_to_rpm",
 ]
 
-ureg = pint.UnitRegistry()
+
+@cache
+def registry() -> pint.UnitRegistry:
+    """The unit registry, built on first use (importing and building pint costs ~0.4 s, which a
+    model of plain SI numbers, or ``gearrotor --help``, does not pay)."""
+    import pint
+
+    return pint.UnitRegistry()
+
+
+def __getattr__(name: str):
+    # ``gearrotor.units.ureg``, the former module-level registry, now built lazily
+    if name == "ureg":
+        return registry()
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
 # In rotordynamics a "mil" is a thousandth of an inch (pint's default "mil" is the angular mil).
 _MIL = re.compile(r"\bmils?\b")
 
@@ -69,31 +90,140 @@ KINDS: dict[str, tuple[str, str, str]] = {
     "voltage": ("V", "a voltage", "13.8 kV"),
     "resistance": ("ohm", "a resistance or reactance", "0.64 ohm"),
     "stress": ("Pa", "a stress", "120 MPa"),
+    "acceleration": ("m/s^2", "an acceleration", "9.80665 m/s^2"),
 }
 
 
 @cache
 def _dim(unit: str):
-    return ureg.Quantity(1.0, unit).dimensionality
+    return registry().Quantity(1.0, unit).dimensionality
+
+
+# A unit expression is at most this long, holds at most this many operators, and raises to
+# powers only a plain number of at most this magnitude: pint evaluates expressions with Python
+# numbers, so "10**10**10" would otherwise compute a ten-billion-digit integer (hours, gigabytes).
+MAX_EXPRESSION_LENGTH = 200
+MAX_OPERATORS = 40
+MAX_EXPONENT = 64
+_TOKEN = re.compile(
+    r"\s*(?:(?P<num>(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)|(?P<op>\*\*|[-+*/^()])"
+    r"|(?P<name>(?:[^\W\d]|[°%Ω])(?:\w|[°%Ω])*))"
+)
+
+
+def _check_expression(text: str) -> None:
+    """Refuse unit expressions whose evaluation could take unbounded time or memory.
+
+    The text is rewritten as a Python expression (every unit name a placeholder, implicit
+    multiplication made explicit, ``^`` as ``**``) and its syntax tree checked: every exponent
+    is a plain number of magnitude at most :data:`MAX_EXPONENT`, no power is raised to a power,
+    and the expression has at most :data:`MAX_OPERATORS` operators. Raises ``ValueError``.
+    """
+    if len(text) > MAX_EXPRESSION_LENGTH:
+        raise ValueError(
+            f"the value is {len(text)} characters long; expected a number with units of at "
+            f"most {MAX_EXPRESSION_LENGTH} characters such as '1e7 N/m'"
+        )
+    parts: list[str] = []
+    pos, prev_operand = 0, False
+    while pos < len(text):
+        m = _TOKEN.match(text, pos)
+        if m is None or m.end() == pos:
+            if text[pos:].strip() == "":
+                break
+            bad = text[pos:].lstrip()[:1]
+            raise ValueError(f"cannot read {text!r}: unexpected character {bad!r}")
+        pos = m.end()
+        if m.group("op") is not None:
+            op = "**" if m.group("op") == "^" else m.group("op")
+            if op == "(" and prev_operand:
+                parts.append("*")
+            parts.append(op)
+            prev_operand = op == ")"
+            continue
+        if prev_operand:  # "6500 rpm", "kg m": implicit multiplication
+            parts.append("*")
+        parts.append(m.group("num") if m.group("num") is not None else "x")
+        prev_operand = True
+    try:
+        tree = ast.parse(" ".join(parts), mode="eval")
+    except (SyntaxError, ValueError, RecursionError, MemoryError):
+        raise ValueError(f"cannot read {text!r} as a number with units") from None
+    n_ops = 0
+    for node in ast.walk(tree):
+        if isinstance(node, ast.BinOp | ast.UnaryOp):
+            n_ops += 1
+        if isinstance(node, ast.BinOp) and isinstance(node.op, ast.Pow):
+            exp = node.right
+            if isinstance(exp, ast.UnaryOp) and isinstance(exp.op, ast.USub | ast.UAdd):
+                exp = exp.operand
+            plain = isinstance(exp, ast.Constant) and isinstance(exp.value, int | float)
+            nested = any(
+                isinstance(n, ast.BinOp) and isinstance(n.op, ast.Pow) for n in ast.walk(node.left)
+            )
+            if not plain or nested or abs(exp.value) > MAX_EXPONENT:
+                raise ValueError(
+                    f"cannot read {text!r}: exponents must be plain numbers of magnitude at "
+                    f"most {MAX_EXPONENT}, and a power cannot be raised to a power "
+                    "(e.g. '2.1e11 Pa', 'kg*m^2')"
+                )
+    if n_ops > MAX_OPERATORS:
+        raise ValueError(
+            f"cannot read {text!r}: more than {MAX_OPERATORS} operators in a unit expression"
+        )
+
+
+def _short(value: Any) -> str:
+    text = repr(value) if not isinstance(value, int) or abs(value) < 10**30 else "a huge integer"
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
+def _finite(x: float, value: Any, name: str, example: str) -> float:
+    if not math.isfinite(x):
+        raise ValueError(
+            f"expected {name} as a finite number (e.g. '{example}'), got {_short(value)}, which is "
+            "not finite (nan, inf, or beyond the range of a float)"
+        )
+    return x
 
 
 def to_si(value: Any, kind: str) -> float:
     """Convert a number (taken as SI) or a string with units to the SI value of ``kind``.
 
-    Raises ValueError with the expected kind and an example when the value does not fit.
+    Raises ValueError with the expected kind and an example when the value does not fit,
+    including values that are not finite (nan, inf, "1e999 Pa") and unit expressions whose
+    evaluation would not be bounded (see :func:`_check_expression`).
     """
     unit, name, example = KINDS[kind]
     if isinstance(value, bool):
         raise ValueError(f"expected {name} (e.g. '{example}'), got a boolean")
     if isinstance(value, int | float):
-        return float(value)
+        try:
+            x = float(value)
+        except OverflowError:
+            x = math.inf
+        return _finite(x, value, name, example)
     if not isinstance(value, str):
         raise ValueError(f"expected {name} as a number or a string such as '{example}'")
+    text = _MIL.sub("thou", value.strip())
+    _check_expression(text)
+    ureg = registry()
     try:
-        q = ureg.Quantity(_MIL.sub("thou", value.strip()))
+        q = ureg.Quantity(text)
     except Exception as exc:  # pint raises several unrelated types
-        raise ValueError(f"cannot read {value!r} as {name} (e.g. '{example}'): {exc}") from None
-    if not isinstance(q, pint.Quantity):
+        msg = str(exc).splitlines()[0][:120] if str(exc) else type(exc).__name__
+        raise ValueError(f"cannot read {value!r} as {name} (e.g. '{example}'): {msg}") from None
+    try:
+        x = _convert(q, value, kind)
+    except OverflowError:
+        x = math.inf
+    return _finite(x, value, name, example)
+
+
+def _convert(q: Any, value: Any, kind: str) -> float:
+    unit, name, example = KINDS[kind]
+    ureg = registry()
+    if not isinstance(q, ureg.Quantity):
         return float(q)
     if kind in ("angular_speed", "frequency") and "hertz" in str(q.units):
         # Hz on a rotational speed or a frequency means cycles per second, not rad/s
@@ -139,6 +269,7 @@ Dimensionless = _quantity("dimensionless")
 Voltage = _quantity("voltage")
 Resistance = _quantity("resistance")
 Stress = _quantity("stress")
+Acceleration = _quantity("acceleration")
 
 
 def rpm_to_rad_s(rpm: float) -> float:

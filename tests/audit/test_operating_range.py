@@ -43,9 +43,10 @@ def test_fields_parse_with_units_and_round_trip(examples):
 def test_models_without_the_fields_serialise_as_before(examples):
     """Study case keys and transient checkpoint fingerprints hash the model JSON: a model
     without an operating range must not gain keys."""
-    t = load_model(examples / "steam_turbine_gearbox.toml")
+    t = load_model(examples / "unity_gearbox.toml")
     d = json.loads(t.model_dump_json())
     assert "operating_speed_range" not in d and "max_continuous_speed" not in d
+    assert "api_audit" not in d
     assert model_operating_range(t) is None
 
 

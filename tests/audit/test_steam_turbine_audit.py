@@ -15,7 +15,9 @@ import sys
 
 import pytest
 
-from doc_examples import run
+from doc_examples import ROOT, doc_commands, find_run, run
+
+DOC = ROOT / "docs" / "examples" / "steam_turbine_gearbox.md"
 
 SCRIPT = r"""
 import json, numpy as np
@@ -69,3 +71,60 @@ def test_map_of_the_geared_train(audit):
     assert [s["name"] for s in u["shafts"]] == ["pinion", "bull_gear"]
     pin = [x for x in u["intersections"] if x["shaft"] == "pinion" and x["mode"] == 0]
     assert pin and all(x["speed_rpm"] < 10800 for x in pin if x["direction"] == "kxx")
+
+
+@pytest.fixture(scope="module")
+def doc_audit():
+    """The doc's ``gearrotor ucs`` / ``gearrotor stability`` commands, run as written with
+    ``--format json`` (plots left out: their writing is tested in test_audit_cli.py)."""
+    out = []
+    for c, _ in doc_commands(DOC):
+        if c[0] not in ("ucs", "stability"):
+            continue
+        if "--plot" in c:
+            k = c.index("--plot")
+            c = c[:k] + c[k + 2 :]
+        res = run([sys.executable, "-m", "gearrotor", *c, "--format", "json"], timeout=600)
+        out.append((c, json.loads(res.stdout)))
+    return out
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(
+    "design, words, without, q0, ratio, log_dec, l2, verdict",
+    [
+        # the doc's tables: Q_0 printed to 4 digits (rel 2e-3, the root search's rtol is 1e-4),
+        # log decs to 3 decimals (abs 0.002)
+        ("original", ("pinion_offset_halves",), (), 3.940e7, 0.694, -0.370, "fail", "fail"),
+        ("redesign", (), ("--set",), 7.291e7, 1.284, 0.209, "pass", "pass"),
+    ],
+)
+def test_doc_audit_numbers(doc_audit, design, words, without, q0, ratio, log_dec, l2, verdict):
+    d = find_run(doc_audit, "stability", *words, without=without)
+    assert "8th edition" in d["edition"]
+    assert d["mcs_rpm"] == pytest.approx(11340)
+    assert d["qa_N_per_m"] == pytest.approx(5.68e7)
+    assert d["threshold_q_N_per_m"] == pytest.approx(q0, rel=2e-3)
+    assert d["ratio_q0_qa"] == pytest.approx(ratio, abs=1e-3)
+    assert d["log_dec_at_qa"] == pytest.approx(log_dec, abs=0.002)
+    assert d["level1_verdict"] == "level II required"
+    assert d["threshold_mode"]["whirl_per_shaft"]["pinion"] == "F"
+    assert (d["level2_verdict"], d["verdict"], d["decided_by"]) == (l2, verdict, "Level II")
+    speeds = {round(e["speed_rpm"]): e["min_forward_log_dec"] for e in d["level2"]["speeds"]}
+    assert set(speeds) == {10800, 11340}  # the model's operating range and MCS
+    assert speeds[11340] == pytest.approx(log_dec, abs=0.002)
+
+
+@pytest.mark.slow
+def test_doc_map_numbers(doc_audit):
+    u = find_run(doc_audit, "ucs")
+    rigid = {s["name"]: s["rigid_critical_speeds_rpm"] for s in u["shafts"]}
+    assert rigid["pinion"] == pytest.approx([19562, 24142, 35468], abs=1)
+    assert rigid["bull_gear"][:2] == pytest.approx([16046, 17864], abs=1)
+    kyy = sorted(
+        x["speed_rpm"]
+        for x in u["intersections"]
+        if x["shaft"] == "pinion" and x["direction"] == "kyy" and "brg 1" in x["bearing"]
+    )
+    assert kyy == pytest.approx([8949, 11135, 13261], abs=1)
+    assert not [x for x in u["intersections"] if x["shaft"] == "bull_gear"]

@@ -1,5 +1,6 @@
 """Analyses: free functions over a train (or its assembly) returning frozen result objects."""
 
+from .audit import StabilityAudit, level1_inputs, stability_audit
 from .campbell import CampbellResult, ExcitationOrder, campbell, default_orders
 from .modal import ModalResult, modal
 from .operating import model_max_continuous_speed, model_operating_range
@@ -21,6 +22,7 @@ __all__ = [
     "ModalResult",
     "Site",
     "Stage",
+    "StabilityAudit",
     "UCSResult",
     "UnbalanceResult",
     "api617_required_margin",
@@ -29,11 +31,13 @@ __all__ = [
     "campbell",
     "default_orders",
     "level1",
+    "level1_inputs",
     "level2",
     "modal",
     "model_max_continuous_speed",
     "model_operating_range",
     "rigid_support_criticals",
+    "stability_audit",
     "ucs_map",
     "unbalance_response",
 ]

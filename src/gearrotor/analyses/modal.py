@@ -533,6 +533,7 @@ def modal(
     overdamped_zeta: float = 0.999,
     type_threshold: float = TYPE_THRESHOLD,
     sparse_k: int | None = None,
+    operating_point=None,
 ) -> ModalResult:
     """Damped eigenvalues and modes of a train at a reference-shaft speed.
 
@@ -551,7 +552,16 @@ def modal(
         group, or the mesh springs, name the mode type (default 5 %)
     sparse_k : initial number of eigenvalues the sparse solver asks for (it doubles the number
         until every mode below ``max_frequency`` is enclosed)
+    operating_point : name or :class:`~gearrotor.model.OperatingPoint`: fluid-film bearings at
+        the coefficients of the point's static loads (at ``speed``, default the point's speed)
+        and the meshes on the loaded flank (:func:`~gearrotor.analyses.static.at_operating_point`)
     """
+    if operating_point is not None:
+        from .static.operating import model_at_operating_point
+
+        at = None if speed is None else [float(speed)]
+        model, w_op = model_at_operating_point(model, operating_point, at)
+        speed = w_op if speed is None else float(speed)
     asm = model if isinstance(model, Assembly) else assemble(model)
     w = asm.train.speed if speed is None else float(speed)
     M, C, G, K = asm.matrices(w)

@@ -321,7 +321,11 @@ class _Synchronous:
         offs = self.asm.node_offset[shaft]
         lat = self.lateral[shaft]
         out = []
-        for idx in _clusters(w2):
+        # round-off of the small ω² of a stiff train is about eps · max ω² (absolute): the two
+        # circular orbits of an isotropic rotor on soft supports (ω² ~ 1, max ω² ~ 1e12) came
+        # out 5e-7 apart (relative), beyond the relative tolerance alone
+        atol = 10 * np.finfo(float).eps * float(np.max(np.abs(w2), initial=0.0))
+        for idx in _clusters(w2, atol):
             if w2[idx[0]] < rigid_tol**2:
                 continue
             Vc = V[:, idx]
@@ -353,11 +357,12 @@ def _bare_bearing(b):
     )
 
 
-def _clusters(w2: NDArray) -> list[list[int]]:
-    """Indices of (sorted) ω² grouped where consecutive values agree to 1e-7 (relative)."""
+def _clusters(w2: NDArray, atol: float = 0.0) -> list[list[int]]:
+    """Indices of (sorted) ω² grouped where consecutive values agree to 1e-7 (relative) or
+    ``atol`` (absolute)."""
     groups: list[list[int]] = []
     for i, v in enumerate(w2):
-        if groups and abs(v - w2[groups[-1][-1]]) <= 1e-7 * max(abs(v), 1e-30):
+        if groups and abs(v - w2[groups[-1][-1]]) <= max(1e-7 * abs(v), atol, 1e-30):
             groups[-1].append(i)
         else:
             groups.append([i])

@@ -222,6 +222,7 @@ def unbalance_response(
     unbalances=None,
     probes=None,
     operating_range: tuple[float, float] | None = None,
+    operating_point=None,
 ) -> UnbalanceResult:
     """Steady-state response to unbalance over reference-shaft ``speeds`` (rad/s).
 
@@ -230,7 +231,16 @@ def unbalance_response(
     upper one also sets the API 617 vibration limit); default: the model's
     (:func:`~gearrotor.analyses.operating.model_operating_range`), else its nominal speed for
     both bounds.
+
+    ``operating_point`` (name or :class:`~gearrotor.model.OperatingPoint`): fluid-film bearings
+    at the coefficients of the point's static loads at every speed, the point's ``hold``
+    (power or torque) kept over the sweep (:func:`~gearrotor.analyses.static.at_operating_point`).
     """
+    if operating_point is not None:
+        # fluid-film bearings at the point's static loads at every speed (issue 11)
+        from .static.operating import model_at_operating_point
+
+        model = model_at_operating_point(model, operating_point, np.asarray(speeds, float))[0]
     asm = model if isinstance(model, Assembly) else assemble(model)
     train = asm.train
     unbalances = train.unbalances if unbalances is None else unbalances

@@ -23,6 +23,7 @@ from .coefficients import (
     load_sweep,
     load_table,
     save_table,
+    static_stiffness,
 )
 from .equilibrium import Equilibrium, equilibrium, sommerfeld_number
 from .film import BearingFilm, SolverOptions, dof_names, film_state
@@ -76,5 +77,6 @@ __all__ = [
     "plain",
     "save_table",
     "sommerfeld_number",
+    "static_stiffness",
     "tilting_pad",
 ]

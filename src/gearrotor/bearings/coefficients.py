@@ -28,6 +28,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import ModelError, SolverError
+from ..files import atomic_file, write_text
 from .equilibrium import Equilibrium, equilibrium
 from .film import SolverOptions, _Evaluator, _lever_scale, dof_names
 from .geometry import Bearing, TiltingPadBearing
@@ -42,6 +43,7 @@ __all__ = [
     "save_table",
     "load_table",
     "COEFFICIENT_NAMES",
+    "static_stiffness",
 ]
 
 COEFFICIENT_NAMES = ("kxx", "kxy", "kyx", "kyy", "cxx", "cxy", "cyx", "cyy")
@@ -223,6 +225,23 @@ def coefficients(
     return Coefficients(eq, kr, cr, k_full, c_full, m_full, tuple(dof_names(bearing)))
 
 
+def static_stiffness(
+    bearing: Bearing, eq: Equilibrium, *, options: SolverOptions | None = None
+) -> NDArray:
+    """Static journal stiffness −∂F/∂x (N/m, 2×2) at an equilibrium: the stiffness part of
+    :func:`coefficients` only (no velocity perturbations), tilting pads condensed statically
+    (the pads settle, zero whirl frequency). Used by the static analysis's journal iteration."""
+    opts = options or SolverOptions()
+    ev = _Evaluator(bearing, eq.speed, opts)
+    s = _lever_scale(bearing)
+    u = np.concatenate([[eq.x, eq.y], eq.pad_dofs * s[2:]])
+    k_lev, _ = ev.jacobians(u, velocity=False)
+    k = k_lev * s[:, None] * s[None, :]
+    if k.shape[0] == 2:
+        return k
+    return k[:2, :2] - k[:2, 2:] @ np.linalg.solve(k[2:, 2:], k[2:, :2])
+
+
 def load_sweep(
     bearing: Bearing,
     loads: Iterable[Sequence[float]],
@@ -372,7 +391,7 @@ def save_table(table: BearingTable, path: str | Path) -> Path:
     path = Path(path)
     cols = ["speed_rpm", *COEFFICIENT_NAMES]
     if path.suffix.lower() == ".csv":
-        with path.open("w", newline="") as fh:
+        with atomic_file(path, "w", encoding="utf-8", newline="") as fh:
             fh.write(
                 f"# bearing: {table.name}; load Fx,Fy = {table.load[0]!r},{table.load[1]!r} N\n"
             )
@@ -390,7 +409,7 @@ def save_table(table: BearingTable, path: str | Path) -> Path:
         for c in cols:
             vals = ", ".join(repr(float(v)) for v in getattr(table, c))
             lines.append(f"{c} = [{vals}]")
-        path.write_text("\n".join(lines) + "\n")
+        write_text(path, "\n".join(lines) + "\n")
     else:
         raise ModelError(
             "unknown table format", field="path", value=str(path), expected="a .csv or .toml file"

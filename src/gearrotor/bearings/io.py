@@ -9,15 +9,24 @@ in ``examples/bearings/``.
 
 from __future__ import annotations
 
+import difflib
 import math
-import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Annotated, Any, Literal
 
-from pydantic import AfterValidator, BaseModel, BeforeValidator, ConfigDict, Field, ValidationError
+from pydantic import (
+    AfterValidator,
+    BaseModel,
+    BeforeValidator,
+    ConfigDict,
+    Field,
+    Strict,
+    ValidationError,
+)
 
 from ..errors import ModelError
+from ..inputs import read_toml
 from ..units import to_si
 from .film import SolverOptions
 from .geometry import (
@@ -49,6 +58,13 @@ Stiffness = _q("stiffness")
 Mass = _q("mass")
 Inertia = _q("inertia")
 Fraction = _q("dimensionless")
+Int = Annotated[int, Strict()]
+#: pivot (or reference-angle) position as a fraction of the pad arc
+Offset = Annotated[float, BeforeValidator(lambda v: to_si(v, "dimensionless")), Field(ge=0, le=1)]
+#: Largest Reynolds grid (nodes over all pads): the solver's sparse factorisation takes very
+#: roughly ``BYTES_PER_NODE`` bytes per node, so this bounds a solve to about 0.5 GB.
+MAX_GRID_NODES = 500_000
+BYTES_PER_NODE = 1000
 Preload = Annotated[
     float,
     BeforeValidator(lambda v: to_si(v, "dimensionless")),
@@ -73,8 +89,8 @@ Arc = Annotated[float, BeforeValidator(lambda v: to_si(v, "angle")), AfterValida
 
 
 class _GridIn(_Strict):
-    n_theta: int = Field(36, ge=4, description="intervals per pad arc")
-    n_z: int = Field(8, ge=2, description="intervals from the edge to the mid-plane")
+    n_theta: Int = Field(36, ge=4, le=10_000, description="intervals per pad arc")
+    n_z: Int = Field(8, ge=2, le=10_000, description="intervals from the edge to the mid-plane")
 
 
 class _LoadIn(_Strict):
@@ -84,7 +100,7 @@ class _LoadIn(_Strict):
 
 
 class _PocketIn(_Strict):
-    pads: list[int] = Field(min_length=1, description="1-based pad numbers")
+    pads: list[Int] = Field(min_length=1, description="1-based pad numbers")
     start: Angle = 0.0
     arc: Arc
     width: Length
@@ -95,7 +111,7 @@ class _PadIn(_Strict):
     start: Angle
     arc: Arc
     preload: Preload = 0.0
-    offset: Fraction = 0.5
+    offset: Offset = 0.5
 
 
 class _Common(_Strict):
@@ -117,7 +133,7 @@ class _PlainIn(_Common):
 
 class _AxialGrooveIn(_Common):
     type: Literal["axial_groove"]
-    grooves: int = Field(2, ge=1)
+    grooves: Int = Field(2, ge=1, le=64)
     groove_arc: Angle = math.radians(20.0)
     first_groove: Angle = 0.0
     pockets: list[_PocketIn] = []
@@ -142,7 +158,7 @@ class _MultilobeIn(_Common):
     pivots: list[Angle] = Field(min_length=1)
     arc: Arc
     preload: Preload = 0.0
-    offset: Fraction = 0.5
+    offset: Offset = 0.5
     pockets: list[_PocketIn] = []
 
 
@@ -157,7 +173,7 @@ class _TiltingIn(_Common):
     pivots: list[Angle] = Field(min_length=1)
     arc: Arc
     preload: Preload = 0.0
-    offset: Fraction = 0.5
+    offset: Offset = 0.5
     pad_inertia: Inertia = 0.0
     pad_mass: Mass = 0.0
     pad_thickness: Length = 0.0
@@ -209,6 +225,52 @@ class BearingCase:
     options: SolverOptions = field(default_factory=SolverOptions)
     source: str = ""
     notes: str = ""
+
+
+def _known_keys() -> set[str]:
+    keys: set[str] = set()
+    for cls in (
+        _File,
+        _PlainIn,
+        _AxialGrooveIn,
+        _OffsetHalvesIn,
+        _EllipticalIn,
+        _MultilobeIn,
+        _PadsIn,
+        _TiltingIn,
+        _PadIn,
+        _PocketIn,
+        _LoadIn,
+        _GridIn,
+    ):
+        keys |= set(cls.model_fields)
+    return keys
+
+
+def _did_you_mean(key: object) -> str:
+    close = difflib.get_close_matches(str(key), sorted(_known_keys()), n=1, cutoff=0.7)
+    return f" (did you mean {close[0]!r}?)" if close else ""
+
+
+def _check_size(bearing: Bearing, grid: _GridIn) -> None:
+    """Total pad arc at most 360°, and a Reynolds grid that fits in memory."""
+    total = sum(p.arc for p in bearing.pads)
+    if total > 2 * math.pi * (1 + 1e-9):
+        raise ModelError(
+            "the pads' arcs add up to more than a full circle",
+            field="bearing.arc",
+            value=f"{len(bearing.pads)} pads, {math.degrees(total):.6g} deg in total",
+            expected="pad arcs (and grooves between them) within 360 deg",
+        )
+    nodes = len(bearing.pads) * (grid.n_theta + 1) * (grid.n_z + 1)
+    if nodes > MAX_GRID_NODES:
+        raise ModelError(
+            f"the Reynolds grid is too large: {nodes} nodes over {len(bearing.pads)} pads would "
+            f"need about {nodes * BYTES_PER_NODE / 1e9:.3g} GB",
+            field="bearing.grid",
+            value=f"n_theta = {grid.n_theta}, n_z = {grid.n_z}",
+            expected=f"at most {MAX_GRID_NODES} nodes (pads x (n_theta + 1) x (n_z + 1))",
+        )
 
 
 def _with_pockets(pockets: list[_PocketIn], n_pads: int) -> dict[int, Pocket]:
@@ -325,7 +387,8 @@ def parse_bearing(doc: dict, source: str = "") -> BearingCase:
     try:
         data = _File.model_validate(doc)
     except ValidationError as exc:
-        errors = exc.errors()
+        # a misspelt key also makes its field "missing": name the misspelling first
+        errors = sorted(exc.errors(), key=lambda e: e["type"] != "extra_forbidden")
         first = errors[0]
         more = f" (and {len(errors) - 1} more error(s))" if len(errors) > 1 else ""
         msg = first["msg"].removeprefix("Value error, ")
@@ -342,6 +405,9 @@ def parse_bearing(doc: dict, source: str = "") -> BearingCase:
         }.get(kind, ("invalid value", msg[:1].lower() + msg[1:]))
         value = first.get("input")
         where = _loc(first["loc"])
+        if kind == "extra_forbidden" and first["loc"]:
+            message = f"unknown key {first['loc'][-1]!r}{_did_you_mean(first['loc'][-1])}"
+            value = None
         if kind == "missing":
             value = None
         elif kind == "union_tag_invalid" and isinstance(value, dict):
@@ -356,6 +422,7 @@ def parse_bearing(doc: dict, source: str = "") -> BearingCase:
     inp = data.bearing
     try:
         bearing = _build(inp)
+        _check_size(bearing, inp.grid)
         options = SolverOptions(
             grid=Grid(inp.grid.n_theta, inp.grid.n_z), cavitation=inp.cavitation
         )
@@ -373,22 +440,25 @@ def parse_bearing(doc: dict, source: str = "") -> BearingCase:
 def load_bearing(path: str | Path) -> BearingCase:
     """Read a bearing TOML file (see module docstring and ``docs/bearings.md``)."""
     path = Path(path)
-    try:
-        with path.open("rb") as fh:
-            doc = tomllib.load(fh)
-    except FileNotFoundError:
+    doc = read_toml(path, "bearing")
+    if "bearing" not in doc and ("shafts" in doc or "materials" in doc):
         raise ModelError(
-            "bearing file not found", field=None, value=str(path), expected="an existing TOML file"
-        ) from None
-    except tomllib.TOMLDecodeError as exc:
-        raise ModelError(f"not valid TOML: {exc}", file=str(path)) from None
-    if "bearing" not in doc and ("shafts" in doc or "meshes" in doc):
-        raise ModelError(
-            "this is a rotor model file, not a bearing file (it has "
-            + " and ".join(repr(k) for k in ("shafts", "meshes") if k in doc)
-            + "; rotor models go to modal, campbell, unbalance, transient, report, floquet)",
+            "this is a rotor model file, not a bearing file",
             file=str(path),
-            field="bearing",
-            expected="a bearing file with a [bearing] table (docs/bearings.md)",
+            expected="a bearing file with a [bearing] table (see docs/bearings.md)",
         )
     return parse_bearing(doc, str(path))
+
+
+def load_table_file(path: str | Path):
+    """Read a bearing coefficient table file (CSV or TOML, as written by
+    :func:`~gearrotor.bearings.save_table`) through the checked reader
+    :func:`gearrotor.inputs.read_table`: the result is a
+    :class:`~gearrotor.bearings.BearingTable` or one :class:`ModelError` naming the file."""
+    import numpy as np
+
+    from ..inputs import read_table
+    from .coefficients import COEFFICIENT_NAMES, BearingTable
+
+    t = read_table(path, ("speed_rpm", *COEFFICIENT_NAMES))
+    return BearingTable(*(np.array(v) for v in t.columns.values()), load=t.load, name=t.name)

@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import ArrayLike
 
+from ..files import save_figure
 from .coefficients import BearingTable, Coefficients
 from .equilibrium import Equilibrium
 from .geometry import Bearing, TiltingPadBearing
@@ -31,7 +32,7 @@ def _save(fig, path: str | Path | None):
         from matplotlib.backends.backend_agg import FigureCanvasAgg
 
         FigureCanvasAgg(fig)
-        fig.savefig(path, dpi=120)
+        save_figure(fig, path, dpi=120)
     return fig
 
 

@@ -9,12 +9,16 @@ command             module                      calls
 ``modal``           :mod:`.modal`               :func:`gearrotor.analyses.modal`
 ``campbell``        :mod:`.campbell`            :func:`gearrotor.analyses.campbell`
 ``unbalance``       :mod:`.unbalance`           :func:`gearrotor.analyses.unbalance_response`
+``static``          :mod:`.static`              :func:`gearrotor.analyses.static.static`
 ``bearing``         :mod:`.bearing`             :func:`gearrotor.bearings.coefficients`
 ``transient``,      :mod:`.transient`           :func:`gearrotor.analyses.transient.transient`
 ``transient-plot``
 ``report``          :mod:`.report`              :func:`gearrotor.plots.report.make_report`
 ``floquet``         :mod:`.floquet`             :func:`gearrotor.analyses.floquet.floquet`
+``ucs``             :mod:`.ucs`                 :func:`gearrotor.analyses.ucs.ucs_map`
+``stability``       :mod:`.stability`           :func:`gearrotor.analyses.audit.stability_audit`
 ``study ...``       :mod:`.study`               :mod:`gearrotor.studies`
+``torsional ...``   :mod:`.torsional`           :mod:`gearrotor.analyses.torsional`
 ==================  ==========================  ==============================================
 
 Shared options (``--set``, ``--format``, rpm) are in :mod:`.options`; every command maps errors
@@ -32,12 +36,16 @@ import typer
 
 from .bearing import bearing_cli
 from .campbell import campbell_command
-from .errors import EXIT_CODES_HELP
+from .errors import EXIT_CODES_HELP, OneLineGroup
 from .floquet import floquet_command
 from .modal import modal_command
 from .report import report_command
+from .stability import stability_command
+from .static import static_command
 from .study import study_app
+from .torsional import torsional_app
 from .transient import plot_command, transient_command
+from .ucs import ucs_command
 from .unbalance import unbalance_command
 
 __all__ = ["app", "main"]
@@ -53,7 +61,9 @@ app = typer.Typer(
     no_args_is_help=True,
     add_completion=False,
     pretty_exceptions_enable=False,
+    cls=OneLineGroup,  # parser errors are one line, like every other error
 )
+
 
 
 def reflow(doc: str | None) -> str | None:
@@ -74,12 +84,16 @@ def _command(name: str, fn) -> None:
 _command("modal", modal_command)
 _command("campbell", campbell_command)
 _command("unbalance", unbalance_command)
+_command("static", static_command)
 _command("bearing", bearing_cli)
 _command("transient", transient_command)
 _command("transient-plot", plot_command)
 _command("report", report_command)
 _command("floquet", floquet_command)
+_command("ucs", ucs_command)
+_command("stability", stability_command)
 app.add_typer(study_app, name="study")
+app.add_typer(torsional_app, name="torsional")
 
 
 def main() -> None:

@@ -19,6 +19,7 @@ from typing import TYPE_CHECKING, Annotated
 import typer
 
 from ..errors import ModelError
+from ..files import check_output
 from .errors import cli_errors
 from .options import FormatOpt
 
@@ -212,6 +213,8 @@ def bearing_command(
         raise ModelError(
             "unknown output format", field="--format", value=fmt, expected="table or json"
         )
+    if plot is not None:
+        check_output(plot, "directory", field="--plot")
     case = load_bearing(path)
     w = parse_speed(speed) if speed is not None else case.speed
     if w is None:

@@ -10,8 +10,20 @@ from typing import Annotated
 import typer
 
 from ..errors import ModelError
+from ..files import check_output
 from .errors import cli_errors
-from .options import RPM, FormatOpt, SetOpt, check_format, speed_grid
+from .options import (
+    MAX_SPEEDS,
+    RPM,
+    FormatOpt,
+    OperatingPointOpt,
+    SetOpt,
+    check_format,
+    check_operating_point,
+    count,
+    rpm,
+    speed_grid,
+)
 
 __all__ = ["campbell_command"]
 
@@ -19,16 +31,24 @@ __all__ = ["campbell_command"]
 @cli_errors()
 def campbell_command(
     model: Annotated[Path, typer.Argument(help="TOML model file")],
-    min_speed: Annotated[float, typer.Option(help="rpm")] = 0.0,
-    max_speed: Annotated[float | None, typer.Option(help="rpm (default 1.25 × nominal)")] = None,
-    n_speeds: Annotated[int, typer.Option(help="number of speeds")] = 60,
-    max_frequency: Annotated[float | None, typer.Option(help="rpm (default 3 × max speed)")] = None,
+    min_speed: Annotated[float, typer.Option(parser=rpm(0), help="rpm")] = 0.0,
+    max_speed: Annotated[
+        float | None, typer.Option(parser=rpm(0, strict=True), help="rpm (default 1.25 × nominal)")
+    ] = None,
+    n_speeds: Annotated[
+        int, typer.Option(parser=count(2, MAX_SPEEDS), help="number of speeds")
+    ] = 60,
+    max_frequency: Annotated[
+        float | None,
+        typer.Option(parser=rpm(0, strict=True), help="rpm (default 3 × max speed)"),
+    ] = None,
     orders: Annotated[
         str | None,
         typer.Option(help="extra excitation orders of the reference shaft, e.g. '10,42'"),
     ] = None,
     format: FormatOpt = "table",
     plot: Annotated[Path | None, typer.Option(help="write the Campbell diagram PNG")] = None,
+    operating_point: OperatingPointOpt = None,
     set_: SetOpt = None,
 ) -> None:
     """Campbell diagram with MAC mode tracking, excitation orders and crossing speeds."""
@@ -36,7 +56,10 @@ def campbell_command(
     from ..io import load_model, parse_overrides
 
     check_format(format)
+    if plot is not None:
+        check_output(plot, "file", field="--plot")
     train = load_model(model, parse_overrides(set_))
+    check_operating_point(train, operating_point)
     hi = max_speed if max_speed is not None else 1.25 * abs(train.speed) / RPM
     speeds = speed_grid(min_speed, hi, n_speeds, "--min-speed/--max-speed")
     fmax = (max_frequency if max_frequency is not None else 3 * hi) * RPM
@@ -51,7 +74,13 @@ def campbell_command(
                 value=orders,
                 expected="comma-separated numbers, e.g. '10,42'",
             ) from None
-    res = run_campbell(train, speeds=speeds, max_frequency=fmax, extra_orders=extra)
+    res = run_campbell(
+        train,
+        speeds=speeds,
+        max_frequency=fmax,
+        extra_orders=extra,
+        operating_point=operating_point,
+    )
     if format == "json":
         typer.echo(json.dumps(res.to_dict(), indent=1))
     else:

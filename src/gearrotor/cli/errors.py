@@ -19,7 +19,9 @@ expected WHAT`` for input errors (:class:`~gearrotor.errors.ModelError` carries 
 ``solver error: ...`` for solver failures.
 
 Use :func:`cli_errors` as a decorator of a command function (below ``@app.command()``) or as a
-context manager around part of one.
+context manager around part of one. Errors of the command-line parser itself (an unknown option,
+a value that does not parse, a missing argument) are one line too: ``error: --speed: ...``
+(:class:`OneLineGroup`, the class of the ``gearrotor`` command group).
 """
 
 from __future__ import annotations
@@ -27,8 +29,10 @@ from __future__ import annotations
 import contextlib
 import errno
 import os
+import re
 
 import typer
+from typer.core import TyperGroup
 
 from ..errors import ModelError, SolverError
 
@@ -38,6 +42,7 @@ __all__ = [
     "EXIT_INPUT",
     "EXIT_OK",
     "EXIT_SOLVER",
+    "OneLineGroup",
     "cli_errors",
     "input_error",
 ]
@@ -120,3 +125,50 @@ def cli_errors():
             raise
         typer.echo(f"error: {err}", err=True)
         raise typer.Exit(EXIT_INPUT) from None
+
+
+def _click_exceptions():
+    # typer carries its own copy of click (typer._click) in recent versions; older ones use click
+    try:
+        from typer._click import exceptions
+    except ImportError:  # pragma: no cover
+        from click import exceptions
+    return exceptions
+
+
+def usage_message(exc: BaseException) -> str:
+    """One line for a command-line parser error: ``--speed: <what is wrong>; see '... --help'``."""
+    text = " ".join(exc.format_message().split())
+    text = re.sub(r"^Invalid value for '?([^':]+?)'?: ", r"\1: ", text)
+    ctx = getattr(exc, "ctx", None)
+    if ctx is not None and getattr(ctx, "command_path", None):
+        text += f" (see '{ctx.command_path} --help')"
+    return text
+
+
+@contextlib.contextmanager
+def one_line_usage_errors():
+    """Print a parser error as one line on stderr and exit with status 2 (the README's promise:
+    errors are one line); ``--help`` and a bare command (its help) pass through."""
+    exc_types = _click_exceptions()
+    no_args = getattr(exc_types, "NoArgsIsHelpError", ())
+    try:
+        yield
+    except no_args:
+        raise
+    except exc_types.ClickException as exc:
+        typer.echo(f"error: {usage_message(exc)}", err=True)
+        raise typer.Exit(EXIT_INPUT) from None
+
+
+class OneLineGroup(TyperGroup):
+    """The ``gearrotor`` group: parser errors of the group and of every command below it (the
+    ``study`` group's too) are one line (:func:`one_line_usage_errors`)."""
+
+    def make_context(self, *args, **kwargs):
+        with one_line_usage_errors():
+            return super().make_context(*args, **kwargs)
+
+    def invoke(self, ctx):
+        with one_line_usage_errors():
+            return super().invoke(ctx)

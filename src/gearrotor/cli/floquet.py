@@ -4,24 +4,32 @@
 from __future__ import annotations
 
 import json
+import math
 from pathlib import Path
 from typing import Annotated
 
 import typer
 
 from ..errors import ModelError
+from ..files import check_output, save_figure
 from .errors import cli_errors
-from .options import RPM, FormatOpt, SetOpt, check_format
+from .options import RPM, FormatOpt, SetOpt, check_format, count, rpm
 
 __all__ = ["floquet_command"]
 
 
 def _floats(text: str, field: str) -> list[float]:
     try:
-        return [float(v) for v in text.split(",") if v.strip()]
+        values = [float(v) for v in text.split(",") if v.strip()]
+        if not all(math.isfinite(v) for v in values):
+            raise ValueError
+        return values
     except ValueError:
         raise ModelError(
-            "expected comma-separated numbers", field=field, value=text, expected="e.g. 0,0.25,0.5"
+            "expected comma-separated finite numbers",
+            field=field,
+            value=text,
+            expected="e.g. 0,0.25,0.5",
         ) from None
 
 
@@ -38,9 +46,14 @@ def floquet_command(
     ] = None,
     cutoff: Annotated[
         float | None,
-        typer.Option(help="keep modes up to this frequency, cpm (default 2.5 × mesh frequency)"),
+        typer.Option(
+            parser=rpm(0, strict=True),
+            help="keep modes up to this frequency, cpm (default 2.5 × mesh frequency)",
+        ),
     ] = None,
-    n: Annotated[int, typer.Option(help="least stable exponents listed per case")] = 6,
+    n: Annotated[
+        int, typer.Option(parser=count(1), help="least stable exponents listed per case")
+    ] = 6,
     format: FormatOpt = "table",
     plot: Annotated[
         Path | None, typer.Option(help="PNG: largest growth rate against speed (or Ka)")
@@ -55,6 +68,8 @@ def floquet_command(
     from ..io import load_model, parse_overrides
 
     check_format(format)
+    if plot is not None:
+        check_output(plot, "file", field="--plot")
     if n < 1:
         raise ModelError("at least one exponent", field="--n", value=n, expected="≥ 1")
     train = load_model(model, parse_overrides(set_))
@@ -168,6 +183,5 @@ def _plot(cases, n_speeds: int, kas: list[float | None], path: Path) -> None:
     ax.set_ylabel("largest Floquet growth rate (1/s)")
     ax.set_title("Parametric stability (above the neutral band: unstable)")
     ax.grid(alpha=0.3)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=120)
+    save_figure(fig, path, dpi=120)
     plt.close(fig)

@@ -8,8 +8,19 @@ from typing import Annotated
 
 import typer
 
+from ..files import check_output, write_json
 from .errors import cli_errors
-from .options import RPM, FormatOpt, SetOpt, check_format
+from .options import (
+    RPM,
+    FormatOpt,
+    OperatingPointOpt,
+    SetOpt,
+    check_format,
+    check_operating_point,
+    choice,
+    count,
+    rpm,
+)
 
 __all__ = ["modal_command"]
 
@@ -18,13 +29,18 @@ __all__ = ["modal_command"]
 def modal_command(
     model: Annotated[Path, typer.Argument(help="TOML model file")],
     speed: Annotated[
-        float | None, typer.Option(help="reference shaft speed, rpm (default: the model's)")
+        float | None,
+        typer.Option(parser=rpm(), help="reference shaft speed, rpm (default: the model's)"),
     ] = None,
     max_frequency: Annotated[
-        float | None, typer.Option(help="highest damped frequency, rpm")
+        float | None, typer.Option(parser=rpm(0, strict=True), help="highest damped frequency, rpm")
     ] = None,
-    n_modes: Annotated[int | None, typer.Option(help="at most this many modes")] = None,
-    method: Annotated[str, typer.Option(help="auto, dense or sparse")] = "auto",
+    n_modes: Annotated[
+        int | None, typer.Option(parser=count(1), help="at most this many modes")
+    ] = None,
+    method: Annotated[
+        str, typer.Option(parser=choice("auto", "dense", "sparse"), help="auto, dense or sparse")
+    ] = "auto",
     format: FormatOpt = "table",
     plot: Annotated[
         Path | None, typer.Option(help="write mode-shape plots to this directory")
@@ -37,6 +53,7 @@ def modal_command(
             "real part"
         ),
     ] = False,
+    operating_point: OperatingPointOpt = None,
     set_: SetOpt = None,
 ) -> None:
     """Damped eigenvalues at a speed: frequency, log dec, whirl per shaft, mode type."""
@@ -44,13 +61,17 @@ def modal_command(
     from ..io import load_model, parse_overrides
 
     check_format(format)
+    if plot is not None:
+        check_output(plot, "directory", field="--plot")
     train = load_model(model, parse_overrides(set_))
+    check_operating_point(train, operating_point)
     res = run_modal(
         train,
         speed=None if speed is None else speed * RPM,
         max_frequency=None if max_frequency is None else max_frequency * RPM,
         n_modes=n_modes,
         method=method,
+        operating_point=operating_point,
     )
     if format == "json":
         typer.echo(json.dumps(res.to_dict(shapes=shapes), indent=1))
@@ -69,5 +90,5 @@ def modal_command(
             plot_mode_shapes(
                 res, modes=elastic[k : k + 8], path=plot / f"modes_{k // 8 + 1}.png", orbit=orbit
             )
-        (plot / "modal.json").write_text(json.dumps(res.to_dict(), indent=1))
+        write_json(plot / "modal.json", res.to_dict())
         typer.echo(f"plots written to {plot}/", err=format == "json")

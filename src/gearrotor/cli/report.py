@@ -15,8 +15,9 @@ from typing import Annotated
 
 import typer
 
+from ..errors import ModelError
 from .errors import cli_errors
-from .options import RPM, SetOpt
+from .options import RPM, OperatingPointOpt, SetOpt, check_operating_point, rpm
 
 __all__ = ["report_command"]
 
@@ -33,18 +34,23 @@ def report_command(
     analyses: Annotated[
         str,
         typer.Option(
-            help="comma-separated: modal, campbell, unbalance (transient: give --transient)"
+            help="comma-separated: modal, campbell, unbalance, audit (the API 617 lateral audit: "
+            "needs the model's operating range, MCS and [api_audit]), operating_points, "
+            "torsional (the torsional audit; not by default); transient: give --transient"
         ),
     ] = "modal,campbell,unbalance",
     speed: Annotated[
         float | None,
-        typer.Option(help="operating speed of the reference shaft, rpm (default: the model's)"),
+        typer.Option(
+            parser=rpm(), help="operating speed of the reference shaft, rpm (default: the model's)"
+        ),
     ] = None,
     max_frequency: Annotated[
         float | None,
         typer.Option(
+            parser=rpm(0, strict=True),
             help="highest damped frequency of modes and Campbell, cpm (default 1.1 × the mesh "
-            "frequency; 5 × speed without gears)"
+            "frequency; 5 × speed without gears)",
         ),
     ] = None,
     api: Annotated[
@@ -58,6 +64,14 @@ def report_command(
         Path | None,
         typer.Option(help="saved transient result (NetCDF) to add spectra, waterfall, whirl power"),
     ] = None,
+    operating_point: OperatingPointOpt = None,
+    all_operating_points: Annotated[
+        bool,
+        typer.Option(
+            help="add the operating-points section: every operating point's bearing loads, "
+            "eccentricity locus and least-stable log dec against power"
+        ),
+    ] = False,
     set_: SetOpt = None,
 ) -> None:
     """Self-contained HTML report: modes (3-D), stability, Campbell, Bode, orbits, API 684 checks,
@@ -66,6 +80,13 @@ def report_command(
     from ..plots.report import make_report
 
     train = load_model(model, parse_overrides(set_))
+    check_operating_point(train, operating_point)
+    if all_operating_points and not train.operating_points:
+        raise ModelError(
+            "the model has no operating points",
+            field="--all-operating-points",
+            expected="[[operating_points]] entries in the model",
+        )
     rep = make_report(
         train,
         output,
@@ -76,6 +97,8 @@ def report_command(
         api=api,
         source=str(model),
         command=shlex.join(["gearrotor", *sys.argv[1:]]) if sys.argv else None,
+        operating_point=operating_point,
+        operating_points=[p.name for p in train.operating_points] if all_operating_points else None,
     )
     typer.echo(f"report written to {rep.html}")
     for v in rep.summary.get("verdicts", []):

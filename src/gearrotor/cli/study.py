@@ -17,9 +17,15 @@ from typing import Annotated
 import typer
 
 from ..errors import ModelError
+from ..files import check_output
 from .errors import EXIT_CASES_FAILED, EXIT_CODES_HELP, cli_errors
 
-__all__ = ["study_app"]
+__all__ = ["EXIT_INTERRUPTED", "EXIT_TERMINATED", "study_app"]
+
+#: ``study run`` stopped by Ctrl-C (128 + SIGINT) or SIGTERM (128 + SIGTERM), the shell's
+#: convention; the finished cases are stored and the next run resumes.
+EXIT_INTERRUPTED = 130
+EXIT_TERMINATED = 143
 
 study_app = typer.Typer(
     help="Parametric studies: a matrix of cases run in parallel (local processes or Dask).",
@@ -83,19 +89,34 @@ def run_command(
     retry_failed: Annotated[bool, typer.Option(help="run previously failed cases again")] = True,
     progress: Annotated[bool, typer.Option(help="progress bar on stderr")] = True,
 ) -> None:
-    """Run the cases of a study that have not finished (resumes an interrupted study)."""
+    """Run the cases of a study that have not finished (resumes an interrupted study).
+    Ctrl-C or SIGTERM stops it with one line (exit status 130 or 143); its workers stop with
+    it, also when it is killed; the finished cases are kept."""
     from ..studies.execute import run_study
-    from ..studies.spec import load_study
+    from ..studies.spec import check_cases, load_study
+    from ..studies.workers import Terminated, sigterm_raises
 
     st = load_study(study)
-    summary = run_study(
-        st,
-        scheduler=scheduler,
-        workers=workers,
-        cases=_parse_cases(cases),
-        retry_failed=retry_failed,
-        progress=progress,
-    )
+    check_cases(st)  # every row's model is valid before anything runs (exit 2)
+    try:
+        with sigterm_raises():
+            summary = run_study(
+                st,
+                scheduler=scheduler,
+                workers=workers,
+                cases=_parse_cases(cases),
+                retry_failed=retry_failed,
+                progress=progress,
+            )
+    except (KeyboardInterrupt, Terminated) as exc:
+        term = isinstance(exc, Terminated)
+        typer.echo(
+            ("\n" if sys.stderr.isatty() else "")  # end the progress bar's line
+            + f"interrupted ({'SIGTERM' if term else 'Ctrl-C'}): the finished cases are stored "
+            f"in {st.folder}; run the same command again to resume",
+            err=True,
+        )
+        raise typer.Exit(EXIT_TERMINATED if term else EXIT_INTERRUPTED) from None
     typer.echo(
         f"study {st.name}: {summary.n_cases} cases, {summary.n_runs} distinct runs, "
         f"{summary.executed} executed, {summary.skipped} already finished, "
@@ -156,6 +177,9 @@ def report_command(
     from ..studies.spec import load_study
 
     st = load_study(study)
+    check_output(st.folder, "directory", field="output")
+    if output is not None:
+        check_output(output, "directory", field="--output")
     if per_figure < 1:
         raise ModelError(
             "cases per figure must be positive",

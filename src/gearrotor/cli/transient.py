@@ -16,23 +16,32 @@ import numpy as np
 import typer
 
 from ..errors import ModelError
+from ..files import check_output, remove_stale_temporaries
 from .errors import cli_errors
-from .options import FormatOpt, SetOpt, check_format
+from .options import FormatOpt, SetOpt, check_format, choice, duration
+from .study import EXIT_INTERRUPTED
 
 __all__ = ["transient_command", "plot_command"]
 
 
 def transient_command(
     model: Annotated[Path, typer.Argument(help="model file (TOML)")],
-    t_end: Annotated[float, typer.Option("--t-end", help="end time, s (optional)")] = 1.0,
+    t_end: Annotated[
+        float, typer.Option("--t-end", parser=duration(), help="end time, s (optional)")
+    ] = 1.0,
     dt: Annotated[
         float | None,
         typer.Option(
-            "--dt", help="time step, s (default: rk4 0.95× its stability limit; modal: automatic)"
+            "--dt",
+            parser=duration(),
+            help="time step, s (default: rk4 0.95× its stability limit; modal: automatic)",
         ),
     ] = None,
     method: Annotated[
-        str, typer.Option("--method", help="'modal' (fast) or 'rk4' (reference)")
+        str,
+        typer.Option(
+            "--method", parser=choice("modal", "rk4"), help="'modal' (fast) or 'rk4' (reference)"
+        ),
     ] = "modal",
     set_: SetOpt = None,
     output: Annotated[
@@ -48,19 +57,39 @@ def transient_command(
     ] = True,
     progress: Annotated[bool, typer.Option(help="progress on stderr")] = True,
     initial: Annotated[
-        str, typer.Option("--initial", help="'zero' or 'static' (deflection under the torques)")
+        str,
+        typer.Option(
+            "--initial",
+            parser=choice("zero", "static", "rest"),
+            help="'zero', 'static' (deflection under the torques) or 'rest' (standstill: a "
+            "start-up by the model's torsional drives)",
+        ),
     ] = "zero",
     checkpoint: Annotated[
         Path | None,
         typer.Option(
-            "--checkpoint", help="checkpoint file: written every minute, resumed from if present"
+            "--checkpoint",
+            help="checkpoint file: the state is saved there during the run (see "
+            "--checkpoint-every), the run resumes from it if present; removed at the end",
         ),
     ] = None,
+    checkpoint_every: Annotated[
+        float | None,
+        typer.Option(
+            "--checkpoint-every",
+            help="simulated seconds between checkpoints (default: 5 % of --t-end)",
+        ),
+    ] = None,
+    checkpoint_wall: Annotated[
+        float,
+        typer.Option(
+            "--checkpoint-wall", help="and at the latest every this many seconds of wall time"
+        ),
+    ] = 60.0,
 ) -> None:
     """Nonlinear transient (time-varying mesh, backlash, free speed) of a train."""
     from ..analyses.transient import (
         RK4,
-        Checkpoint,
         ModalRK4,
         build_system,
         rk4_max_step,
@@ -70,6 +99,16 @@ def transient_command(
 
     with cli_errors():
         check_format(format)
+        ck = _checkpoint(checkpoint, checkpoint_every, checkpoint_wall)
+        for path, kind, field in (
+            (output, "file", "--output"),
+            (plot, "directory", "--plot"),
+            (checkpoint, "file", "--checkpoint"),
+        ):
+            if path is not None:
+                check_output(path, kind, field=field)
+                if kind == "file":  # left by a run that was killed while writing it
+                    remove_stale_temporaries(path.parent, prefix=f"{path.name}.tmp-")
         from ..io import load_model, parse_overrides
 
         train = load_model(model, parse_overrides(set_))
@@ -87,15 +126,28 @@ def transient_command(
             )
         if dt is not None and not dt > 0:
             raise ModelError("the time step must be positive", field="--dt", value=dt)
-        res = transient(
-            train,
-            t_end=t_end,
-            integrator=integ,
-            reactions=reactions,
-            progress=progress,
-            initial=initial,
-            checkpoint=Checkpoint(checkpoint) if checkpoint is not None else None,
-        )
+        try:
+            res = transient(
+                train,
+                t_end=t_end,
+                integrator=integ,
+                reactions=reactions,
+                progress=progress,
+                initial=initial,
+                checkpoint=ck,
+            )
+        except KeyboardInterrupt:
+            saved = checkpoint is not None and checkpoint.exists()
+            typer.echo(
+                "interrupted (Ctrl-C)"
+                + (
+                    f": the state is saved in {checkpoint}; run the same command again to resume"
+                    if saved
+                    else ""
+                ),
+                err=True,
+            )
+            raise typer.Exit(EXIT_INTERRUPTED) from None
         if output is not None:
             res.save(output)
         if plot is not None:
@@ -105,6 +157,36 @@ def transient_command(
     else:
         typer.echo(res.table())
     sys.stdout.flush()
+
+
+def _checkpoint(path: Path | None, every: float | None, wall: float):
+    """The :class:`Checkpoint` of the options, checked."""
+    from ..analyses.transient import Checkpoint
+
+    if path is None:
+        if every is not None:
+            raise ModelError(
+                "--checkpoint-every needs a checkpoint file",
+                field="--checkpoint-every",
+                value=every,
+                expected="--checkpoint FILE as well",
+            )
+        return None
+    if every is not None and not (np.isfinite(every) and every > 0):
+        raise ModelError(
+            "the checkpoint interval must be positive",
+            field="--checkpoint-every",
+            value=every,
+            expected="simulated seconds > 0",
+        )
+    if not (np.isfinite(wall) and wall >= 0):
+        raise ModelError(
+            "the checkpoint wall-time interval must be finite and >= 0",
+            field="--checkpoint-wall",
+            value=wall,
+            expected="seconds >= 0",
+        )
+    return Checkpoint(path, every=wall, simulated=every)
 
 
 def _jsonable(x):
@@ -125,6 +207,8 @@ def plot_command(
     from ..analyses.transient import load_result
     from ..analyses.transient.plots import standard_figures
 
+    out = output if output is not None else file.with_name(file.stem + "_plots")
+    check_output(out, "directory", field="--output")
     try:
         ds = load_result(file)
     except ModelError:
@@ -135,6 +219,5 @@ def plot_command(
             file=str(file),
             expected="a NetCDF file written by 'gearrotor transient --output'",
         ) from None
-    out = output if output is not None else file.with_name(file.stem + "_plots")
     typer.echo(f"writing the standard figures of {file} to {out}/ ...", err=True)
     standard_figures(ds, out, prefix=file.stem, progress=lambda p: typer.echo(str(p)))

@@ -10,9 +10,23 @@ from typing import Annotated
 import numpy as np
 import typer
 
-from ..errors import ModelError
+from ..files import check_output
 from .errors import cli_errors
-from .options import RPM, FormatOpt, SetOpt, check_format, speed_grid
+from .options import (
+    MAX_SPEEDS,
+    RPM,
+    FormatOpt,
+    McsOpt,
+    OperatingPointOpt,
+    OperatingRangeOpt,
+    SetOpt,
+    check_format,
+    check_operating_point,
+    count,
+    operating_range_from_options,
+    rpm,
+    speed_grid,
+)
 
 __all__ = ["unbalance_command"]
 
@@ -20,15 +34,15 @@ __all__ = ["unbalance_command"]
 @cli_errors()
 def unbalance_command(
     model: Annotated[Path, typer.Argument(help="TOML model file")],
-    min_speed: Annotated[float, typer.Option(help="rpm")] = 100.0,
-    max_speed: Annotated[float | None, typer.Option(help="rpm (default 1.5 × nominal)")] = None,
-    n_speeds: Annotated[int, typer.Option(help="number of speeds")] = 400,
-    operating_range: Annotated[
-        str | None,
-        typer.Option(
-            help="MIN,MAX operating speeds of the reference shaft, rpm (default: nominal)"
-        ),
+    min_speed: Annotated[float, typer.Option(parser=rpm(0), help="rpm")] = 100.0,
+    max_speed: Annotated[
+        float | None, typer.Option(parser=rpm(0, strict=True), help="rpm (default 1.5 × nominal)")
     ] = None,
+    n_speeds: Annotated[
+        int, typer.Option(parser=count(2, MAX_SPEEDS), help="number of speeds")
+    ] = 400,
+    operating_range: OperatingRangeOpt = None,
+    mcs: McsOpt = None,
     api: Annotated[
         bool,
         typer.Option(help="replace the amounts by API 617 unbalance (4 × 6350 W/N g·mm per plane)"),
@@ -37,40 +51,36 @@ def unbalance_command(
     plot: Annotated[
         Path | None, typer.Option(help="write Bode and orbit plots to this directory")
     ] = None,
+    operating_point: OperatingPointOpt = None,
     set_: SetOpt = None,
 ) -> None:
     """Steady-state unbalance response: Bode, peaks, critical speeds, API 684 AF and margins."""
-    from ..analyses import unbalance_response
+    from ..analyses import model_operating_range, unbalance_response
     from ..analyses.api617 import api617_unbalances
     from ..assembly import assemble
     from ..io import load_model, parse_overrides
 
     check_format(format)
+    if plot is not None:
+        check_output(plot, "directory", field="--plot")
     train = load_model(model, parse_overrides(set_))
+    check_operating_point(train, operating_point)
+    # --operating-range / --mcs override the model's; the response takes the range from the
+    # train (model_operating_range; the nominal speed when the model states none)
+    train = operating_range_from_options(train, operating_range, mcs)
     hi = max_speed if max_speed is not None else 1.5 * abs(train.speed) / RPM
     speeds = speed_grid(min_speed, hi, n_speeds, "--min-speed/--max-speed")
-    op = None
-    if operating_range:
-        try:
-            lo_op, hi_op = (float(x) * RPM for x in operating_range.split(","))
-        except ValueError:
-            raise ModelError(
-                "cannot read the operating range",
-                field="--operating-range",
-                value=operating_range,
-                expected="MIN,MAX in rpm",
-            ) from None
-        op = (lo_op, hi_op)
-    if op is not None:
-        # the operating range's ends are sweep points: the orbits are drawn at the maximum
-        # continuous speed itself, not at the nearest grid speed (7211 rpm for a range to 7200)
-        ends = [v for v in op if speeds[0] <= v <= speeds[-1]]
-        speeds = np.union1d(speeds, ends)
+    # the operating range's ends (the nominal speed without one) are sweep points: the orbits
+    # are drawn at the maximum continuous speed itself, not at the nearest grid speed (7211 rpm
+    # for a range to 7200)
+    op = model_operating_range(train) or (abs(train.speed), abs(train.speed))
+    speeds = np.union1d(speeds, [v for v in op if speeds[0] <= v <= speeds[-1]])
     asm = assemble(train)
     unb = list(train.unbalances)
     if api:
-        unb = api617_unbalances(asm, op[1] if op else abs(train.speed))
-    res = unbalance_response(asm, speeds=speeds, unbalances=unb, operating_range=op)
+        top = model_operating_range(train)
+        unb = api617_unbalances(asm, top[1] if top else abs(train.speed))
+    res = unbalance_response(asm, speeds=speeds, unbalances=unb, operating_point=operating_point)
     if format == "json":
         d = res.to_dict()
         d["unbalances"] = [

@@ -5,6 +5,7 @@ from .model_file import (
     format_validation_error,
     load_model,
     model_from_dict,
+    model_from_file_data,
     parse_overrides,
 )
 
@@ -13,5 +14,6 @@ __all__ = [
     "format_validation_error",
     "load_model",
     "model_from_dict",
+    "model_from_file_data",
     "parse_overrides",
 ]

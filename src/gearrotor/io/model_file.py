@@ -17,10 +17,12 @@ from typing import Any
 from pydantic import ValidationError
 
 from ..errors import ModelError
+from ..inputs import MAX_LISTED, read_table, read_toml
 from ..model import Train
 
 __all__ = [
     "load_model",
+    "model_from_file_data",
     "model_from_dict",
     "apply_overrides",
     "format_validation_error",
@@ -51,11 +53,35 @@ def _lookup(data: Any, loc: tuple) -> Any:
     return cur
 
 
-def format_validation_error(exc: ValidationError, data: dict, file: str | None) -> ModelError:
-    """Turn a pydantic error into one :class:`ModelError` listing every problem."""
+_UNION_TYPES = frozenset({"model_type", "dict_type", "model_attributes_type"})
+
+
+def format_validation_error(
+    exc: ValidationError, data: dict, file: str | None, what: str = "the model"
+) -> ModelError:
+    """Turn a pydantic error into one :class:`ModelError` listing the problems (at most
+    :data:`~gearrotor.inputs.MAX_LISTED` of them, then how many more; unknown keys of one table
+    are listed together)."""
     lines = []
     seen = set()
-    for err in exc.errors(include_url=False):
+    unknown: dict[str, list[str]] = {}
+    errors = exc.errors(include_url=False)
+    # a union field (a number or a table): when the number branch explains the error, drop the
+    # table branch's "should be a valid dictionary"
+    explained = {_loc_to_path(e["loc"]) for e in errors if e["type"] not in _UNION_TYPES}
+    errors = [
+        e
+        for e in errors
+        if e["type"] not in _UNION_TYPES or _loc_to_path(e["loc"]) not in explained
+    ]
+    for err in errors:
+        if err["type"] == "extra_forbidden" and err["loc"]:
+            parent = _loc_to_path(err["loc"][:-1]) if len(err["loc"]) > 1 else "(top level)"
+            if parent not in unknown:
+                unknown[parent] = []
+                lines.append(("unknown", parent))
+            unknown[parent].append(str(err["loc"][-1]))
+            continue
         path = _loc_to_path(err["loc"])
         msg = err["msg"].removeprefix("Value error, ")
         if err["type"] == "extra_forbidden":
@@ -71,19 +97,39 @@ def format_validation_error(exc: ValidationError, data: dict, file: str | None) 
             value = None
         text = f"{path}: {msg}"
         if value is not None and err["type"] != "extra_forbidden":
-            text += f" (got {value!r})"
+            shown = repr(value)
+            text += f" (got {shown if len(shown) <= 80 else shown[:77] + '...'})"
         lines.append(text)
+    for k, line in enumerate(lines):
+        if isinstance(line, tuple):
+            keys = unknown[line[1]]
+            if len(keys) == 1:
+                path = keys[0] if line[1] == "(top level)" else f"{line[1]}.{keys[0]}"
+                lines[k] = f"{path}: unknown key (not a field of this table; check the spelling)"
+            else:
+                lines[k] = (
+                    f"{line[1]}: {len(keys)} unknown keys {_list_some(keys)} (not fields of "
+                    "this table; check the spelling)"
+                )
+    if len(lines) > MAX_LISTED:
+        lines = [*lines[:MAX_LISTED], f"... and {len(lines) - MAX_LISTED} more errors"]
     head = f"{file}: " if file else ""
     if len(lines) == 1:
         return ModelError(lines[0], file=file)
     return (
         ModelError(
-            f"{len(lines)} errors in the model\n  " + "\n  ".join(lines),
+            f"{len(lines)} errors in {what}\n  " + "\n  ".join(lines),
             file=None if not file else file,
         )
         if head
-        else ModelError(f"{len(lines)} errors in the model\n  " + "\n  ".join(lines))
+        else ModelError(f"{len(lines)} errors in {what}\n  " + "\n  ".join(lines))
     )
+
+
+def _list_some(keys: list[str]) -> str:
+    from ..inputs import list_some
+
+    return list_some([repr(k) for k in keys])
 
 
 def _parse_path(path: str) -> list[str | int]:
@@ -182,23 +228,47 @@ def model_from_dict(data: dict, *, file: str | None = None) -> Train:
 def load_model(path: str | Path, overrides: dict[str, Any] | None = None) -> Train:
     """Read, override and validate a TOML model file."""
     path = Path(path)
+    return model_from_file_data(read_toml(path, "model"), path, overrides)
+
+
+def model_from_file_data(data: dict, path: str | Path, overrides: dict | None = None) -> Train:
+    """The model of a model file's parsed content ``data`` (as :func:`load_model` reads it):
+    overrides applied, relative paths resolved against the file's folder, validated, and the
+    table and bearing files it points to read. ``data`` is not modified."""
+    path = Path(path)
     name = str(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise ModelError("model file not found", file=name) from None
-    except OSError as exc:
-        raise ModelError(f"cannot read the model file: {exc.strerror}", file=name) from None
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise ModelError(f"invalid TOML: {exc}", file=name) from None
+    if not data:
+        raise ModelError(
+            "the model file is empty",
+            file=name,
+            expected="a model (see docs/model_format.md)",
+        )
     try:
         data = apply_overrides(data, overrides)
     except ModelError as exc:
         raise exc.with_file(name) from None
+    if not overrides:  # apply_overrides copies only when it changes something
+        data = copy.deepcopy(data)
     _resolve_paths(data, path.parent)
-    return model_from_dict(data, file=name)
+    train = model_from_dict(data, file=name)
+    _check_files(train, name)
+    return train
+
+
+def _check_files(train: Train, file: str) -> None:
+    """Read the table and bearing files the model points to, before anything runs: an error
+    names the model file, the field and the file it points to."""
+    for group in ("bearings", "seals"):
+        for k, b in enumerate(getattr(train, group, None) or []):
+            table, ff = getattr(b, "table_file", None), getattr(b, "fluid_film", None)
+            field = f"{group}[{k}].table_file" if table is not None else f"{group}[{k}].fluid_film"
+            try:
+                if table is not None:
+                    read_table(table)
+                if ff is not None:
+                    read_toml(ff.file, "bearing")
+            except ModelError as exc:
+                raise ModelError(str(exc), field=field, file=file) from None
 
 
 def _resolve_paths(data: dict, base: Path) -> None:

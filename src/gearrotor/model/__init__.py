@@ -1,5 +1,6 @@
 """What a machine is: the train model and its validated components."""
 
+from .audit import ApiAudit, AuditSite, AuditStage
 from .components import (
     Backlash,
     Bearing,
@@ -38,9 +39,16 @@ from .drives import (
     Torsional,
     VoltageProfile,
 )
+from .operating_point import STANDARD_GRAVITY, OperatingPoint, StaticForce
 from .train import Layout, ShaftLayout, Train
 
 __all__ = [
+    "OperatingPoint",
+    "STANDARD_GRAVITY",
+    "StaticForce",
+    "ApiAudit",
+    "AuditSite",
+    "AuditStage",
     "Backlash",
     "Bearing",
     "BearingTable",

@@ -7,9 +7,17 @@ checked when a :class:`~gearrotor.model.Train` is built.
 
 from __future__ import annotations
 
-from typing import Literal
+from typing import Annotated, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, model_serializer, model_validator
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    Strict,
+    field_validator,
+    model_serializer,
+    model_validator,
+)
 
 from ..units import (
     Angle,
@@ -33,6 +41,8 @@ from ..units import (
 )
 
 __all__ = [
+    "Int",
+    "Flag",
     "Spec",
     "MaterialDamping",
     "Material",
@@ -58,6 +68,13 @@ __all__ = [
     "Probe",
     "ExternalTorque",
 ]
+
+
+#: An integer field: only an integer is accepted (``node = true`` is not node 1, ``teeth = 37.0``
+#: is refused rather than truncated).
+Int = Annotated[int, Strict()]
+#: A true/false field: only ``true`` or ``false`` (not 1, "yes").
+Flag = Annotated[bool, Strict()]
 
 
 class Spec(BaseModel):
@@ -98,7 +115,7 @@ class MaterialDamping(Spec):
     beta: Time = Field(default=0.0, ge=0, description="stiffness-proportional coefficient (s)")
     loss_factor: Dimensionless | None = Field(default=None, ge=0)
     reference_frequency: Frequency | None = Field(default=None, gt=0)
-    rotating: bool = False
+    rotating: Flag = False
 
     @model_validator(mode="after")
     def _one_form(self) -> MaterialDamping:
@@ -166,7 +183,7 @@ class Section(Spec):
     length: Length = Field(gt=0)
     outer_diameter: Length = Field(gt=0)
     inner_diameter: Length = Field(default=0.0, ge=0)
-    elements: int = Field(default=1, ge=1, le=10000)
+    elements: Int = Field(default=1, ge=1, le=10000)
     material: str | None = None
     mass_outer_diameter: Length | None = Field(default=None, gt=0)
     mass_inner_diameter: Length | None = Field(default=None, ge=0)
@@ -186,7 +203,7 @@ class NodeRef(Spec):
     measured from the shaft's start (must fall on a node)."""
 
     shaft: str
-    node: int | None = Field(default=None, ge=0)
+    node: Int | None = Field(default=None, ge=0)
     at: Length | None = None
 
     @model_validator(mode="after")
@@ -199,7 +216,7 @@ class NodeRef(Spec):
 class Disk(Spec):
     """Rigid disk on a shaft node: mass and inertias, or a solid/hollow cylinder geometry."""
 
-    node: int | None = Field(default=None, ge=0)
+    node: Int | None = Field(default=None, ge=0)
     at: Length | None = None
     name: str | None = None
     mass: Mass | None = Field(default=None, ge=0)
@@ -281,7 +298,7 @@ class FluidFilm(Spec):
 
     file: str
     load: tuple[Force, Force] | None = None
-    load_case: int = Field(default=0, ge=0)
+    load_case: Int = Field(default=0, ge=0)
     speeds: list[AngularSpeed] = Field(min_length=1)
 
 
@@ -375,7 +392,7 @@ class Coupling(Spec):
 class GearSide(NodeRef):
     """One gear of a mesh: its shaft node, tooth count and radius."""
 
-    teeth: int = Field(gt=0)
+    teeth: Int = Field(gt=0, le=100_000)
     radius: Length = Field(gt=0)
     E: Modulus | None = Field(default=None, gt=0)
 
@@ -404,7 +421,7 @@ class MeshVariation(Spec):
     ka_ratio: Dimensionless = Field(default=0.0, ge=0)
     contact_ratio: Dimensionless = Field(default=1.0, gt=0)
     phase: Dimensionless = 0.0
-    terms: int = Field(default=0, ge=0)
+    terms: Int = Field(default=0, ge=0, le=1000)
 
 
 class Backlash(Spec):
@@ -476,6 +493,14 @@ class Mesh(Spec):
     stiffness_table: StiffnessTable | None = None
     transmission_error: TransmissionError | None = None
     backlash: Backlash = Backlash()
+
+    @field_validator("stiffness")
+    @classmethod
+    def _positive_stiffness(cls, v):
+        # the table form (MeshStiffness.value) has its own gt=0; the plain-number form too
+        if isinstance(v, float) and not v > 0:
+            raise ValueError(f"expected a positive mesh stiffness such as '1e9 N/m', got {v!r} N/m")
+        return v
 
 
 class Unbalance(NodeRef):

@@ -18,6 +18,7 @@ from pydantic import Field, field_validator, model_serializer, model_validator
 
 from ..errors import ModelError
 from ..units import AngularSpeed
+from .audit import ApiAudit
 from .components import (
     Bearing,
     Coupling,
@@ -33,12 +34,15 @@ from .components import (
     Unbalance,
 )
 from .drives import Torsional
+from .operating_point import OperatingPoint
 
 __all__ = ["Train", "Layout", "ShaftLayout"]
 
 _REL_TOL = 1e-6
 # optional Train fields left out of the model JSON when absent
-_OMIT_WHEN_ABSENT = ("torsional", "operating_speed_range", "max_continuous_speed")
+_OMIT_WHEN_ABSENT = ("torsional", "operating_speed_range", "max_continuous_speed", "api_audit")
+# optional Train lists left out of the model JSON when empty
+_OMIT_WHEN_EMPTY = ("operating_points",)
 
 
 @dataclass(frozen=True)
@@ -93,6 +97,9 @@ class Train(Spec):
     # API 617 operating range of the reference shaft: speed magnitudes, min <= max <= MCS
     operating_speed_range: tuple[AngularSpeed, AngularSpeed] | None = None
     max_continuous_speed: AngularSpeed | None = None
+    # static operating points: speed, power or torque, gravity, static forces (issue 11)
+    operating_points: list[OperatingPoint] = Field(default_factory=list)
+    api_audit: ApiAudit | None = None  # API 617 Level I inputs (model/audit.py)
 
     @field_validator("max_continuous_speed")
     @classmethod
@@ -131,6 +138,9 @@ class Train(Spec):
         for key in _OMIT_WHEN_ABSENT:
             if getattr(self, key) is None:
                 out.pop(key, None)
+        for key in _OMIT_WHEN_EMPTY:
+            if not getattr(self, key):
+                out.pop(key, None)
         return out
 
     @model_validator(mode="after")
@@ -139,7 +149,27 @@ class Train(Spec):
         dup = {n for n in names if names.count(n) > 1}
         if dup:
             raise ValueError(f"shaft names must be unique, repeated: {sorted(dup)}")
+        ops = [p.name for p in self.operating_points]
+        dup = {n for n in ops if ops.count(n) > 1}
+        if dup:
+            raise ValueError(f"operating point names must be unique, repeated: {sorted(dup)}")
         return self
+
+    def operating_point(self, name: str | OperatingPoint) -> OperatingPoint:
+        """The operating point called ``name`` (an :class:`OperatingPoint` passes through)."""
+        if isinstance(name, OperatingPoint):
+            return name
+        for p in self.operating_points:
+            if p.name == name:
+                return p
+        raise ModelError(
+            "unknown operating point",
+            field="operating_point",
+            value=name,
+            expected=f"one of {[p.name for p in self.operating_points]}"
+            if self.operating_points
+            else "an [[operating_points]] entry in the model (it has none)",
+        )
 
     # ------------------------------------------------------------------------------------
     @property
@@ -329,7 +359,47 @@ class Train(Spec):
             ri, rj = ri / np.cos(at), rj / np.cos(at)
         return ri, rj
 
+    def _named_groups(self) -> dict[str, list[tuple[str, object]]]:
+        """The named components by kind: {kind: [(field, component), ...]}; a kind's names
+        label its outputs (result columns, file names), so they must be unique within it."""
+        groups: dict[str, list[tuple[str, object]]] = {}
+        for gname in (
+            "bearings",
+            "seals",
+            "thrust_bearings",
+            "cross_couplings",
+            "couplings",
+            "meshes",
+            "probes",
+            "torques",
+        ):
+            items = getattr(self, gname, None) or []
+            groups[gname] = [(f"{gname}[{k}]", it) for k, it in enumerate(items)]
+        groups["disks"] = [
+            (f"shafts[{i}].disks[{k}]", d)
+            for i, s in enumerate(self.shafts)
+            for k, d in enumerate(s.disks)
+        ]
+        return groups
+
+    def _check_names(self) -> None:
+        for items in self._named_groups().values():
+            seen: dict[str, str] = {}
+            for field, it in items:
+                name = getattr(it, "name", None)
+                if name is None:
+                    continue
+                if name in seen:
+                    raise ModelError(
+                        f"duplicate name: {seen[name]}.name is also {name!r}",
+                        field=f"{field}.name",
+                        value=name,
+                        expected="a name not used by another component of this kind",
+                    )
+                seen[name] = field
+
     def _check_nodes(self) -> None:
+        self._check_names()
         groups = [
             ("bearings", self.bearings),
             ("thrust_bearings", self.thrust_bearings),
@@ -379,6 +449,26 @@ class Train(Spec):
                 )
         if self.torsional is not None:
             self.torsional.check(self)
+        for k, p in enumerate(self.operating_points):
+            self.check_operating_point(p, f"operating_points[{k}]")
+        if self.api_audit is not None:
+            self.api_audit.check(self)
+
+    def check_operating_point(self, p: OperatingPoint, field: str = "operating_point") -> None:
+        """Check an operating point's nodes and speed against the train (ModelError)."""
+        for key in ("drive", "load"):
+            ref = getattr(p, key)
+            if ref is not None:
+                self.node_index(ref, f"{field}.{key}")
+        for j, f in enumerate(p.forces):
+            self.node_index(f, f"{field}.forces[{j}]")
+        if p.power and p.reference_speed(self.speed) == 0.0:
+            raise ModelError(
+                "a power needs a non-zero speed (the torque is power / speed)",
+                field=f"{field}.power",
+                value=f"{p.power:.6g} W at 0 rpm",
+                expected="a non-zero 'speed', or a 'torque' instead of the power",
+            )
 
     def _check_speeds(self, ratios: list[float]) -> None:
         for i, s in enumerate(self.shafts):

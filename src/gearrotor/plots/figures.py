@@ -6,6 +6,8 @@ from pathlib import Path
 
 import numpy as np
 
+from ..files import save_figure
+
 __all__ = ["mode_shape_curves", "plot_mode_shapes", "plot_campbell", "plot_bode", "plot_orbits"]
 
 RPM = 30 / np.pi
@@ -24,9 +26,7 @@ def _save(fig, path):
     if path is not None:
         path = Path(path)
         path.parent.mkdir(parents=True, exist_ok=True)
-        tmp = path.with_name(path.stem + ".tmp" + path.suffix)
-        fig.savefig(tmp, dpi=130, bbox_inches="tight")
-        tmp.replace(path)
+        save_figure(fig, path, dpi=130, bbox_inches="tight")
     return fig
 
 

@@ -24,12 +24,12 @@ from __future__ import annotations
 
 import json
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import ModelError
+from ..files import save_figure
 
 __all__ = [
     "SpeedWaterfall",
@@ -407,10 +407,5 @@ def plot_speed_waterfall(wf: SpeedWaterfall, *, max_frequency: float | None = No
         f"{wf.window_s * 1e3:.0f} ms, bin {wf.bin_cpm:.0f} cpm)"
     )
     if path is not None:
-        import os
-
-        path = Path(path)
-        tmp = path.with_name(path.stem + ".tmp" + path.suffix)
-        fig.savefig(tmp, dpi=120)
-        os.replace(tmp, path)
+        save_figure(fig, path, dpi=120)
     return fig

@@ -13,12 +13,12 @@ run and, for transient runs, ``solver_dt`` (s), ``solver_steps``, ``solver_n_mod
 from __future__ import annotations
 
 import json
-import os
 from pathlib import Path
 
 import numpy as np
 import xarray as xr
 
+from ..files import write_netcdf
 from .cases import PlannedCase, case_path, plan, study_status
 from .spec import Study
 
@@ -105,9 +105,7 @@ def collect(
     if write:
         study.folder.mkdir(parents=True, exist_ok=True)
         path = study.folder / "results.nc"
-        tmp = path.with_name(f"results.nc.tmp-{os.getpid()}")
-        res.to_netcdf(tmp, engine="h5netcdf")
-        os.replace(tmp, path)
+        write_netcdf(path, res)
     return res
 
 

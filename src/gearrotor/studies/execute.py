@@ -33,6 +33,7 @@ from multiprocessing import get_context
 from typing import TextIO
 
 from ..errors import ModelError
+from ..files import check_output, remove_stale_temporaries, write_json, write_netcdf
 from .cases import (
     CaseStatus,
     PlannedCase,
@@ -42,6 +43,7 @@ from .cases import (
     study_status,
 )
 from .spec import Study
+from .workers import init_worker, sigint_ignored, stop_pool
 
 __all__ = [
     "THREAD_ENV",
@@ -232,19 +234,12 @@ def _write_case(study: Study, out: dict) -> None:
     err = case_path(study, key, error=True)
     if out["status"] == "ok":
         path = case_path(study, key)
-        tmp = path.with_name(f"{path.name}.tmp-{os.getpid()}")
-        out["dataset"].to_netcdf(tmp, engine="h5netcdf")
-        os.replace(tmp, path)
+        write_netcdf(path, out["dataset"])
         err.unlink(missing_ok=True)
     else:
-        tmp = err.with_name(f"{err.name}.tmp-{os.getpid()}")
-        tmp.write_text(
-            json.dumps(
-                {k: out.get(k) for k in ("key", "index", "error", "traceback", "wall_time_s")},
-                indent=1,
-            )
+        write_json(
+            err, {k: out.get(k) for k in ("key", "index", "error", "traceback", "wall_time_s")}
         )
-        os.replace(tmp, err)
 
 
 def _write_manifest(study: Study, planned: tuple[PlannedCase, ...]) -> None:
@@ -271,9 +266,7 @@ def _write_manifest(study: Study, planned: tuple[PlannedCase, ...]) -> None:
         ],
     }
     path = study.folder / "study.json"
-    tmp = path.with_name(f"study.json.tmp-{os.getpid()}")
-    tmp.write_text(json.dumps(doc, indent=1, default=str))
-    os.replace(tmp, path)
+    write_json(path, doc, default=str)
 
 
 # ---- progress ----------------------------------------------------------------------------------
@@ -359,9 +352,15 @@ def _case_weight(p: PlannedCase) -> float:
 def _execute_local(payloads: list[dict], workers: int, on_done: Callable[[dict], None]) -> None:
     with (
         _thread_env(),
-        ProcessPoolExecutor(max_workers=workers, mp_context=get_context("spawn")) as pool,
+        ProcessPoolExecutor(
+            max_workers=workers,
+            mp_context=get_context("spawn"),
+            initializer=init_worker,
+            initargs=(os.getpid(),),
+        ) as pool,
     ):
-        futs = {pool.submit(run_case, p): p for p in payloads}
+        with sigint_ignored():  # submitting starts the workers: they inherit SIG_IGN
+            futs = {pool.submit(run_case, p): p for p in payloads}
         try:
             pending = set(futs)
             while pending:
@@ -378,8 +377,8 @@ def _execute_local(payloads: list[dict], workers: int, on_done: Callable[[dict],
                             "error": f"worker failed: {type(exc).__name__}: {exc}",
                         }
                     on_done(out)
-        except BaseException:  # interrupted: drop the queued cases, keep what is stored
-            pool.shutdown(wait=False, cancel_futures=True)
+        except BaseException:  # interrupted: stop the workers, keep what is stored
+            stop_pool(pool)
             raise
 
 
@@ -478,6 +477,9 @@ def run_study(
     """
     t0 = time.perf_counter()
     _require("xarray", "h5netcdf")
+    check_output(study.folder, "directory", field="output")
+    for d in (study.folder, study.folder / "cases"):  # left by a run that was killed
+        remove_stale_temporaries(d)
     if workers is not None and workers < 1:
         raise ModelError(
             "the number of workers must be positive",

@@ -7,7 +7,6 @@ rpm, in cpm) of each case's stored window (Hann window, linear trend removed).
 
 from __future__ import annotations
 
-import json
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -15,6 +14,7 @@ import numpy as np
 import xarray as xr
 
 from ..errors import ModelError
+from ..files import check_output, safe_name, save_figure, write_json
 from ..signals import padded_spectrum
 from .cases import case_path, plan, study_status
 from .collection import collect
@@ -233,6 +233,7 @@ def report(
             progress(text)
 
     out = Path(output) if output is not None else study.folder / "report"
+    check_output(out, "directory", field="--output")
     out.mkdir(parents=True, exist_ok=True)
     planned = plan(study)
     ds = collect(study, planned=planned, write=False)
@@ -241,8 +242,8 @@ def report(
     for p in params:
         fig = trend_figure(ds, p, params)
         if fig is not None:
-            path = out / f"trend_{p}.png"
-            fig.savefig(path, dpi=110)
+            path = out / f"trend_{safe_name(p)}.png"
+            save_figure(fig, path, dpi=110)
             plt.close(fig)
             written.append(path)
             note(f"{path.name} written")
@@ -279,17 +280,17 @@ def report(
             names = [p for p in names if p in set(probes)]
         for probe in names:
             fig = overlay_spectra(data, channel="probe", name=str(probe), title=study.name)
-            path = out / f"spectra_{probe}_{tag}.png"
-            fig.savefig(path, dpi=110)
+            path = out / f"spectra_{safe_name(probe)}_{tag}.png"
+            save_figure(fig, path, dpi=110)
             plt.close(fig)
             written.append(path)
             note(f"{path.name} written")
         for shaft in first["shaft"].values:
             fig = overlay_spectra(data, channel="speed", name=str(shaft), title=study.name)
-            path = out / f"spectra_speed_{shaft}_{tag}.png"
-            fig.savefig(path, dpi=110)
+            path = out / f"spectra_speed_{safe_name(shaft)}_{tag}.png"
+            save_figure(fig, path, dpi=110)
             plt.close(fig)
             written.append(path)
             note(f"{path.name} written")
-    (out / "figures.json").write_text(json.dumps([p.name for p in written], indent=1))
+    write_json(out / "figures.json", [p.name for p in written])
     return written

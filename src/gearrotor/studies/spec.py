@@ -36,7 +36,6 @@ import dataclasses
 import itertools
 import math
 import re
-import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Annotated, Any, Literal
@@ -44,7 +43,8 @@ from typing import Annotated, Any, Literal
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
 from ..errors import ModelError
-from ..io import format_validation_error
+from ..inputs import read_toml
+from ..io import format_validation_error, model_from_file_data
 from ..units import AngularSpeed, Time
 
 __all__ = [
@@ -58,6 +58,7 @@ __all__ = [
     "TransientSettings",
     "load_study",
     "study_from_dict",
+    "check_cases",
 ]
 
 Scalar = float | int | bool | str
@@ -229,6 +230,7 @@ class Case:
     values: dict[str, Scalar]
     overrides: dict[str, Any]
     label: str = ""
+    where: str = ""  # the case's place in the study file: "cases.rows[3]", "cases.product"
 
 
 @dataclass(frozen=True)
@@ -360,8 +362,31 @@ def _expand(spec: StudyFile, file: str) -> tuple[Case, ...]:
             f"{k}={v}" + (f" {spec.parameters[k].unit}" if spec.parameters[k].unit else "")
             for k, v in values.items()
         )
-        cases.append(Case(index=i, values=values, overrides=overrides, label=label))
+        place = where if cs.rows is not None else f"{row_field} (case {i})"
+        cases.append(Case(index=i, values=values, overrides=overrides, label=label, where=place))
     return tuple(cases)
+
+
+def check_cases(study: Study) -> None:
+    """Every case's model (the base model with the case's overrides) is valid: ``study run``
+    calls it before anything runs. Raises :class:`ModelError` naming the study file, the case's
+    row and what the model check said. (:func:`load_study` does not: ``study status`` and
+    ``study report`` show the cases of a study as they are, invalid ones as failed.)"""
+    base = read_toml(study.model, "model")
+    file = str(study.file)
+    model = study.model
+    for case in study.cases:
+        try:
+            model_from_file_data(base, model, case.overrides)
+        except ModelError as exc:
+            field = case.where or f"case {case.index}"
+            text = "; ".join(line.strip() for line in str(exc).splitlines())
+            raise ModelError(
+                f"the case's model is invalid: {text}",
+                field=field,
+                value=case.label or None,
+                file=file,
+            ) from None
 
 
 def study_from_dict(data: dict, *, file: str | Path) -> Study:
@@ -369,10 +394,14 @@ def study_from_dict(data: dict, *, file: str | Path) -> Study:
     relative paths and names the file in errors."""
     file = Path(file).resolve()
     name = str(file)
+    if not data:
+        raise ModelError(
+            "the study file is empty", file=name, expected="a study file (see docs/studies.md)"
+        )
     try:
         spec = StudyFile.model_validate(data)
     except ValidationError as exc:
-        err = format_validation_error(exc, data, name)
+        err = format_validation_error(exc, data, name, "the study file")
         # the analysis table is a tagged union: drop the tag from the field paths
         msg = re.sub(r"analysis\.(?:transient|modal)(?=[.:\s])", "analysis", err.message)
         raise ModelError(msg, file=err.file) from None
@@ -415,15 +444,4 @@ def study_from_dict(data: dict, *, file: str | Path) -> Study:
 def load_study(path: str | Path) -> Study:
     """Read and validate a study file (TOML). Raises :class:`~gearrotor.errors.ModelError`."""
     path = Path(path)
-    name = str(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise ModelError("study file not found", file=name) from None
-    except OSError as exc:
-        raise ModelError(f"cannot read the study file: {exc.strerror}", file=name) from None
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise ModelError(f"invalid TOML: {exc}", file=name) from None
-    return study_from_dict(data, file=path)
+    return study_from_dict(read_toml(path, "study"), file=path)

@@ -26,11 +26,15 @@ from numpy.typing import NDArray
 
 from ...errors import ModelError
 from ...model import InductionMotor, SynchronousMotor, TorqueDrive, Train
+from ..jit import configure_cache
+
+configure_cache()  # before the first @njit(cache=True): numba's cache outside the package
 
 __all__ = [
     "TorqueLaws",
     "pack_laws",
     "law_torque",
+    "advance_state",
     "advance_states",
     "evaluate",
     "check_load_paths",
@@ -306,17 +310,27 @@ def law_torque(j, t, th, om, state, par, t_ptr, t_x, t_y, t_z, v_ptr, v_t, v_f, 
 
 
 @njit(cache=True)
+def advance_state(j, t, th, om, state, par):
+    """Law j at time t (node angle th, speed om along the rotation): a synchronous motor whose
+    slip has fallen to its pull-in slip pulls into step (state[j] = 1, δ_p). Returns whether
+    it did."""
+    if int(par[j, P_KIND]) != KIND_SYNCHRONOUS or state[j, 0] != 0.0:
+        return False
+    s = 1.0 - om / par[j, P_SPEED]
+    if s <= par[j, P_PULLIN]:
+        state[j, 0] = 1.0
+        state[j, 1] = par[j, P_WLINE] * t - par[j, P_PP] * th
+        return True
+    return False
+
+
+@njit(cache=True)
 def advance_states(t, th, om, state, par):
-    """After an accepted step at time t (th, om per law along the rotation): a synchronous
-    motor whose slip has fallen to its pull-in slip pulls into step (state[j] = 1, δ_p)."""
+    """After an accepted step at time t (th, om per law along the rotation): every law's
+    :func:`advance_state`."""
     changed = False
     for j in range(par.shape[0]):
-        if int(par[j, P_KIND]) != KIND_SYNCHRONOUS or state[j, 0] != 0.0:
-            continue
-        s = 1.0 - om[j] / par[j, P_SPEED]
-        if s <= par[j, P_PULLIN]:
-            state[j, 0] = 1.0
-            state[j, 1] = par[j, P_WLINE] * t - par[j, P_PP] * th[j]
+        if advance_state(j, t, th[j], om[j], state, par):
             changed = True
     return changed
 

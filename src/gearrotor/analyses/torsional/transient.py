@@ -44,8 +44,10 @@ kinetic and potential energy, and its residual.
 
 from __future__ import annotations
 
+import json
 import time as _time
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 import scipy.linalg as la
@@ -57,8 +59,11 @@ from scipy.sparse.csgraph import connected_components
 from ...assembly import Assembly
 from ...errors import ModelError, SolverError
 from ...model import Train
+from ..jit import configure_cache
 from .drive_laws import TorqueLaws, advance_states, check_load_paths, law_torque, pack_laws
 from .model import TorsionalModel, torsional_model
+
+configure_cache()  # before the first @njit(cache=True): numba's cache outside the package
 
 __all__ = ["TorsionalTransient", "torsional_transient", "MAX_BACKLASH_MESHES"]
 
@@ -217,6 +222,92 @@ class TorsionalTransient:
             },
             "notes": list(self.notes),
         }
+
+    def to_xarray(self, fatigue=None):
+        """An ``xarray.Dataset`` of the histories (units attributes, the model embedded as
+        JSON, the summary of :meth:`to_dict` and of ``fatigue`` as JSON attributes)."""
+        import xarray as xr
+
+        tm = self.model
+        data = {
+            "speed": (("time", "shaft"), self.speed, {"units": "rad/s"}),
+            "element_torque": (("time", "element"), self.element_torque, {"units": "N m"}),
+            "element_stress": (
+                ("time", "element"),
+                self.element_stress,
+                {"units": "Pa", "long_name": "surface shear stress x SCF"},
+            ),
+            "coupling_torque": (("time", "coupling"), self.coupling_torque, {"units": "N m"}),
+            "mesh_force": (("time", "mesh"), self.mesh_force, {"units": "N"}),
+            "mesh_state": (
+                ("time", "mesh"),
+                self.mesh_state.astype(np.int8),
+                {"long_name": "+1 drive flank, 0 separated, -1 back flank"},
+            ),
+            "law_torque": (
+                ("time", "law"),
+                self.law_torque,
+                {"units": "N m", "long_name": "drive (motoring +) and load (braking +) torque"},
+            ),
+            "peak_element_torque": (("element",), self.peak_element_torque, {"units": "N m"}),
+        }
+        if self.rated_element_torque is not None:
+            data["rated_element_torque"] = (
+                ("element",),
+                self.rated_element_torque,
+                {"units": "N m"},
+            )
+        attrs = {
+            "title": "gearrotor torsional transient",
+            "model_json": tm.train.model_dump_json(),
+            "summary_json": json.dumps(self.to_dict()),
+        }
+        if fatigue is not None:
+            attrs["fatigue_json"] = json.dumps(fatigue.to_dict())
+        return xr.Dataset(
+            data,
+            coords={
+                "time": ("time", self.time, {"units": "s"}),
+                "shaft": list(tm.shaft_names),
+                "element": tm.element_labels(),
+                "coupling": list(tm.cp_names),
+                "mesh": list(tm.mesh_names),
+                "law": list(self.laws.names),
+            },
+            attrs=attrs,
+        )
+
+    def save(self, path: str | Path, fatigue=None) -> Path:
+        """Write the result atomically (temporary file in the same directory, then
+        ``os.replace``): ``.nc`` NetCDF (:meth:`to_xarray`, h5netcdf engine) or ``.json``
+        (:meth:`to_dict`, the fatigue summary, and the histories of time, speed, drive and
+        load torques, shaft, coupling torques and mesh forces)."""
+        from ...files import write_json, write_netcdf
+
+        path = Path(path)
+        if path.suffix.lower() == ".json":
+            out = self.to_dict()
+            if fatigue is not None:
+                out["fatigue"] = fatigue.to_dict()
+            tm = self.model
+            out["histories"] = {
+                "time_s": self.time.tolist(),
+                "speed_rad_s": dict(zip(tm.shaft_names, self.speed.T.tolist(), strict=True)),
+                "law_torque_Nm": dict(
+                    zip(self.laws.names, self.law_torque.T.tolist(), strict=True)
+                ),
+                "element_torque_Nm": dict(
+                    zip(tm.element_labels(), self.element_torque.T.tolist(), strict=True)
+                ),
+                "coupling_torque_Nm": dict(
+                    zip(tm.cp_names, self.coupling_torque.T.tolist(), strict=True)
+                ),
+                "mesh_force_N": dict(zip(tm.mesh_names, self.mesh_force.T.tolist(), strict=True)),
+            }
+            write_json(path, out, indent=None, allow_nan=False)
+        else:
+            write_netcdf(path, self.to_xarray(fatigue))
+        return path
 
     def table(self) -> str:
         rows = [

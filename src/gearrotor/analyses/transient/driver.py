@@ -21,7 +21,7 @@ from ...assembly import Assembly
 from ...errors import ModelError, SolverError
 from ...model import Train
 from . import kernels as kn
-from .checkpoint import _fingerprint, _read_checkpoint, _write_npz_atomic
+from .checkpoint import _check_state, _fingerprint, _read_checkpoint, _write_npz_atomic
 from .equations import TransientSystem, build_system, static_state
 from .forces import _output_dofs
 from .options import RK4, Checkpoint, ModalRK4, Save, excitation_frequency
@@ -47,6 +47,44 @@ def _warn_rotating_damping_speed(system: TransientSystem, speeds: NDArray) -> No
                 "(docs/transient.md)",
                 stacklevel=3,
             )
+
+
+#: Largest record a transient allocates (bytes): the saved histories live in memory.
+MAX_RECORD_BYTES = 2 * 1024**3
+#: Most steps a transient takes (about a day at a few microseconds per step).
+MAX_STEPS = 2 * 10**10
+
+
+def _check_memory(n_rec: int, n_out: int, n_shafts: int, n_steps: int, t_end: float) -> None:
+    """Refuse a run whose record would not fit in memory, or that would not end, before it
+    starts (an input error naming t_end, with the estimate)."""
+    need = n_rec * (3 * n_out + n_shafts + 1) * 8
+    if need > MAX_RECORD_BYTES or n_steps > MAX_STEPS:
+        raise ModelError(
+            f"the run is too long: {n_steps:.3g} steps, {n_rec:.3g} saved samples of "
+            f"{3 * n_out + n_shafts + 1} values would need {need / 1e9:.3g} GB of memory",
+            field="t_end",
+            value=t_end,
+            expected=f"a record of at most {MAX_RECORD_BYTES / 1e9:.3g} GB (a shorter t_end, "
+            "or a larger save interval)",
+        )
+
+
+def _check_checkpoint_options(ck: Checkpoint) -> None:
+    if not (np.isfinite(ck.every) and ck.every >= 0):
+        raise ModelError(
+            "the wall-time interval of checkpoints must be finite and >= 0",
+            field="checkpoint.every",
+            value=ck.every,
+            expected="seconds >= 0 (0: at every chunk of the run)",
+        )
+    if ck.simulated is not None and not (np.isfinite(ck.simulated) and ck.simulated > 0):
+        raise ModelError(
+            "the simulated-time interval of checkpoints must be positive",
+            field="checkpoint.simulated",
+            value=ck.simulated,
+            expected="seconds > 0 (default: 5 % of t_end)",
+        )
 
 
 def transient(
@@ -79,7 +117,9 @@ def transient(
     reactions : include the reaction torques of the gyroscopic and unbalance θ̈ terms (the
         Lagrangian, energy-consistent form); False gives the dissertation's form
     initial : ``"zero"`` displacement, or ``"static"``: the static deflection under the external
-        torques at t = 0 (:func:`.equations.static_state`)
+        torques at t = 0 (:func:`.equations.static_state`); both at the nominal speeds;
+        ``"rest"``: zero displacement and speed (a start-up by the model's ``[torsional]``
+        drives, which act as in :func:`~gearrotor.analyses.torsional.torsional_transient`)
     initial_q, initial_qdot : (n_dof,) global perturbations added to the initial displacement and
         the nominal speeds (m, rad, m/s, rad/s)
     stiffness_tables, transmission_error : per mesh index, see :mod:`.mesh`
@@ -93,8 +133,12 @@ def transient(
     """
     setup0 = _time.perf_counter()
 
-    if not (t_end > 0):
-        raise ModelError("t_end must be positive", field="t_end", value=t_end, expected="> 0 s")
+    if not (0 < t_end < np.inf):
+        raise ModelError(
+            "t_end must be positive and finite", field="t_end", value=t_end, expected="> 0 s"
+        )
+    if checkpoint is not None:
+        _check_checkpoint_options(checkpoint)
     integ = integrator if integrator is not None else ModalRK4()
     if isinstance(integ, RK4) and not integ.dt > 0:
         raise ModelError("the time step must be positive", field="dt", value=integ.dt)
@@ -108,6 +152,14 @@ def transient(
         transmission_error=transmission_error,
         back_flank=back_flank,
     )
+    if not excitation_frequency(system) > 0:
+        raise ModelError(
+            "the train does not turn: a transient needs a non-zero speed (its step, modal "
+            "cut-off and sampling follow the shaft and mesh frequencies)",
+            field="speed",
+            value=0.0,
+            expected="a non-zero speed of the reference shaft",
+        )
     out = _output_dofs(system, save.full_state)
     if isinstance(integ, RK4):
         prep = _prepare_physical(system, integ, out, frozen_speed)
@@ -127,14 +179,20 @@ def transient(
     )
     save_every = max(1, int(round(save_dt / dt)))
     n_rec = n_steps // save_every + 1
+    _check_memory(n_rec, len(out), len(system.a_weights), n_steps, t_end)
 
     # initial state
     q0, v0 = system.initial_state()
     if initial == "static":
         q0 += static_state(system)[0]
+    elif initial == "rest":  # a start-up: the train at standstill (drives: [torsional])
+        v0[:] = 0.0
     elif initial != "zero":
         raise ModelError(
-            "unknown initial state", field="initial", value=initial, expected="'zero' or 'static'"
+            "unknown initial state",
+            field="initial",
+            value=initial,
+            expected="'zero', 'static' or 'rest'",
         )
     if initial_q is not None:
         q0 += np.asarray(initial_q, float)[system.active]
@@ -166,7 +224,15 @@ def transient(
     )
     ck = _read_checkpoint(checkpoint.path, fp) if checkpoint is not None else None
     if ck is not None:
-        step0 = int(ck["step"])
+        step0 = _check_state(
+            checkpoint.path,
+            ck,
+            n_steps=n_steps,
+            save_every=save_every,
+            q=q,
+            rec_q=rec_q,
+            rec_om=rec_om,
+        )
         q, v = ck["q"].copy(), ck["v"].copy()
         nr = step0 // save_every
         rec_q[:nr], rec_v[:nr], rec_a[:nr] = ck["rec_q"], ck["rec_v"], ck["rec_a"]
@@ -177,6 +243,16 @@ def transient(
                 file=sys.stderr,
             )
     chunk = save_every * max(1, int(0.05 / (dt * save_every)))  # ~0.05 s of simulated time
+    # checkpoints every ck_steps steps, and the chunks end there: an interval longer than a
+    # chunk is rounded to whole chunks (the chunks stay those of a run without checkpoints,
+    # whose time stamps t0 + k dt are then bit-identical), a shorter one to whole save
+    # intervals (the records stay aligned)
+    ck_steps = n_steps
+    if checkpoint is not None:
+        want = (checkpoint.simulated or 0.05 * t_end) / dt
+        unit = chunk if want >= chunk else save_every
+        ck_steps = unit * max(1, round(want / unit))
+    last_ck_step = step0
     wall0 = _time.perf_counter()
     setup = wall0 - setup0
     last_ck = wall0
@@ -185,7 +261,7 @@ def transient(
     runner = kn.rk4_physical if prep.kind == "physical" else kn.rk4_modal
     out_arg = out if prep.kind == "physical" else prep.Phi_out
     while step < n_steps:
-        nst = min(chunk, n_steps - step)
+        nst = min(chunk, n_steps - step, last_ck_step + ck_steps - step)
         status, done = runner(
             step * dt,
             dt,
@@ -230,7 +306,11 @@ def transient(
                 file=sys.stderr,
             )
             last_pr = now
-        if checkpoint is not None and (now - last_ck > checkpoint.every) and step < n_steps:
+        if (
+            checkpoint is not None
+            and step < n_steps
+            and (step - last_ck_step >= ck_steps or now - last_ck > checkpoint.every)
+        ):
             nr = step // save_every
             _write_npz_atomic(
                 Path(checkpoint.path),
@@ -245,6 +325,7 @@ def transient(
                 rec_t=rec_t[:nr],
             )
             last_ck = now
+            last_ck_step = step
     wall = _time.perf_counter() - wall0
     if checkpoint is not None and Path(checkpoint.path).exists():
         Path(checkpoint.path).unlink()

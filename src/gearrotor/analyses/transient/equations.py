@@ -387,6 +387,7 @@ def static_state(system: TransientSystem) -> tuple[NDArray, float]:
     stiffness at φ_m = 0, backlash and transmission error; the contact flank is found by
     iteration. Unbalance is left out (its load rotates). Returns (q over active DOFs, α).
     """
+    from ..static.solver import Contact, solve_static
     from .mesh import stiffness as mesh_k
 
     train = system.train
@@ -406,45 +407,28 @@ def static_state(system: TransientSystem) -> tuple[NDArray, float]:
     r = np.zeros(system.n)
     for s, a in enumerate(system.a_weights):
         r[a != 0] = ratio[s]
-    Mr = M @ r
     laws = system.meshes
-    k0 = [float(mesh_k(law, 0.0)) for law in laws]
-    e0 = [float(law.te[:, 0].sum()) if len(law.te) else 0.0 for law in laws]
-    side = [1] * len(laws)
-    for _ in range(2 * len(laws) + 2):
-        Kc = K.copy()
-        fc = f.copy()
-        for k, law in enumerate(laws):
-            d = system.mesh_dofs[k]
-            ok = d >= 0
-            if side[k] == 1:  # F_d = k (w·q − e − b) along −w
-                Kc[np.ix_(d[ok], d[ok])] += k0[k] * np.outer(law.w[ok], law.w[ok])
-                fc[d[ok]] += k0[k] * (e0[k] + law.backlash) * law.w[ok]
-            elif side[k] == -1:  # F_b = k (w_b·q + e − b) along −w_b
-                wb = law.w_back[ok]
-                Kc[np.ix_(d[ok], d[ok])] += k0[k] * np.outer(wb, wb)
-                fc[d[ok]] += k0[k] * (law.backlash - e0[k]) * wb
-        A = np.block([[Kc, Mr[:, None]], [Mr[None, :], np.zeros((1, 1))]])
-        try:
-            sol = la.solve(A, np.append(fc, 0.0))
-        except la.LinAlgError:
-            raise ModelError(
-                "no static initial state: with the teeth separated the torques spin the shafts "
-                "apart",
-                field="torques",
-                expected="torques that load the meshes",
-            ) from None
-        q = sol[:-1]
-        new = []
-        for k, law in enumerate(laws):
-            d = system.mesh_dofs[k]
-            ok = d >= 0
-            de = law.w[ok] @ q[d[ok]] - e0[k]
-            db = law.w_back[ok] @ q[d[ok]] + e0[k]
-            new.append(1 if de > law.backlash else (-1 if db > law.backlash else 0))
-        if new == side:
-            return q, float(sol[-1])
-        side = new
-    raise ModelError(
-        "no static initial state: the mesh contact flank does not settle", field="torques"
-    )
+    contacts = []
+    for k, law in enumerate(laws):
+        d = system.mesh_dofs[k]
+        ok = d >= 0
+        contacts.append(
+            Contact(
+                d[ok],
+                law.w[ok],
+                law.w_back[ok],
+                float(mesh_k(law, 0.0)),
+                law.backlash,
+                float(law.te[:, 0].sum()) if len(law.te) else 0.0,
+            )
+        )
+    # the package's one static solver (analyses/static/solver.py)
+    try:
+        sol = solve_static(K, f, M=M, rigid=r[:, None], contacts=contacts, field="torques")
+    except la.LinAlgError:
+        raise ModelError(
+            "no static initial state: with the teeth separated the torques spin the shafts apart",
+            field="torques",
+            expected="torques that load the meshes",
+        ) from None
+    return sol.q, float(sol.acceleration[0])

@@ -5,6 +5,11 @@ nonlinear forces act on; :func:`_pack_forces` — the parameter arrays of
 :func:`.kernels.nl_forces` (meshes, unbalances, torques, speed-dependent bearings) with indices
 into a DOF selection. The integrators and the result (mesh forces recomputed from the recorded
 states, :func:`.results.build_result`) use the same packing.
+
+The ``[torsional]`` drives and loads of the model (:mod:`gearrotor.model.drives`) act through
+the same compiled laws as in the torsional-only transient (:mod:`..torsional.drive_laws`, one
+implementation for both): :func:`_drive_laws` finds their θz DOFs, and the last group of the
+pack carries them to :func:`.kernels.nl_forces`.
 """
 
 from __future__ import annotations
@@ -12,7 +17,21 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
+from ..torsional.drive_laws import P_SIGN, TorqueLaws, pack_laws
 from .equations import TransientSystem
+
+
+def _drive_laws(system: TransientSystem) -> tuple[TorqueLaws, NDArray, NDArray]:
+    """The model's drive and load laws, the active θz index of each law's node and its shaft's
+    sense of rotation σ (the laws see θ and Ω along the rotation; the torque about +z is
+    ``σ · sign · T``)."""
+    laws = pack_laws(system.train)
+    asm = system.assembly
+    dof = np.array(
+        [system.index(int(asm.node_offset[s][nd] + 5)) for s, nd in laws.nodes], np.int64
+    )
+    sense = np.array([1.0 if system.nominal_speeds[s] >= 0 else -1.0 for s, _ in laws.nodes], float)
+    return laws, dof, sense
 
 
 def _output_dofs(system: TransientSystem, full_state: bool) -> NDArray:
@@ -31,6 +50,8 @@ def _output_dofs(system: TransientSystem, full_state: bool) -> NDArray:
         (train.unbalances, "unbalances"),
         (train.probes, "probes"),
         (train.torques, "torques"),
+        (train.torsional.drives if train.torsional else [], "torsional.drives"),
+        (train.torsional.loads if train.torsional else [], "torsional.loads"),
     ):
         for k, it in enumerate(group):
             si, node = train.node_index(it, f"{prefix}[{k}]")
@@ -48,6 +69,7 @@ def _force_dofs(system: TransientSystem) -> NDArray:
     idx = set(system.mesh_dofs[system.mesh_dofs >= 0].tolist())
     idx |= set(system.unbalance_dofs.ravel().tolist())
     idx |= set(system.torque_dof.tolist())
+    idx |= set(_drive_laws(system)[1].tolist())
     for j in range(len(system.bearing_dofs)):
         if system.bearing_dynamic[j]:
             idx |= set(system.bearing_dofs[j][system.bearing_dofs[j] >= 0].tolist())
@@ -144,4 +166,14 @@ def _pack_forces(system: TransientSystem, sel: NDArray, *, modal: bool, bearing_
         np.concatenate(b_coef + [np.zeros((1, 8))]),
         np.array(b_ref, float).reshape(-1, 8),
     )
-    return mesh + unb + torq + brg
+    laws, l_dof, l_sense = _drive_laws(system)
+    drv = (
+        (
+            at(l_dof).astype(np.int64),
+            l_sense,
+            laws.par[:, P_SIGN].copy(),  # +1 drive, −1 load
+            laws.new_state(),  # mutable: synchronous motors' pull-in state
+            *laws.arrays(),
+        ),
+    )
+    return mesh + unb + torq + brg + drv

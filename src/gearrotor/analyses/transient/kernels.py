@@ -15,13 +15,21 @@ Parameter packs (all float64 / int64):
 * torques: ``t_sel``, ``t_par (nt,3)`` = value, exponent, reference speed; table ``t_ptr``,
   ``t_time``, ``t_vals``;
 * speed-dependent bearings: ``b_sel (nb,4)``, ``b_shaft``, table ``b_ptr``, ``b_speed``,
-  ``b_coef (·,8)``, reference coefficients ``b_ref (nb,8)`` already in the linear part.
+  ``b_coef (·,8)``, reference coefficients ``b_ref (nb,8)`` already in the linear part;
+* drives and loads (``[torsional]``): one tuple ``drv`` = (``l_sel``, sense σ, sign, state
+  (nl,2), then the arrays of :meth:`TorqueLaws.arrays`), evaluated by
+  :func:`..torsional.drive_laws.law_torque` (the torsional transient's laws).
 """
 
 from __future__ import annotations
 
 import numpy as np
 from numba import njit
+
+from ..jit import configure_cache
+from ..torsional.drive_laws import advance_state, law_torque
+
+configure_cache()  # before the first @njit(cache=True): numba's cache outside the package
 
 __all__ = [
     "mesh_eval",
@@ -152,10 +160,15 @@ def nl_forces(
     b_speed,
     b_coef,
     b_ref,
+    drv,
 ):
     """Generalised forces on the ``sel`` DOFs (overwrites fs): meshes (minus their linear part
     kg_lin δ + c_lin δ̇), unbalance centrifugal part m e θ̇² r_u, external torques,
-    speed-dependent bearings (minus their reference coefficients)."""
+    speed-dependent bearings (minus their reference coefficients), drives and loads.
+
+    A synchronous motor pulls into step at the first evaluation with its slip at or below the
+    pull-in slip (its state in ``drv`` changes there, within the step: an event located to
+    one step, as in the torsional transient)."""
     for i in range(fs.shape[0]):
         fs[i] = 0.0
     for k in range(m_sel.shape[0]):
@@ -212,6 +225,18 @@ def nl_forces(
         if b_sel[j, 2] >= 0:
             fs[b_sel[j, 2]] -= fx
             fs[b_sel[j, 3]] -= fy
+    (l_sel, l_rot, l_sign, l_state, l_par, lt_ptr, lt_x, lt_y, lt_z, lv_ptr, lv_t, lv_f, ls_ptr,
+     ls_t, ls_f) = drv  # fmt: skip
+    for j in range(l_sel.shape[0]):
+        i = l_sel[j]
+        th = l_rot[j] * qs[i]
+        om = l_rot[j] * vs[i]
+        advance_state(j, t, th, om, l_state, l_par)
+        tq = law_torque(
+            j, t, th, om, l_state, l_par, lt_ptr, lt_x, lt_y, lt_z, lv_ptr, lv_t, lv_f, ls_ptr,
+            ls_t, ls_f,
+        )  # fmt: skip
+        fs[i] += l_rot[j] * l_sign[j] * tq
 
 
 @njit(cache=_CACHE)
@@ -342,6 +367,7 @@ def _accel_physical(t, q, v, a, P, W):
         b_speed,
         b_coef,
         b_ref,
+        drv,
         Minv_a,
         Minv_ux,
         Minv_uy,
@@ -398,6 +424,7 @@ def _accel_physical(t, q, v, a, P, W):
         b_speed,
         b_coef,
         b_ref,
+        drv,
     )
     for i in range(sel.shape[0]):
         F[sel[i]] += fs[i]
@@ -586,6 +613,7 @@ def _accel_modal(t, e, de, a, P, W):
         b_speed,
         b_coef,
         b_ref,
+        drv,
     ) = P
     (qs, vs, fs, Om, Z, S, rhs, piv, gq) = W
     m = e.shape[0]
@@ -634,6 +662,7 @@ def _accel_modal(t, e, de, a, P, W):
         b_speed,
         b_coef,
         b_ref,
+        drv,
     )
     nk = k_idx.shape[0]
     for i in range(nk):

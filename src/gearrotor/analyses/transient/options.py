@@ -62,16 +62,22 @@ class ModalRK4:
     frequency, which is the highest mesh frequency |N Ω| or, without meshes, 10× the highest
     shaft speed); accuracy : ω_k·dt of the default step; separated_modes : also include the
     modes of the train with the meshes removed (each shaft free, with its rigid rotation) up to
-    the cut-off, so that teeth separation (backlash) is represented; the combined basis is
-    re-diagonalised (Ritz) on the engaged model. Default: when a mesh has backlash;
-    static_correction : add the static deflection shapes under each mesh's normal force and
-    each external torque (the modes alone miss much of the mesh compliance, ~20 % for SPEC 6.1,
-    so a transmitted torque would load the mesh wrongly); this raises the highest Ritz
-    frequency (≈ 9 kHz for SPEC 6.1) and so shortens the default step. Default: when the model
-    has external torques; tolerance : without an explicit ``cutoff``, the cut-off is raised
-    (×1.25 at a time) until the reduced model's linear 1x unbalance response at the recorded
-    lateral DOFs is within ``tolerance`` (relative to its largest amplitude) of the full
-    model's; the achieved value is reported as ``stats.harmonic_error``.
+    the cut-off; the combined basis is re-diagonalised (Ritz) on the engaged model. Off by
+    default: made M-orthogonal to the kept modes these shapes consist of the engaged modes
+    above the cut-off, and their Ritz vector (18.5 kHz for SPEC 6.1 with backlash) set a
+    default step five times shorter than without backlash (issue 16); static_correction : add
+    the static deflection shapes under each mesh's normal force and each external torque (the
+    modes alone miss much of the mesh compliance, ~20 % for SPEC 6.1, so a transmitted torque
+    would load the mesh wrongly); this raises the highest Ritz frequency (≈ 9 kHz for SPEC 6.1:
+    the gears vibrating on the mesh spring) and so shortens the default step. Default: when the
+    model has external torques or a mesh has backlash: teeth separation removes the mesh force,
+    a rank-one change of the stiffness along the mesh's line w, and the response to it lies in
+    the span of the modes and the static shape under w (the separated shafts' motion is
+    represented; contact-loss fraction and 1x against RK4 in tests/perf); tolerance : without
+    an explicit ``cutoff``, the cut-off is raised (×1.25 at a time) until the reduced model's
+    linear 1x unbalance response at the recorded lateral DOFs is within ``tolerance``
+    (relative to its largest amplitude) of the full model's; the achieved value is reported
+    as ``stats.harmonic_error``.
 
     The defaults (1.25, 0.9) were measured on the SPEC 6.1 gearbox against RK4
     (benchmarks/transient_app2.py): 1x within 0.5 %, speed fluctuation within 0.5 %.
@@ -99,11 +105,24 @@ class Save:
 
 @dataclass(frozen=True)
 class Checkpoint:
-    """Write the state to ``path`` every ``every`` seconds of wall time (atomic replace) and
-    resume from it when it exists and matches the run (model, method, step)."""
+    """Write the state of the run to ``path`` (atomically) every ``simulated`` seconds of
+    simulated time (default: 5 % of ``t_end``, so a killed run loses at most a twentieth) and at
+    the latest every ``every`` seconds of wall time, whichever comes first; resume from it when
+    it exists and matches the run (model, method, step, end time, what is saved).
+
+    The run advances in chunks of about 0.05 s of simulated time; an interval longer than that
+    is rounded to whole chunks, a shorter one to whole save intervals (:class:`Save`). A resumed
+    run is bit-identical to an uninterrupted run with the same checkpoint settings (and to a run
+    without checkpoints when the interval is at least a chunk).
+
+    A checkpoint holds the state and everything recorded so far (its size grows to that of the
+    result). It is removed when the run ends. A file that cannot be read (truncated, not a
+    checkpoint) is an input error naming it; a checkpoint of another run is ignored and replaced.
+    """
 
     path: Path
     every: float = 60.0
+    simulated: float | None = None
 
 
 def excitation_frequency(system: TransientSystem) -> float:

@@ -11,6 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ...files import save_figure
 from ...signals import spectrum
 from .results import RPM, spectra_one_x_rpm
 
@@ -222,7 +223,7 @@ def standard_figures(
             continue
         fig = fn(ds)
         path = directory / f"{prefix}_{name}.png"
-        fig.savefig(path, dpi=110)
+        save_figure(fig, path, dpi=110)
         out.append(path)
         if progress is not None:
             progress(path)

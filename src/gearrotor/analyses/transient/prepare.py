@@ -5,7 +5,7 @@ stability region (:mod:`.step_limits`)."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import scipy.linalg as la
@@ -14,10 +14,11 @@ from numpy.typing import NDArray
 from scipy.sparse.csgraph import connected_components
 
 from ...errors import ModelError, SolverError
+from ..torsional.drive_laws import P_WLINE
 from .equations import TransientSystem
-from .forces import _force_dofs, _pack_forces
+from .forces import _drive_laws, _force_dofs, _pack_forces
 from .options import RK4, ModalRK4, excitation_frequency
-from .reduction import _harmonic_error, _modal_basis, _static_shapes
+from .reduction import _harmonic_error, _harmonic_shapes, _modal_basis, _static_shapes
 from .step_limits import _linearised, _rk4_step_limit, _unstable_step
 
 
@@ -181,20 +182,32 @@ def _prepare_modal(system: TransientSystem, integ: ModalRK4, out: NDArray) -> _P
         if integ.cutoff is not None
         else (integ.cutoff_factor * excitation_frequency(system))
     )
-    separated = integ.separated_modes
-    if separated is None:
-        separated = any(law.backlash > 0 for law in system.meshes)
+    backlash = any(law.backlash > 0 for law in system.meshes)
+    separated = bool(integ.separated_modes)
     if separated and system.meshes:
         _, Kf, _ = system.linear_matrices(meshes=False)
         separated = la.eigh(0.5 * (Kf + Kf.T), M)
     else:
         separated = None
     static = integ.static_correction
+    l_dof = _drive_laws(system)[1]
     if static is None:
-        static = len(system.torque_dof) > 0
-    shapes = _static_shapes(system, M, K) if static else np.zeros((system.n, 0))
+        # torques load the mesh through its compliance; with backlash the mesh force drops to
+        # zero in separation, a rank-one change along w whose response the modes plus the
+        # static shape under w span (see ModalRK4)
+        static = len(system.torque_dof) + len(l_dof) > 0 or backlash
+    # drives and loads get static correction shapes as the external torques do
+    torqued = replace(system, torque_dof=np.concatenate([system.torque_dof, l_dof]))
+    shapes = _static_shapes(torqued, M, K) if static else np.zeros((system.n, 0))
     Phi, w2r = _modal_basis(M, Ks, V, w2, wcut, separated, shapes)
     check = _harmonic_error(system, M, K, C, Phi, w2r, out)
+    if integ.cutoff is None and check > integ.tolerance:
+        # the modes above the cut-off carry part of the 1x response (their quasi-static
+        # compliance, heavily damped bearings): add the full model's 1x response shapes
+        # before raising the cut-off (issue 16: 173 → 65 modes for the compressor example)
+        shapes = np.hstack([shapes, _harmonic_shapes(system, M, K, C)])
+        Phi, w2r = _modal_basis(M, Ks, V, w2, wcut, separated, shapes)
+        check = _harmonic_error(system, M, K, C, Phi, w2r, out)
     while integ.cutoff is None and check > integ.tolerance and wcut < om_all.max():
         wcut *= 1.25
         Phi, w2r = _modal_basis(M, Ks, V, w2, wcut, separated, shapes)
@@ -214,7 +227,10 @@ def _prepare_modal(system: TransientSystem, integ: ModalRK4, out: NDArray) -> _P
     )
     dt = integ.dt
     if dt is None:
-        dt = min(integ.accuracy / max(float(om.max()), 1e-9), 0.95 * limit)
+        # the drives' fastest torque: 2 f_line (synchronous start-up pulsation at standstill,
+        # two-phase short circuit), resolved like the highest kept mode
+        w_drive = 2.0 * float(np.max(_drive_laws(system)[0].par[:, P_WLINE], initial=0.0))
+        dt = min(integ.accuracy / max(float(om.max()), w_drive, 1e-9), 0.95 * limit)
     if dt >= 0.995 * limit:
         raise _unstable_step("modal RK4", dt, limit, lam_lim, " or lower the cut-off")
     k_dofs = np.flatnonzero(np.any(Ka != 0, axis=1))

@@ -72,16 +72,11 @@ def _modal_basis(M, Ks, V, w2, wcut, separated, shapes):
     return Phi[:, order], w2r[order]
 
 
-def _harmonic_error(system, M, K, C, Phi, w2r, out) -> float:
-    """Largest relative error of the reduced model's linear 1x unbalance response at the
-    recorded lateral DOFs (per distinct shaft speed), against the full model."""
-    kind = system.assembly.dof_kind()[system.active]
-    obs = out[kind[out] == 0]
-    if not len(system.unbalance_dofs) or not len(obs):
-        return 0.0
+def _unbalance_1x(system, M, K, C):
+    """The linear 1x unbalance response of the full model, per distinct shaft speed: yields
+    (Ω rad/s, F (n,) complex force, X (n,) complex response of K − Ω²M + iΩ(C + G))."""
     G = system.gyroscopic()
     speeds = system.nominal_speeds
-    err = 0.0
     for w in np.unique(np.round(np.abs(speeds), 9)):
         F = np.zeros(system.n, complex)
         for u, d in enumerate(system.unbalance_dofs):
@@ -94,7 +89,39 @@ def _harmonic_error(system, M, K, C, Phi, w2r, out) -> float:
             F[d[1]] += -1j * sig * f0
         if not F.any():
             continue
-        X = la.solve(K - w**2 * M + 1j * w * (C + G), F)[obs]
+        yield w, F, la.solve(K - w**2 * M + 1j * w * (C + G), F)
+
+
+def _harmonic_shapes(system, M, K, C) -> NDArray:
+    """Real and imaginary parts (n, 2k) of the full model's linear responses to the two
+    periodic excitations of a geared train: the 1x unbalance forces
+    (:func:`_unbalance_1x`) and, per mesh, a force along its line of action w at its mesh
+    frequency (stiffness variation and transmission error act there). With them in the basis
+    the reduced model reproduces those responses exactly (a Galerkin projection is exact when
+    the solution lies in its span), so the share of the modes above the cut-off in them
+    (quasi-static compliance, heavily damped bearings) is kept without keeping those modes."""
+    cols = [part for _, _, X in _unbalance_1x(system, M, K, C) for part in (X.real, X.imag)]
+    G = system.gyroscopic()
+    for law, d, rate in zip(system.meshes, system.mesh_dofs, system.mesh_rates(), strict=True):
+        w = abs(float(rate))
+        b = np.zeros(system.n)
+        b[d[d >= 0]] = law.w[d >= 0]
+        X = la.solve(K - w**2 * M + 1j * w * (C + G), b)
+        cols += [X.real, X.imag]
+    return np.array(cols).T.reshape(system.n, -1)
+
+
+def _harmonic_error(system, M, K, C, Phi, w2r, out) -> float:
+    """Largest relative error of the reduced model's linear 1x unbalance response at the
+    recorded lateral DOFs (per distinct shaft speed), against the full model."""
+    kind = system.assembly.dof_kind()[system.active]
+    obs = out[kind[out] == 0]
+    if not len(system.unbalance_dofs) or not len(obs):
+        return 0.0
+    G = system.gyroscopic()
+    err = 0.0
+    for w, F, Xf in _unbalance_1x(system, M, K, C):
+        X = Xf[obs]
         A = (
             np.diag(w2r)
             + Phi.T @ (0.5 * (K - K.T)) @ Phi

@@ -9,7 +9,6 @@ feeds whirl energy, negative drains it.
 from __future__ import annotations
 
 import json
-import os
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
@@ -17,6 +16,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ...errors import ModelError
+from ...files import write_netcdf
 from ...signals import amplitude_at, order_amplitudes, spectral_lines, spectrum
 from . import kernels as kn
 from .equations import TransientSystem
@@ -369,12 +369,8 @@ class TransientResult:
         return ds
 
     def save(self, path: str | Path) -> Path:
-        """Write NetCDF (h5netcdf engine) atomically: temp file, then ``os.replace``."""
-        path = Path(path)
-        tmp = path.with_name(path.name + ".tmp")
-        self.to_xarray().to_netcdf(tmp, engine="h5netcdf")
-        os.replace(tmp, path)
-        return path
+        """Write NetCDF (h5netcdf engine) atomically (:func:`gearrotor.files.write_netcdf`)."""
+        return write_netcdf(path, self.to_xarray())
 
 
 def load_result(path: str | Path):

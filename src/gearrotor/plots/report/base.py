@@ -37,7 +37,10 @@ class Context:
     assembly : the model; speed : rad/s, magnitude of the reference-shaft operating speed (the
     direction of rotation follows the model, :attr:`sign`); max_frequency : rad/s; api : the
     unbalance section uses the API 617 unbalance; transient_file : a saved transient result;
-    n_campbell, n_unbalance : speeds of the sweeps.
+    n_campbell, n_unbalance : speeds of the sweeps; operating_range : rad/s, the reference
+    shaft's (minimum operating speed, maximum continuous speed) of the API checks: the model's
+    (:func:`~gearrotor.analyses.model_operating_range`) unless a speed was asked for, else
+    (speed, speed).
 
     results : analysis name -> its result (``"modal"``, ``"campbell"``, ``"unbalance"``,
     ``"transient"``: the dataset read from the file), filled by :meth:`Section.run`;
@@ -55,16 +58,33 @@ class Context:
     transient_file: Path | None = None
     n_campbell: int = 40
     n_unbalance: int = 400
+    operating_range: tuple[float, float] | None = None
     results: dict[str, object] = field(default_factory=dict)
     notes: list[str] = field(default_factory=list)
     directory: Path | None = None
     figures: list[Path] = field(default_factory=list)
     summary: dict = field(default_factory=dict)
     verdicts: list[dict] = field(default_factory=list)
+    # operating points (issue 11): the points of the operating-points section, and the model
+    # before an --operating-point put its bearings at that point's loads
+    operating_points: tuple[str, ...] = ()
+    base_train: Train | None = None
 
     @property
     def train(self) -> Train:
         return self.assembly.train
+
+    @property
+    def api_range(self) -> tuple[float, float]:
+        """rad/s: the operating range of the API checks (see the class docstring)."""
+        return (
+            self.operating_range
+            if self.operating_range is not None
+            else (
+                self.speed,
+                self.speed,
+            )
+        )
 
     @property
     def sign(self) -> float:

@@ -7,10 +7,11 @@ from __future__ import annotations
 
 import html
 import math
-import os
 from pathlib import Path
 
 import numpy as np
+
+from ...files import save_figure
 
 __all__ = ["COLORS", "LOG_DEC_THRESHOLD", "RPM"]
 
@@ -49,10 +50,7 @@ def _mpl_figure(size):
 
 
 def _savefig(fig, path: Path) -> Path:
-    tmp = path.with_name(path.stem + ".tmp" + path.suffix)
-    fig.savefig(tmp, dpi=120)
-    os.replace(tmp, path)
-    return path
+    return save_figure(fig, path, dpi=120)
 
 
 def _e(x) -> str:

@@ -3,7 +3,6 @@
 
 from __future__ import annotations
 
-import json
 import math
 import os
 import shutil
@@ -14,6 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from ...errors import ModelError
+from ...files import check_output, write_json, write_text
 from .base import Context
 from .blocks import RPM
 from .page import _page
@@ -101,6 +101,8 @@ def make_report(
     n_unbalance: int = 400,
     source: str | None = None,
     command: str | None = None,
+    operating_point: str | None = None,
+    operating_points: tuple[str, ...] | list[str] | None = None,
 ) -> Report:
     """Run the analyses and write the report directory ``output``.
 
@@ -111,8 +113,10 @@ def make_report(
     analyses : subset of ``("modal", "campbell", "unbalance")``; ``"transient"`` requires
         ``transient`` (the report reads a saved result, it does not run the solver)
     speed : rad/s, magnitude of the reference-shaft operating speed (default: the model's); the
-        modal analysis runs at it, the API checks use it as the operating range, the Campbell
-        sweep covers 0..1.25× and the unbalance sweep 0.02..1.5× of it
+        modal analysis runs at it, the Campbell sweep covers 0..1.25× and the unbalance sweep
+        0.02..1.5× of it (of the MCS when higher); the API checks use the model's operating
+        range and maximum continuous speed when the model states them and no speed is given,
+        else this speed
     max_frequency : rad/s, highest damped frequency of the modes and the Campbell diagram
         (default: 1.1 × the highest mesh frequency at the operating speed, so that the coupled
         lateral-torsional modes a gear engineer looks for are in; 5 × speed without meshes);
@@ -124,6 +128,13 @@ def make_report(
         (:func:`gearrotor.analyses.api617.api617_unbalances`)
     n_campbell, n_unbalance : number of speeds of the Campbell and unbalance sweeps
     source, command : the model file and the command line, quoted in the report
+    operating_point : run the analyses at this operating point of the model: fluid-film
+        bearings at the coefficients of its static loads (held over the sweeps), meshes on the
+        loaded flank, speed default the point's
+        (:func:`~gearrotor.analyses.static.at_operating_point`)
+    operating_points : add the operating-points section for these points (bearing-load and
+        eccentricity loci, least-stable log dec against power); the ``"operating_points"``
+        analysis
 
     Raises
     ------
@@ -144,13 +155,36 @@ def make_report(
         )
     if transient is not None and "transient" not in analyses:
         analyses = (*analyses, "transient")
-    output = Path(output)
-    if output.exists() and not output.is_dir():
-        raise ModelError(
-            "the report output is not a directory",
-            field="--output",
-            value=str(output),
-            expected="a directory (new or existing)",
+    output = check_output(output, "directory", field="--output")
+    base_train = model.train if isinstance(model, Assembly) else model
+    if operating_points:
+        operating_points = tuple(operating_points)
+        if "operating_points" not in analyses:
+            analyses = (*analyses, "operating_points")
+    elif operating_point is not None and "operating_points" in analyses:
+        operating_points = (operating_point,)
+    elif "operating_points" in analyses:
+        operating_points = tuple(p.name for p in base_train.operating_points)
+    op_note = None
+    if operating_point is not None:
+        from ...analyses.static import at_operating_point
+
+        try:
+            op = base_train.operating_point(operating_point)
+        except ModelError as exc:
+            raise ModelError(
+                exc.message,
+                field="--operating-point",
+                value=operating_point,
+                expected=exc.expected,
+            ) from None
+        if speed is None:
+            speed = abs(op.reference_speed(base_train.speed))
+        model = at_operating_point(base_train, op)
+        op_note = (
+            f"Operating point {op.name}: fluid-film bearings at the coefficients of its static "
+            f"loads at {op.reference_speed(base_train.speed) * RPM:.0f} rpm (held over the "
+            "sweeps), meshes loaded on the flank its torque loads."
         )
     asm = model if isinstance(model, Assembly) else assemble(model)
     train = asm.train
@@ -177,20 +211,27 @@ def make_report(
             value=(n_campbell, n_unbalance),
             expected="n_campbell >= 2 and n_unbalance >= 3",
         )
+    from ...analyses.operating import model_operating_range
+
     ctx = Context(
         asm,
         analyses,
         w,
         fmax,
+        operating_range=model_operating_range(train) if speed is None else None,
         api=api,
         transient_file=None if transient is None else Path(transient),
         n_campbell=n_campbell,
         n_unbalance=n_unbalance,
+        operating_points=tuple(operating_points or ()),
+        base_train=base_train,
     )
     ctx.notes.append(
         f"Modes and Campbell diagram up to {fmax * RPM:,.0f} cpm ({fmax_basis}; "
         "--max-frequency sets another range)."
     )
+    if op_note:
+        ctx.notes.append(op_note)
     requested = [s for s in SECTIONS if s.analysis in analyses]
     for section in requested:
         section.check(ctx)
@@ -213,17 +254,21 @@ def make_report(
             "command": command,
             "analyses": list(analyses),
             "speed_rpm": w * RPM,
+            "operating_range_rpm": [v * RPM for v in ctx.api_range],
             "max_frequency_rpm": fmax * RPM,
             "max_frequency_basis": fmax_basis,
             "transient": None if transient is None else str(transient),
             "unbalance": "api617" if api else "model",
+            "operating_point": operating_point,
         }
-        (tmp / "report.json").write_text(json.dumps(_clean(summary), indent=1), encoding="utf-8")
+        write_json(tmp / "report.json", _clean(summary))
         page = _page(train, parts, summary, ctx.figures, ctx.notes, source=source, command=command)
-        (tmp / "report.html").write_text(page, encoding="utf-8")
+        write_text(tmp / "report.html", page)
         _publish(tmp, output)
-    except BaseException:
+    except BaseException as exc:
         shutil.rmtree(tmp, ignore_errors=True)
+        if isinstance(exc, ModelError) and str(tmp) in str(exc):  # a write error: name the
+            raise ModelError(str(exc).replace(str(tmp), str(output))) from None  # report's file
         raise
     return Report(
         directory=output,

@@ -7,10 +7,13 @@ see ``docs/architecture.md``) and one line to :data:`SECTIONS`.
 from __future__ import annotations
 
 from ..base import Section
+from .audit import AuditSection
 from .bearings import BearingsSection
 from .campbell import CampbellSection
 from .modes import ModesSection
 from .stability import StabilitySection
+from .static import OperatingPointsSection
+from .torsional import TorsionalSection
 from .transient import TransientSection
 from .unbalance import UnbalanceSection
 
@@ -21,6 +24,9 @@ SECTIONS: tuple[Section, ...] = (
     StabilitySection(),
     CampbellSection(),
     UnbalanceSection(),
+    AuditSection(),
+    OperatingPointsSection(),
     BearingsSection(),
+    TorsionalSection(),
     TransientSection(),
 )

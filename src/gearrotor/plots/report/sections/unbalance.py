@@ -38,14 +38,16 @@ class UnbalanceSection(Section):
     def run(self, ctx: Context) -> None:
         from ....analyses import unbalance_response
 
-        speeds = ctx.sweep(0.02 * ctx.speed, 1.5 * ctx.speed, ctx.n_unbalance, "unbalance sweep")
-        if speeds[0] <= ctx.speed <= speeds[-1]:
-            speeds = np.union1d(speeds, [ctx.speed])  # the orbits at the operating speed itself
+        top = max(ctx.speed, ctx.api_range[1])
+        speeds = ctx.sweep(0.02 * top, 1.5 * top, ctx.n_unbalance, "unbalance sweep")
+        # the orbits at the operating range's top (the maximum continuous speed) itself
+        ends = [v for v in ctx.api_range if speeds[0] <= v <= speeds[-1]]
+        speeds = np.union1d(speeds, ends)
         ctx.results["unbalance"] = unbalance_response(
             ctx.assembly,
             speeds=speeds,
             unbalances=_unbalances(ctx),
-            operating_range=(ctx.speed, ctx.speed),
+            operating_range=ctx.api_range,
         )
 
     def write(self, ctx: Context) -> list[Part]:
@@ -54,7 +56,7 @@ class UnbalanceSection(Section):
         unb = ctx.results.get("unbalance")
         if unb is None:
             return []
-        used = _unbalances_used(ctx.assembly, _unbalances(ctx), api=ctx.api, w=ctx.speed)
+        used = _unbalances_used(ctx.assembly, _unbalances(ctx), api=ctx.api, w=ctx.api_range[1])
         checks = _api_checks(unb)
         checks["unbalance"] = used
         ctx.summary["api684"] = checks
@@ -83,10 +85,12 @@ class UnbalanceSection(Section):
 
 def _unbalances(ctx: Context) -> list:
     """The unbalance the response uses: the model's, or the API 617 unbalance at the
-    operating speed."""
+    maximum continuous speed (the operating speed when the model states none)."""
     from ....analyses.api617 import api617_unbalances
 
-    return api617_unbalances(ctx.assembly, ctx.speed) if ctx.api else list(ctx.train.unbalances)
+    if ctx.api:
+        return api617_unbalances(ctx.assembly, ctx.api_range[1])
+    return list(ctx.train.unbalances)
 
 
 def bode_figure(result):

@@ -1,0 +1,232 @@
+"""Benchmark: how the cost of each analysis grows with the model (issue 16).
+
+Trains of 2, 4, 8 and 16 shafts in a row, each meshing with the next at mid-span (the SPEC 6.1
+shaft, gear and bearings, unity ratio, alternating spin), with 20 to 160 elements per shaft.
+For each train it times
+
+* ``modal dense``: every damped eigenvalue by dense QR (``modal(method="dense")``);
+* ``modal sparse``: the modes below 80,000 cpm by shift-invert Arnoldi;
+* ``campbell``: 10 speeds 0–12,000 rpm, modes below 80,000 cpm (the default method);
+* ``unbalance``: a 50-speed unbalance sweep (sparse LU per speed);
+* ``transient``: 0.2 s of the modal transient (``ModalRK4()`` defaults, setup included, the
+  kernels compiled beforehand),
+
+prints time against DOF, the exponent p of a least-squares fit ``t ∝ DOF^p`` per analysis over
+the models it ran on, and the dense/sparse crossover (the DOF above which the sparse
+eigensolver is faster, interpolated in log-log). Analyses whose cost would exceed a few minutes
+are skipped above a DOF cap (printed).
+
+    python benchmarks/scaling.py [--quick] [--json FILE]
+
+``--quick``: 2, 4 and 8 shafts, 20 and 40 elements, capped lower (about a minute). One core:
+BLAS threads are limited to 1 so that the numbers measure the algorithms, not the load.
+"""
+
+from __future__ import annotations
+
+import os
+
+for _v in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMBA_NUM_THREADS"):
+    os.environ.setdefault(_v, "1")
+
+import argparse  # noqa: E402
+import json  # noqa: E402
+import platform  # noqa: E402
+import time  # noqa: E402
+from pathlib import Path  # noqa: E402
+
+import numpy as np  # noqa: E402
+
+from gearrotor.analyses import campbell, modal  # noqa: E402
+from gearrotor.analyses.transient import ModalRK4, transient  # noqa: E402
+from gearrotor.analyses.unbalance import unbalance_response  # noqa: E402
+from gearrotor.assembly import assemble  # noqa: E402
+from gearrotor.io.model_file import model_from_dict  # noqa: E402
+
+RPM = np.pi / 30
+FMAX = 80000 * RPM
+TASKS = ("modal dense", "modal sparse", "campbell", "unbalance", "transient")
+
+
+def chain(n_shafts: int, elements: int) -> dict:
+    """A row of ``n_shafts`` SPEC 6.1 shafts, shaft k meshing with shaft k+1 at mid-span."""
+    mid = elements // 2
+    steel = {"E": "211 GPa", "poisson": 0.3, "density": "7890 kg/m^3"}
+    shafts, bearings, meshes, unbalances = [], [], [], []
+    for k in range(n_shafts):
+        name = f"s{k}"
+        shafts.append(
+            {
+                "name": name,
+                "material": "steel",
+                "speed": f"{6500 * (-1) ** k} rpm",
+                "sections": [
+                    {"length": "1.02 m", "outer_diameter": "0.06 m", "elements": elements}
+                ],
+                **({"position": ["0 m", "0 m"]} if k == 0 else {}),
+            }
+        )
+        for node in (0, elements):
+            bearings.append(
+                {
+                    "name": f"{name}-b{node}",
+                    "shaft": name,
+                    "node": node,
+                    "k": "1.0e7 N/m",
+                    "c": "1.75e4 N*s/m",
+                }
+            )
+        unbalances.append({"shaft": name, "node": mid, "amount": "720 g*mm", "phase": "0 deg"})
+        if k + 1 < n_shafts:
+            meshes.append(
+                {
+                    "name": f"m{k}",
+                    "gear": {"shaft": name, "node": mid, "teeth": 30, "radius": "0.11 m"},
+                    "mate": {"shaft": f"s{k + 1}", "node": mid, "teeth": 30, "radius": "0.11 m"},
+                    "radius_type": "pitch",
+                    "pressure_angle": "0.349 rad",
+                    "helix_angle": "0 rad",
+                    "orientation": "0 rad",
+                    "stiffness": "3.0e7 N/m",
+                }
+            )
+    return {
+        "name": f"chain {n_shafts}x{elements}",
+        "reference_shaft": "s0",
+        "speed": "6500 rpm",
+        "materials": {"steel": steel},
+        "shafts": shafts,
+        "bearings": bearings,
+        "meshes": meshes,
+        "unbalances": unbalances,
+        "probes": [{"name": "p0", "shaft": "s0", "node": mid, "angle": "0 deg"}],
+    }
+
+
+def _timed(fn) -> float:
+    t0 = time.perf_counter()
+    fn()
+    return time.perf_counter() - t0
+
+
+def _cpu() -> str:
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return platform.processor() or "unknown"
+
+
+def fit_exponent(dofs, times) -> float:
+    """Least-squares slope of log t against log DOF (nan with fewer than 2 distinct DOF)."""
+    x, y = np.log(np.asarray(dofs, float)), np.log(np.asarray(times, float))
+    if len(np.unique(x)) < 2:
+        return float("nan")
+    return float(np.polyfit(x, y, 1)[0])
+
+
+def crossover(dofs, dense, sparse) -> float | None:
+    """DOF at which sparse becomes faster than dense (log-log interpolation between the two
+    measured models that bracket it), None when it does not within the measured range."""
+    pts = sorted(
+        (d, a, b)
+        for d, a, b in zip(dofs, dense, sparse, strict=True)
+        if np.isfinite(a) and np.isfinite(b)
+    )
+    for (d0, a0, b0), (d1, a1, b1) in zip(pts, pts[1:], strict=False):
+        r0, r1 = np.log(a0 / b0), np.log(a1 / b1)
+        if r0 < 0 <= r1:
+            f = -r0 / (r1 - r0)
+            return float(np.exp(np.log(d0) + f * (np.log(d1) - np.log(d0))))
+    if pts and pts[0][1] >= pts[0][2]:
+        return float(pts[0][0])  # sparse already faster on the smallest model
+    return None
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--quick", action="store_true", help="fewer, smaller models (~1 min)")
+    ap.add_argument("--json", type=Path, default=None, help="also write the rows as JSON")
+    args = ap.parse_args()
+    shafts = (2, 4, 8) if args.quick else (2, 4, 8, 16)
+    elements = (20, 40) if args.quick else (20, 40, 80, 160)
+    # DOF above which an analysis is skipped (dense eigen is O(n³) in memory-bound LAPACK;
+    # the modal transient does a dense generalised eigen solve of the whole model in setup)
+    cap = {
+        "modal dense": 2000,
+        "modal sparse": 20000,
+        "campbell": 4000 if args.quick else 8000,
+        "unbalance": 20000,
+        "transient": 2000 if args.quick else 4000,
+    }
+    print(
+        f"machine: {platform.machine()} {_cpu()}, {os.cpu_count()} cores, python "
+        f"{platform.python_version()}, numpy {np.__version__}, 1 BLAS thread; load average "
+        f"{os.getloadavg()[0]:.2f}"
+    )
+    # compile the transient kernels outside the timings
+    transient(model_from_dict(chain(2, 4)), t_end=1e-3, integrator=ModalRK4())
+    rows = []
+    head = f"{'shafts':>6} {'elem':>5} {'DOF':>6}" + "".join(f"{t:>14}" for t in TASKS)
+    print(head)
+    print("-" * len(head))
+    for ns in shafts:
+        for ne in elements:
+            train = model_from_dict(chain(ns, ne))
+            asm = assemble(train)
+            n = asm.n_dof
+            speeds = np.linspace(0, 12000, 10) * RPM
+            jobs = {
+                "modal dense": lambda asm=asm: modal(asm, method="dense"),
+                "modal sparse": lambda asm=asm: modal(asm, method="sparse", max_frequency=FMAX),
+                "campbell": lambda asm=asm, s=speeds: campbell(asm, speeds=s, max_frequency=FMAX),
+                "unbalance": lambda asm=asm: unbalance_response(
+                    asm, speeds=np.linspace(500, 12000, 50) * RPM
+                ),
+                "transient": lambda train=train: transient(train, t_end=0.2),
+            }
+            row = {"shafts": ns, "elements": ne, "dof": n}
+            for task in TASKS:
+                row[task] = _timed(jobs[task]) if n <= cap[task] else float("nan")
+            rows.append(row)
+            print(
+                f"{ns:>6} {ne:>5} {n:>6}"
+                + "".join(
+                    f"{row[t]:>14.3f}" if np.isfinite(row[t]) else f"{'(skipped)':>14}"
+                    for t in TASKS
+                ),
+                flush=True,
+            )
+    print()
+    print("fitted exponent p of t ∝ DOF^p (models the analysis ran on):")
+    fits = {}
+    for task in TASKS:
+        ok = [r for r in rows if np.isfinite(r[task])]
+        fits[task] = fit_exponent([r["dof"] for r in ok], [r[task] for r in ok])
+        print(
+            f"  {task:<14} p = {fits[task]:.2f}  ({len(ok)} models, up to "
+            f"{max((r['dof'] for r in ok), default=0)} DOF; cap {cap[task]} DOF)"
+        )
+    x = crossover(
+        [r["dof"] for r in rows],
+        [r["modal dense"] for r in rows],
+        [r["modal sparse"] for r in rows],
+    )
+    print(
+        "dense/sparse crossover: "
+        + (
+            f"sparse faster above ~{x:.0f} DOF"
+            if x
+            else "sparse not faster within the measured range"
+        )
+    )
+    if args.json:
+        args.json.write_text(
+            json.dumps({"rows": rows, "exponents": fits, "crossover": x}, indent=1)
+        )
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,177 @@
+"""The API 617 stability audit of a train as one call: Level I from the model's ``[api_audit]``
+table (:mod:`gearrotor.model.audit`) or from arguments that override it, and Level II with every
+destabiliser the model holds at the operating speeds, with one verdict.
+
+Level II runs whatever Level I says (the audit reports both); the audit passes when Level I
+passes, or when Level I asks for Level II and Level II passes. Level II speeds: the minimum and
+maximum operating speeds and the maximum continuous speed of the model (distinct values), the
+MCS alone when the model states no operating range.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..assembly import Assembly
+from ..errors import ModelError
+from ..model import Train
+from .operating import model_max_continuous_speed
+from .stability import RPM, Level1Result, Level2Result, Site, Stage, level1, level2, mid_span
+
+__all__ = ["StabilityAudit", "level1_inputs", "level2_speeds", "stability_audit"]
+
+
+@dataclass(frozen=True)
+class StabilityAudit:
+    """Level I and Level II of a train and the audit's verdict (``"pass"`` or ``"fail"``,
+    ``decided_by`` ``"Level I"`` or ``"Level II"``)."""
+
+    level1: Level1Result
+    level2: Level2Result
+    verdict: str
+    decided_by: str
+
+    @property
+    def passed(self) -> bool:
+        return self.verdict == "pass"
+
+    def to_dict(self) -> dict:
+        """The Level I headline numbers at the top (``threshold_q_N_per_m`` = Q_0,
+        ``qa_N_per_m``, ``ratio_q0_qa``, ``threshold_mode``, ``level1_verdict``), the edition,
+        the audit's ``verdict``, and both results in full."""
+        l1, l2 = self.level1.to_dict(), self.level2.to_dict()
+        return {
+            "edition": self.level1.edition,
+            "verdict": self.verdict,
+            "decided_by": self.decided_by,
+            "mcs_rpm": abs(self.level1.speed) * RPM,
+            "qa_N_per_m": l1["qa_N_per_m"],
+            "threshold_q_N_per_m": l1["threshold_q_N_per_m"],
+            "ratio_q0_qa": l1["ratio_q0_qa"],
+            "log_dec_at_qa": l1["log_dec_at_qa"],
+            "threshold_mode": l1["threshold_mode"],
+            "level1_verdict": l1["verdict"],
+            "level2_verdict": l2["verdict"],
+            "level2_min_forward_log_dec": self.min_level2_log_dec,
+            "level1": l1,
+            "level2": l2,
+        }
+
+    @property
+    def min_level2_log_dec(self) -> float | None:
+        """The least log dec of the forward lateral modes over the Level II speeds."""
+        d = [e.min_forward_log_dec for e in self.level2.evaluations]
+        d = [v for v in d if v is not None]
+        return min(d) if d else None
+
+    def table(self) -> str:
+        return "\n".join(
+            [
+                self.level1.table(),
+                "",
+                self.level2.table(),
+                "",
+                f"API 617 stability audit: {self.verdict.upper()} (decided by {self.decided_by})",
+            ]
+        )
+
+
+def level2_speeds(train: Train) -> list[float]:
+    """Reference-shaft speeds (rad/s) of Level II: min and max operating speed and MCS."""
+    mcs = model_max_continuous_speed(train, "the stability audit")
+    speeds = [mcs]
+    if train.operating_speed_range is not None:
+        speeds += list(train.operating_speed_range)
+    out: list[float] = []
+    for w in sorted(speeds):
+        if not out or abs(w - out[-1]) > 1e-9 * w:
+            out.append(float(w))
+    return out
+
+
+def level1_inputs(
+    train: Train,
+    *,
+    qa: float | None = None,
+    stages: Sequence[Stage] | None = None,
+    at: Sequence[Site | tuple] | None = None,
+    operating_speed: float | None = None,
+    average_density: float | None = None,
+    exclude_bearings: Sequence[str] | None = None,
+) -> dict:
+    """Keyword arguments of :func:`~.stability.level1`: the model's ``[api_audit]`` table with
+    the given arguments in place of its values (``qa`` or ``stages`` replace both of the
+    table's Q_A sources; a site's node ``"mid_span"`` becomes the middle of its shaft's span).
+    """
+    table = train.api_audit
+    if qa is not None and stages:
+        raise ModelError(
+            "give the anticipated cross-coupling once: Q_A or the stages of its formula",
+            field="qa / stages",
+            expected="one of the two",
+        )
+    if qa is None and not stages:
+        if table is None:
+            raise ModelError(
+                "the stability audit needs the anticipated cross-coupling Q_A",
+                field="api_audit",
+                expected="an [api_audit] table in the model, or Q_A (--qa) or the formula's "
+                "inputs (--power ...)",
+            )
+        qa = table.qa
+        stages = [
+            Stage(s.shaft, s.node, s.power, s.diameter, s.height, s.density_ratio, s.kind)
+            for s in table.stages
+        ]
+    sites = at
+    if not sites and table is not None:
+        sites = [(s.shaft, s.node, s.weight) for s in table.at]
+    resolved = []
+    for k, s in enumerate(sites or ()):
+        site = s if isinstance(s, Site) else Site(*s)
+        if site.node == "mid_span":
+            site = mid_span(train, site.shaft, site.weight)
+        elif not isinstance(site.node, int | np.integer):
+            raise ModelError(
+                "a site's node is an index or 'mid_span'", field=f"at[{k}].node", value=site.node
+            )
+        resolved.append(site)
+    if operating_speed is None and table is not None:
+        operating_speed = table.operating_speed
+    if average_density is None and table is not None:
+        average_density = table.density
+    if exclude_bearings is None:
+        exclude_bearings = table.exclude_bearings if table is not None else ()
+    return {
+        "qa": qa,
+        "stages": tuple(stages or ()),
+        "at": tuple(resolved),
+        "operating_speed": operating_speed,
+        "average_density": average_density,
+        "exclude_bearings": tuple(exclude_bearings),
+    }
+
+
+def stability_audit(
+    model: Train | Assembly,
+    *,
+    speeds: Sequence[float] | None = None,
+    n_curve: int = 11,
+    rtol: float = 1e-4,
+    **level1_args,
+) -> StabilityAudit:
+    """Level I (at the model's MCS, inputs from :func:`level1_inputs` with ``level1_args``)
+    and Level II at ``speeds`` (rad/s, default :func:`level2_speeds`)."""
+    train = model.train if isinstance(model, Assembly) else model
+    model_max_continuous_speed(train, "the stability audit (Level I runs at the MCS)")
+    kw = level1_inputs(train, **level1_args)
+    r1 = level1(train, n_curve=n_curve, rtol=rtol, **kw)
+    r2 = level2(train, speeds=list(speeds) if speeds is not None else level2_speeds(train))
+    if r1.passed:
+        verdict, by = "pass", "Level I"
+    else:
+        verdict, by = r2.verdict, "Level II"
+    return StabilityAudit(r1, r2, verdict, by)

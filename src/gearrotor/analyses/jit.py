@@ -1,0 +1,38 @@
+"""Where numba keeps the compiled kernels: a user cache directory, not the installed package.
+
+numba's ``cache=True`` writes its ``*.nbi``/``*.nbc`` files next to the source by default,
+i.e. into the installed package tree (site-packages, or the checkout of an editable install),
+which may be read-only, shared between users or versions, and is not the package's to change
+at run time. :func:`configure_cache` points numba at ``<user cache dir>/gearrotor/numba``
+(``~/.cache/gearrotor/numba`` on Linux, from ``platformdirs``) unless ``NUMBA_CACHE_DIR`` is
+already set, which then wins. The modules that compile kernels call it before their first
+``@njit(cache=True)``: numba decides where a function's cache lives when it is decorated.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+from pathlib import Path
+
+__all__ = ["cache_dir", "configure_cache"]
+
+
+def cache_dir() -> Path:
+    """``<user cache dir>/gearrotor/numba`` (``NUMBA_CACHE_DIR`` when it is set)."""
+    if os.environ.get("NUMBA_CACHE_DIR"):
+        return Path(os.environ["NUMBA_CACHE_DIR"])
+    import platformdirs
+
+    return Path(platformdirs.user_cache_dir("gearrotor", appauthor=False)) / "numba"
+
+
+def configure_cache() -> Path:
+    """Point numba's cache at :func:`cache_dir` (the environment variable, which processes
+    started later inherit, and numba's configuration, if numba is already imported)."""
+    path = cache_dir()
+    os.environ["NUMBA_CACHE_DIR"] = str(path)
+    numba = sys.modules.get("numba")
+    if numba is not None:
+        numba.config.CACHE_DIR = str(path)
+    return path

@@ -1,0 +1,562 @@
+"""Static analysis of a train at an operating point (issue 11).
+
+The whole train is solved at once with :func:`.solver.solve_static`: the stiffness of the
+shafts, couplings, thrust bearings and linear bearings (constant, or tabulated coefficients at
+each shaft's speed), the gear meshes as contacts on the flank the torque loads, and the loads
+of the operating point: weight (the consistent mass times the gravity field: shafts, disks,
+gear bodies, pedestals), the drive and load torques and static forces. The rigid-body motions
+the stiffness leaves free (the train's rotation, an axial float without thrust bearing) are
+held by the solver's constraint; a load that one of them would have to react (a torque that
+does not balance, an axial force without thrust bearing) is an input error.
+
+Fluid-film journals are nonlinear: each is replaced by its film force linearised about a
+journal equilibrium, ``F(d) ≈ −W_b − K_b (d − d_b)`` (``d_b`` the equilibrium position of the
+standalone bearing solver under load ``W_b``, ``K_b`` its stiffness); the train is solved, the
+load the journal then carries, ``W = W_b + K_b (d − d_b)``, becomes the next ``W_b``, until it
+changes by less than the bearing solver's force tolerance. On a shaft with two bearings the
+loads are statically determinate and one bearing solve per journal settles it; three or more
+bearings on a shaft converge like Newton's method. Journal solves are cached by (file, load,
+speed), so a sweep or an analysis repeating an operating point reuses them.
+
+Left out: cross-coupled destabilisers and the circulatory stiffness of rotating damping
+(dynamic effects that need whirl), unbalance (a rotating load).
+"""
+
+from __future__ import annotations
+
+import functools
+import hashlib
+import math
+from collections import deque
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ...assembly import Assembly, _shaft_elements, assemble
+from ...elements import CrossCoupling
+from ...errors import ModelError, SolverError
+from ...model import OperatingPoint, Train
+from .results import (
+    OVERLOAD_FILM_FRACTION,
+    BearingLoad,
+    MeshLoad,
+    ShaftStatics,
+    StaticResult,
+    StaticSweep,
+)
+from .solver import Contact, rigid_modes, solve_static
+
+__all__ = ["static", "static_sweep", "resolve_operating_point", "journal_equilibrium"]
+
+_MAX_OUTER = 50
+_JOURNAL_CACHE: dict = {}
+_LAST_EQ: dict = {}
+_JOURNAL_CACHE_SIZE = 1024
+_counter = {"solves": 0}
+
+
+def resolve_operating_point(train: Train, operating_point) -> OperatingPoint:
+    """The operating point named (or given); None: weight only at the model's speed."""
+    if operating_point is None:
+        return OperatingPoint(name="weight")
+    op = train.operating_point(operating_point)
+    if isinstance(operating_point, OperatingPoint):
+        train.check_operating_point(op)
+    return op
+
+
+@functools.lru_cache(maxsize=32)
+def _bearing_case(file: str, mtime_ns: int):
+    from ...bearings import load_bearing
+
+    return load_bearing(file)
+
+
+def _case(file: str):
+    p = Path(file)
+    return _bearing_case(file, p.stat().st_mtime_ns if p.exists() else 0)
+
+
+def journal_equilibrium(file: str, load: tuple[float, float], speed: float, start=None):
+    """Equilibrium and (synchronous) stiffness of the bearing of ``file`` under ``load`` (N)
+    at ``speed`` (rad/s, signed), cached by value: ``(Equilibrium, K (2, 2))``."""
+    from ...bearings import equilibrium, static_stiffness
+
+    case = _case(file)
+    key = (file, float(load[0]), float(load[1]), float(speed))
+    hit = _JOURNAL_CACHE.get(key)
+    if hit is not None:
+        return hit
+    if start is None:  # warm start from the last journal solved for this bearing and speed
+        start = _LAST_EQ.get((file, float(speed)))
+    eq = equilibrium(case.bearing, load, speed, options=case.options, start=start)
+    _LAST_EQ[(file, float(speed))] = eq
+    kb = static_stiffness(case.bearing, eq, options=case.options)
+    _counter["solves"] += 1
+    if len(_JOURNAL_CACHE) >= _JOURNAL_CACHE_SIZE:
+        _JOURNAL_CACHE.pop(next(iter(_JOURNAL_CACHE)))
+    _JOURNAL_CACHE[key] = (eq, kb)
+    return _JOURNAL_CACHE[key]
+
+
+_RIGID_CACHE: dict = {}
+
+
+def _rigid_modes_cached(K: NDArray) -> NDArray:
+    """:func:`.solver.rigid_modes` (right null space), cached by the matrix's bytes: the
+    operating points of one train share it."""
+    key = hashlib.blake2b(np.ascontiguousarray(K).tobytes(), digest_size=16).digest()
+    hit = _RIGID_CACHE.get(key)
+    if hit is None:
+        if len(_RIGID_CACHE) >= 64:
+            _RIGID_CACHE.pop(next(iter(_RIGID_CACHE)))
+        hit = _RIGID_CACHE[key] = rigid_modes(K)[0]
+    return hit
+
+
+def _start_flanks(asm: Assembly, op: OperatingPoint) -> list[int]:
+    """Starting flank of every mesh: the driver of each mesh is its gear nearer (through the
+    train) to the operating point's drive shaft; without a drive, the model's flank."""
+    train = asm.train
+    if op.drive is None:
+        return [m.geometry.flank for m in asm.meshes]
+    start = train.shaft_index(op.drive.shaft, "operating_point.drive.shaft")
+    dist = {start: 0}
+    queue = deque([start])
+    edges = [(m.shafts[0], m.shafts[1]) for m in asm.meshes] + [
+        (
+            train.shaft_index(c.node_i.shaft, "couplings"),
+            train.shaft_index(c.node_j.shaft, "couplings"),
+        )
+        for c in train.couplings
+    ]
+    while queue:
+        a = queue.popleft()
+        for i, j in edges:
+            for u, v in ((i, j), (j, i)):
+                if u == a and v not in dist:
+                    dist[v] = dist[a] + 1
+                    queue.append(v)
+    speed = train.speed if train.speed != 0 else 1.0
+    out = []
+    for m in asm.meshes:
+        si, sj = m.shafts
+        driver = si if dist.get(si, math.inf) <= dist.get(sj, math.inf) else sj
+        spin = np.sign(asm.speed_ratio[driver] * speed)
+        out.append(1 if spin < 0 else -1)  # as assembly._flank: the force opposes the driver
+    return out
+
+
+def _scatter(A: NDArray, dofs: NDArray, sup: NDArray | None, k: NDArray) -> None:
+    A[np.ix_(dofs, dofs)] += k
+    if sup is not None:
+        A[np.ix_(sup, sup)] += k
+        A[np.ix_(dofs, sup)] -= k
+        A[np.ix_(sup, dofs)] -= k
+
+
+def _gravity_field(asm: Assembly, op: OperatingPoint) -> NDArray:
+    g = np.zeros(asm.n_dof)
+    if not op.gravity or op.gravity_acceleration == 0:
+        return g
+    a = op.gravity_acceleration * np.asarray(op.gravity_direction)
+    for offs in asm.node_offset:
+        for d in range(3):
+            g[offs + d] = a[d]
+    for so in asm.support_offset:
+        if so >= 0:
+            g[so], g[so + 1] = a[0], a[1]
+    return g
+
+
+def _unreacted(asm, R, acc, M, f, op) -> None:
+    """Raise when the loads accelerate a rigid-body mode (nothing reacts them): the d'Alembert
+    force ``M R a`` is the part of the loads the structure does not react."""
+    if R.shape[1] == 0:
+        return
+    fa = M @ (R @ acc)
+    scale = max(np.max(np.abs(f)), 1e-300)
+    if np.max(np.abs(fa)) <= 1e-7 * scale:
+        return
+    kinds = asm.dof_kind()
+    big = np.abs(fa) > 1e-3 * np.max(np.abs(fa))
+    kind = ("lateral", "axial", "torsional")[
+        int(np.argmax([np.max(np.abs(fa[kinds == k]), initial=0.0) for k in range(3)]))
+    ]
+    want = {"lateral": 0, "axial": 1, "torsional": 2}[kind]
+    shafts = [
+        asm.train.shafts[s].name
+        for s, offs in enumerate(asm.node_offset)
+        if np.any(
+            big[np.concatenate([offs + d for d in range(6)])]
+            & (kinds[np.concatenate([offs + d for d in range(6)])] == want)
+        )
+    ]
+    if kind == "torsional":
+        raise ModelError(
+            f"nothing reacts the torque on shaft(s) {shafts}: the drive and load torques of "
+            f"operating point '{op.name}' do not balance through the train",
+            field="operating_point.load",
+            value=None if op.load is None else f"{op.load.shaft}",
+            expected="a load node on a shaft joined to the drive shaft by meshes or couplings "
+            "that carry torque (coupling ktz > 0)",
+        )
+    if kind == "axial":
+        raise ModelError(
+            f"nothing reacts the axial load on shaft(s) {shafts} (helical mesh forces, static "
+            "forces or gravity along z)",
+            field="thrust_bearings",
+            value=f"operating point '{op.name}'",
+            expected="a thrust bearing on the shaft (or on a shaft it is geared to)",
+        )
+    raise ModelError(
+        f"nothing reacts the lateral load on shaft(s) {shafts}",
+        field="bearings",
+        value=f"operating point '{op.name}'",
+        expected="radial bearings that support every shaft",
+    )
+
+
+def static(
+    model: Train | Assembly,
+    operating_point: str | OperatingPoint | None = None,
+    *,
+    speed: float | None = None,
+) -> StaticResult:
+    """Static deflection, bearing loads and tooth forces of a train at an operating point.
+
+    model : the train (or its assembly); operating_point : the name of one of the model's
+    ``operating_points``, an :class:`~gearrotor.model.OperatingPoint`, or None (weight only at
+    the model's speed); speed : reference-shaft speed (rad/s) instead of the point's own (a
+    sweep: the point's ``hold`` says whether its power or its torque is kept).
+
+    Raises :class:`ModelError` on bad input (unknown point or shaft, power at zero speed, a
+    torque or load nothing reacts, a journal that cannot carry its load: no equilibrium or a
+    minimum film below 5 % of the clearance) and :class:`SolverError` when the journals do not
+    settle.
+    """
+    asm = model if isinstance(model, Assembly) else assemble(model)
+    train = asm.train
+    op = resolve_operating_point(train, operating_point)
+    w_nom = op.reference_speed(train.speed)
+    w_ref = w_nom if speed is None else float(speed)
+    if op.power and w_ref == 0.0:
+        raise ModelError(
+            "a power needs a non-zero speed (the torque is power / speed)",
+            field="operating_point.power",
+            value=f"{op.power:.6g} W at 0 rpm",
+            expected="a non-zero speed, or an operating point by torque",
+        )
+    speeds = asm.shaft_speeds(w_ref)
+    M = asm.M.toarray()
+
+    # --- stiffness without meshes, destabilisers and fluid-film journals ---------------------
+    K = asm.K0.toarray()
+    for k, q in enumerate(train.cross_couplings):
+        si, node = train.node_index(q, f"cross_couplings[{k}]")
+        d = asm.node_offset[si][node] + np.arange(2)
+        K[np.ix_(d, d)] -= CrossCoupling(q.q).K()
+    for m in asm.meshes:
+        K[np.ix_(m.dofs, m.dofs)] -= m.stiffness * np.outer(m.w, m.w)
+    films = []
+    for k, (spec, info) in enumerate(zip(train.bearings, asm.bearings, strict=True)):
+        if spec.fluid_film is not None:
+            if speeds[info.shaft] == 0.0:
+                raise ModelError(
+                    "a fluid-film journal needs its shaft turning to carry a static load",
+                    field=f"bearings[{k}]",
+                    value=f"{info.name} at 0 rpm",
+                    expected="an operating point with a non-zero speed",
+                )
+            films.append((k, spec, info))
+        elif info.element.speed_dependent:
+            _scatter(K, info.dofs, info.support_dofs, info.element.K(speeds[info.shaft]))
+
+    # --- loads ----------------------------------------------------------------------------
+    f = M @ _gravity_field(asm, op)
+    drive_t = load_t = 0.0
+    torque_nodes = None
+    if op.drive is not None and (op.power or op.torque):
+        sd, nd = train.node_index(op.drive, "operating_point.drive")
+        sl, nl = train.node_index(op.load, "operating_point.load")
+        rd = asm.speed_ratio[sd]
+        drive_t = op.drive_torque(rd * w_ref, rd * w_nom)
+        torque_nodes = (asm.dof(sd, nd, 5), asm.dof(sl, nl, 5))
+    for j, sf in enumerate(op.forces):
+        si, node = train.node_index(sf, f"operating_point.forces[{j}]")
+        f[asm.node_offset[si][node] + np.arange(6)] += np.concatenate([sf.force, sf.moment])
+    applied = np.array(
+        [f[np.concatenate([o + d for o in asm.node_offset])].sum() for d in range(3)]
+    )
+    applied[:2] += [f[[s + d for s in asm.support_offset if s >= 0]].sum() for d in range(2)]
+    drive_speed = 0.0 if op.drive is None else speeds[train.shaft_index(op.drive.shaft, "")]
+    power = drive_t * drive_speed
+
+    # --- contacts ---------------------------------------------------------------------------
+    contacts = []
+    for m in asm.meshes:
+        w_plus = replace(m.geometry, flank=1).w()
+        w_minus = replace(m.geometry, flank=-1).w()
+        contacts.append(Contact(m.dofs, w_plus, w_minus, m.stiffness))
+    sides = _start_flanks(asm, op)
+
+    # --- rigid-body modes of the linearised train -------------------------------------------
+    k0 = max(np.max(np.abs(np.diag(K))), 1.0)
+    K_all = K.copy()
+    for c, s in zip(contacts, sides, strict=True):
+        w = c.w if s == 1 else c.w_back
+        K_all[np.ix_(c.dofs, c.dofs)] += c.stiffness * np.outer(w, w)
+    for _, _, info in films:
+        _scatter(K_all, info.dofs, info.support_dofs, k0 * np.eye(2))
+    R = _rigid_modes_cached(K_all)
+    if torque_nodes is not None:
+        # the load torque balances the drive torque in the train's rigid rotation (the ratio
+        # of the meshes' pitch radii, which the tooth counts match to within 1 %)
+        dd, dl = torque_nodes
+        j = int(np.argmax(np.abs(R[dd]))) if R.shape[1] else -1
+        if j < 0 or abs(R[dl, j]) < 1e-9 * abs(R[dd, j]):
+            raise ModelError(
+                f"nothing reacts the torque of operating point '{op.name}': its load node "
+                "turns independently of its drive node",
+                field="operating_point.load",
+                value=f"{op.load.shaft}",
+                expected="a load node on a shaft joined to the drive shaft by meshes or "
+                "couplings that carry torque (coupling ktz > 0)",
+            )
+        load_t = -drive_t * R[dd, j] / R[dl, j]
+        f[dd] += drive_t
+        f[dl] += load_t
+
+    # --- solve, iterating the fluid-film journals ------------------------------------------
+    state = {
+        k: [np.zeros(2), np.zeros(2), k0 * np.eye(2), None] for k, _, _ in films
+    }  # W, d, K, eq
+    solves0 = _counter["solves"]
+    iterations = 0
+    for it in range(_MAX_OUTER + 1):
+        Kt, ft = K.copy(), f.copy()
+        for k, _, info in films:
+            W, d, Kb, _ = state[k]
+            _scatter(Kt, info.dofs, info.support_dofs, Kb)
+            g = Kb @ d - W
+            ft[info.dofs] += g
+            if info.support_dofs is not None:
+                ft[info.support_dofs] -= g
+        try:
+            sol = solve_static(Kt, ft, M=M, rigid=R, contacts=contacts, sides=sides)
+        except np.linalg.LinAlgError:
+            raise ModelError(
+                "no static state: with a mesh unloaded the train falls apart",
+                field="operating_point",
+                value=op.name,
+            ) from None
+        if it == 0:
+            _unreacted(asm, R, sol.acceleration, M, ft, op)
+        sides = list(sol.sides)
+        if not films:
+            break
+        done = it > 0
+        new = {}
+        for k, spec, info in films:
+            W, d_b, Kb, eq = state[k]
+            d = _relative(sol.q, info)
+            w_new = W + Kb @ (d - d_b)
+            new[k] = w_new
+            tol = _force_tol(spec, w_new, speeds[info.shaft])
+            done &= bool(np.linalg.norm(w_new - W) <= tol)
+        if done:
+            break
+        if it == _MAX_OUTER:
+            raise SolverError(
+                f"the fluid-film journals did not settle in {_MAX_OUTER} iterations at "
+                f"operating point '{op.name}'"
+            )
+        iterations += 1
+        for k, spec, info in films:
+            eq, Kb = _solve_journal(k, spec, info, new[k], speeds[info.shaft], state[k][3])
+            state[k] = [new[k], np.array([eq.x, eq.y]), Kb, eq]
+
+    q = sol.q
+    # --- results ----------------------------------------------------------------------------
+    bearings, reaction = [], np.zeros(3)
+    film_of = {k: state[k] for k, _, _ in films}
+    for k, (spec, info) in enumerate(zip(train.bearings, asm.bearings, strict=True)):
+        si, node = train.node_index(spec, f"bearings[{k}]")
+        d = _relative(q, info)
+        if k in film_of:
+            W, d_b, Kb, eq = film_of[k]
+            W = W + Kb @ (d - d_b)
+            bl = BearingLoad(
+                info.name,
+                train.shafts[si].name,
+                node,
+                "fluid-film",
+                np.array([W[0], W[1], 0.0]),
+                journal=(eq.x, eq.y),
+                eccentricity_ratio=eq.eccentricity_ratio,
+                attitude=eq.attitude_angle,
+                min_film=eq.min_film,
+                peak_pressure=eq.peak_pressure,
+                power_loss=eq.friction_power,
+                clearance=_case(spec.fluid_film.file).bearing.clearance,
+            )
+        else:
+            W = info.element.K(speeds[info.shaft]) @ d
+            bl = BearingLoad(info.name, train.shafts[si].name, node, "linear", np.array([*W, 0]))
+        bearings.append(bl)
+        if info.support_dofs is None:
+            reaction[:2] -= bl.force[:2]
+        else:
+            sup = spec.support
+            reaction[:2] -= np.array([sup.kxx, sup.kyy]) * q[info.support_dofs]
+    for k, t in enumerate(train.thrust_bearings):
+        si, node = train.node_index(t, f"thrust_bearings[{k}]")
+        fz = t.kzz * q[asm.dof(si, node, 2)]
+        bearings.append(
+            BearingLoad(
+                t.name or f"thrust_bearings[{k}]",
+                train.shafts[si].name,
+                node,
+                "thrust",
+                np.array([0.0, 0.0, fz]),
+            )
+        )
+        reaction[2] -= fz
+    meshes = []
+    force = sol.contact_force(contacts)
+    for m, c, s, fn in zip(asm.meshes, contacts, sol.sides, force, strict=True):
+        geo = replace(m.geometry, flank=s if s else m.geometry.flank)
+        w = c.w if s == 1 else c.w_back
+        cx, cy, cz = geo.direction_cosines
+        n_vec = geo.n
+        th = q[m.dofs[3:6]] - q[m.dofs[9:12]]
+        spec = train.meshes[m.spec_index]
+        width = spec.face_width
+        mis = (th @ np.array([-n_vec[1], n_vec[0], 0.0])) * width if width else math.nan
+        meshes.append(
+            MeshLoad(
+                m.name,
+                int(s),
+                float(fn),
+                float(fn * abs(cx)),
+                float(fn * cy),
+                float(-fn * cz),
+                float(-fn * w[5]),
+                float(-fn * w[11]),
+                float(mis),
+            )
+        )
+    shafts = _shaft_curves(asm, q, _gravity_field(asm, op))
+    return StaticResult(
+        operating_point=op.name,
+        speed=w_ref,
+        drive_torque=drive_t,
+        load_torque=load_t,
+        power=power,
+        gravity=op.gravity,
+        bearings=tuple(bearings),
+        meshes=tuple(meshes),
+        shafts=shafts,
+        q=q,
+        applied=applied,
+        residual=reaction + applied,
+        iterations=iterations,
+        bearing_solves=_counter["solves"] - solves0,
+        journals={k: film_of[k][3] for k in film_of},
+    )
+
+
+def _relative(q: NDArray, info) -> NDArray:
+    d = q[info.dofs].copy()
+    if info.support_dofs is not None:
+        d -= q[info.support_dofs]
+    return d
+
+
+def _force_tol(spec, load: NDArray, speed: float) -> float:
+    case = _case(spec.fluid_film.file)
+    b = case.bearing
+    fref = 1e-3 * b.viscosity * abs(speed) * b.radius**3 * b.length / b.clearance**2
+    return 10 * case.options.tol * max(float(np.linalg.norm(load)), fref)
+
+
+def _solve_journal(k, spec, info, load, speed, start):
+    file = spec.fluid_film.file
+    name = f"{info.name} (bearings[{k}])"
+    try:
+        eq, Kb = journal_equilibrium(file, (float(load[0]), float(load[1])), speed, start)
+    except SolverError:
+        raise ModelError(
+            f"journal bearing {name} cannot carry its load (no film equilibrium: the "
+            "eccentricity ratio tends to 1)",
+            field=f"bearings[{k}].fluid_film",
+            value=f"load ({load[0]:.6g}, {load[1]:.6g}) N at {speed * 30 / math.pi:.6g} rpm",
+            expected="a bearing with the capacity for this load (larger, or a higher speed)",
+        ) from None
+    c = _case(file).bearing.clearance
+    if eq.min_film < OVERLOAD_FILM_FRACTION * c:
+        raise ModelError(
+            f"journal bearing {name} cannot carry its load: minimum film "
+            f"{eq.min_film * 1e6:.3g} um is below {100 * OVERLOAD_FILM_FRACTION:.0f} % of the "
+            f"clearance {c * 1e6:.4g} um (eccentricity ratio {eq.eccentricity_ratio:.3f})",
+            field=f"bearings[{k}].fluid_film",
+            value=f"load ({load[0]:.6g}, {load[1]:.6g}) N at {speed * 30 / math.pi:.6g} rpm",
+            expected="a bearing with the capacity for this load",
+        )
+    return eq, Kb
+
+
+def _shaft_curves(asm: Assembly, q: NDArray, g: NDArray) -> tuple[ShaftStatics, ...]:
+    out = []
+    layout = asm.train.layout()
+    for i, sl in enumerate(layout.shafts):
+        offs = asm.node_offset[i]
+        els = _shaft_elements(asm.train, i)
+        zs, S, vm = [], [], []
+        for e, el in enumerate(els):
+            dofs = np.concatenate([offs[e] + np.arange(6), offs[e + 1] + np.arange(6)])
+            fe = el.K() @ q[dofs] - el.M() @ g[dofs]
+            for z, s in ((sl.z[e], -fe[:6]), (sl.z[e + 1], fe[6:])):
+                zs.append(z)
+                S.append(s)
+                D, di = el.outer_diameter, el.inner_diameter
+                area = np.pi / 4 * (D**2 - di**2)
+                inertia = np.pi / 64 * (D**4 - di**4)
+                sig = abs(s[2]) / area + np.hypot(s[3], s[4]) * D / 2 / inertia
+                tau = abs(s[5]) * D / 2 / (2 * inertia)
+                vm.append(np.sqrt(sig**2 + 3 * tau**2))
+        S = np.array(S)
+        defl = np.stack([q[offs + d] for d in range(6)], axis=1)
+        out.append(
+            ShaftStatics(
+                sl.name,
+                sl.z.copy(),
+                defl,
+                np.array(zs),
+                S[:, 0:2],
+                S[:, 2],
+                S[:, 3:5],
+                S[:, 5],
+                np.array(vm),
+            )
+        )
+    return tuple(out)
+
+
+def static_sweep(model: Train | Assembly, operating_points=None) -> StaticSweep:
+    """:func:`static` at several operating points (default: all of the model's, in order)."""
+    asm = model if isinstance(model, Assembly) else assemble(model)
+    train = asm.train
+    if operating_points is None:
+        if not train.operating_points:
+            raise ModelError(
+                "the model has no operating points",
+                field="operating_points",
+                expected="[[operating_points]] entries in the model",
+            )
+        operating_points = [p.name for p in train.operating_points]
+    for p in operating_points:  # all checked before any runs
+        resolve_operating_point(train, p)
+    return StaticSweep(tuple(static(asm, p) for p in operating_points))

@@ -1,0 +1,475 @@
+"""``gearrotor torsional modes|campbell|response|transient``: the torsional audit of a train
+(:mod:`gearrotor.analyses.torsional`).
+
+* ``modes``: natural frequencies, damping, rigid-body flag, largest-stress element per mode
+  (:func:`~gearrotor.analyses.torsional.torsional_modes`);
+* ``campbell``: interference diagram, crossings with 1x/2x of every shaft, the mesh frequency,
+  line frequency and twice it, user orders, VFD harmonics; separation margins, pass/fail
+  (:func:`~gearrotor.analyses.torsional.interference`);
+* ``response``: forced response to harmonic torques over a speed sweep, shaft torque and shear
+  stress, coupling torque, mesh load reversal
+  (:func:`~gearrotor.analyses.torsional.torsional_response`);
+* ``transient``: start-up / short circuit / trip of the model's ``[torsional]`` drives and
+  loads, peak torque per section, fatigue damage, allowable starts
+  (:func:`~gearrotor.analyses.torsional.torsional_transient`,
+  :func:`~gearrotor.analyses.torsional.fatigue`).
+
+Every command takes ``--format table|json``, ``--plot DIR`` (PNG figures) and ``--set``.
+Output locations (``--plot``, ``--output``) are checked before anything runs; files are written
+atomically. Exit statuses are those of :mod:`.errors`.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from ..errors import ModelError
+from .errors import EXIT_CODES_HELP, cli_errors
+from .options import RPM, FormatOpt, SetOpt, check_format, speed_grid
+
+__all__ = [
+    "torsional_app",
+    "modes_command",
+    "campbell_command",
+    "response_command",
+    "transient_command",
+    "parse_orders",
+    "parse_torque",
+]
+
+torsional_app = typer.Typer(
+    help="Torsional audit (API 617 / RP 684): modes, interference diagram, forced response, "
+    "start-up and short-circuit transients with fatigue.",
+    no_args_is_help=True,
+    add_completion=False,
+    pretty_exceptions_enable=False,
+)
+
+ModelArg = Annotated[Path, typer.Argument(help="TOML model file")]
+MeshOpt = Annotated[
+    str,
+    typer.Option("--mesh", help="'flexible' (mesh spring on the line of action) or 'rigid'"),
+]
+PlotOpt = Annotated[Path | None, typer.Option("--plot", help="directory for PNG figures")]
+HZ = 2 * 3.141592653589793
+
+
+def _check_mesh(mesh: str) -> None:
+    if mesh not in ("flexible", "rigid"):
+        raise ModelError(
+            "unknown mesh model", field="--mesh", value=mesh, expected="'flexible' or 'rigid'"
+        )
+
+
+def check_plot_dir(plot: Path | None) -> None:
+    """``--plot DIR`` must be a directory that can be created and written (checked before the
+    analysis runs)."""
+    if plot is None:
+        return
+    if plot.exists() and not plot.is_dir():
+        raise ModelError(
+            "the plot directory is a file", field="--plot", value=str(plot), expected="a directory"
+        )
+    parent = plot if plot.exists() else _existing_parent(plot)
+    if not os.access(parent, os.W_OK | os.X_OK):
+        raise ModelError(
+            "cannot write the plot directory",
+            field="--plot",
+            value=str(plot),
+            expected=f"a writable location ({parent} is not writable)",
+        )
+
+
+def check_output_file(path: Path | None, suffixes: tuple[str, ...]) -> None:
+    """``--output FILE``: a known suffix, in a writable existing directory."""
+    if path is None:
+        return
+    if path.suffix.lower() not in suffixes:
+        raise ModelError(
+            "unknown output file type",
+            field="--output",
+            value=str(path),
+            expected=" or ".join(f"a {s} file" for s in suffixes),
+        )
+    parent = path.parent if str(path.parent) else Path(".")
+    if not parent.is_dir():
+        raise ModelError(
+            "the output directory does not exist",
+            field="--output",
+            value=str(path),
+            expected=f"an existing directory ({parent})",
+        )
+    if path.is_dir() or not os.access(parent, os.W_OK | os.X_OK):
+        raise ModelError(
+            "cannot write the output file",
+            field="--output",
+            value=str(path),
+            expected="a writable file path",
+        )
+
+
+def _existing_parent(p: Path) -> Path:
+    p = p.absolute()
+    while not p.exists():
+        p = p.parent
+    if not p.is_dir():
+        raise ModelError(
+            "the plot directory cannot be created (a parent is a file)",
+            field="--plot",
+            value=str(p),
+            expected="a directory path",
+        )
+    return p
+
+
+def parse_orders(text: str | None) -> list[tuple[str, float]]:
+    """``--orders 'motor:6,compressor:0.5'`` → [(shaft, multiple), ...]."""
+    if not text:
+        return []
+    out = []
+    for item in text.split(","):
+        shaft, sep, mult = item.strip().rpartition(":")
+        try:
+            m = float(mult)
+        except ValueError:
+            m = -1.0
+        if not sep or not shaft or not m > 0:
+            raise ModelError(
+                "cannot read the excitation orders",
+                field="--orders",
+                value=text,
+                expected="comma-separated SHAFT:MULTIPLE, e.g. 'motor:6,compressor:0.5'",
+            )
+        out.append((shaft, m))
+    return out
+
+
+def _floats(text: str | None, field: str, example: str) -> list[float]:
+    if not text:
+        return []
+    try:
+        vals = [float(x) for x in text.split(",")]
+    except ValueError:
+        vals = []
+    if not vals or not all(v > 0 for v in vals):
+        raise ModelError(
+            "cannot read the list of numbers",
+            field=field,
+            value=text,
+            expected=f"comma-separated positive numbers, e.g. '{example}'",
+        )
+    return vals
+
+
+def parse_torque(text: str, k: int):
+    """``--torque 'shaft=motor,node=4,amplitude=5 kN*m,order=2'`` (or ``frequency=120 Hz``;
+    optional ``order_shaft``, ``phase``, ``name``) → :class:`HarmonicTorque`."""
+    from pydantic import ValidationError
+
+    from ..analyses.torsional import HarmonicTorque
+
+    field = f"--torque[{k}]"
+    data = {}
+    for item in text.split(","):
+        key, sep, val = item.partition("=")
+        if not sep or not key.strip():
+            raise ModelError(
+                "cannot read the harmonic torque",
+                field=field,
+                value=text,
+                expected="KEY=VALUE pairs: shaft, node, amplitude, order or frequency "
+                "(e.g. 'shaft=motor,node=4,amplitude=5 kN*m,order=2')",
+            )
+        data[key.strip()] = val.strip()
+    if "node" in data and data["node"].lstrip("-").isdigit():
+        data["node"] = int(data["node"])
+    try:
+        return HarmonicTorque.model_validate(data)
+    except ValidationError as exc:
+        err = exc.errors()[0]
+        loc = ".".join(str(x) for x in err["loc"])
+        raise ModelError(
+            err["msg"],
+            field=f"{field}.{loc}" if loc else field,
+            value=text,
+            expected="shaft, node, amplitude (N*m) and one of order / frequency",
+        ) from None
+
+
+def _echo_json(obj) -> None:
+    typer.echo(json.dumps(obj, indent=1, allow_nan=False, default=_jsonable))
+
+
+def _jsonable(x):
+    import numpy as np
+
+    if isinstance(x, np.generic):
+        return x.item()
+    raise TypeError(type(x))
+
+
+def _load(model: Path, set_):
+    from ..io import load_model, parse_overrides
+
+    return load_model(model, parse_overrides(set_))
+
+
+@torsional_app.command("modes", epilog=EXIT_CODES_HELP)
+@cli_errors()
+def modes_command(
+    model: ModelArg,
+    mesh: MeshOpt = "flexible",
+    max_frequency: Annotated[
+        float | None, typer.Option("--max-frequency", help="Hz, keep modes up to it")
+    ] = None,
+    n_modes: Annotated[int | None, typer.Option("--n-modes", help="keep the lowest N")] = 12,
+    shapes: Annotated[bool, typer.Option(help="JSON: add each mode's twist per shaft")] = False,
+    format: FormatOpt = "table",
+    plot: PlotOpt = None,
+    set_: SetOpt = None,
+) -> None:
+    """Torsional natural frequencies, damping and mode shapes (rigid-body modes flagged)."""
+    from ..analyses.torsional import torsional_modes
+
+    check_format(format)
+    _check_mesh(mesh)
+    check_plot_dir(plot)
+    if n_modes is not None and n_modes < 1:
+        raise ModelError("n-modes must be at least 1", field="--n-modes", value=n_modes)
+    train = _load(model, set_)
+    res = torsional_modes(
+        train,
+        mesh=mesh,
+        max_frequency=None if max_frequency is None else max_frequency * HZ,
+        n_modes=n_modes,
+    )
+    if format == "json":
+        _echo_json(res.to_dict(shapes=shapes))
+    else:
+        typer.echo(f"{train.name}: torsional modes ({mesh} meshes, {res.model.n} DOF)")
+        typer.echo(res.table())
+    if plot is not None:
+        from ..plots.torsional import plot_torsional_modes
+
+        p = plot_torsional_modes(res, path=plot / "torsional_modes.png")
+        _close(p)
+        typer.echo(f"plot written to {plot / 'torsional_modes.png'}", err=format == "json")
+
+
+@torsional_app.command("campbell", epilog=EXIT_CODES_HELP)
+@cli_errors()
+def campbell_command(
+    model: ModelArg,
+    min_speed: Annotated[
+        float | None, typer.Option(help="rpm, minimum operating speed (default nominal)")
+    ] = None,
+    max_speed: Annotated[
+        float | None, typer.Option(help="rpm, maximum continuous speed (default nominal)")
+    ] = None,
+    margin: Annotated[float, typer.Option(help="required separation (fraction)")] = 0.10,
+    line_frequency: Annotated[
+        float | None,
+        typer.Option("--line-frequency", help="Hz (default: the electric drives')"),
+    ] = None,
+    orders: Annotated[
+        str | None, typer.Option(help="extra orders SHAFT:MULTIPLE, e.g. 'motor:6'")
+    ] = None,
+    vfd_harmonics: Annotated[
+        str | None,
+        typer.Option(help="multiples of the first electric drive's stator frequency, e.g. '6,12'"),
+    ] = None,
+    max_frequency: Annotated[
+        float | None, typer.Option("--max-frequency", help="Hz, highest mode checked")
+    ] = None,
+    mesh: MeshOpt = "flexible",
+    format: FormatOpt = "table",
+    plot: PlotOpt = None,
+    set_: SetOpt = None,
+) -> None:
+    """Torsional interference diagram: crossings, separation margins, pass/fail."""
+    from ..analyses.torsional import interference
+
+    check_format(format)
+    _check_mesh(mesh)
+    check_plot_dir(plot)
+    extra = parse_orders(orders)
+    vfd = _floats(vfd_harmonics, "--vfd-harmonics", "6,12")
+    if line_frequency is not None and not line_frequency > 0:
+        raise ModelError(
+            "the line frequency must be positive", field="--line-frequency", value=line_frequency
+        )
+    train = _load(model, set_)
+    nominal = abs(train.speed) / RPM
+    lo = nominal if min_speed is None else min_speed
+    hi = nominal if max_speed is None else max_speed
+    if not 0 < lo <= hi:
+        raise ModelError(
+            "invalid operating speed range",
+            field="--min-speed/--max-speed",
+            value=f"{lo:g}..{hi:g} rpm",
+            expected="0 < min ≤ max",
+        )
+    res = interference(
+        train,
+        speed_range=(lo * RPM, hi * RPM),
+        margin=margin,
+        mesh=mesh,
+        line_frequency=None if line_frequency is None else line_frequency * HZ,
+        orders=extra,
+        vfd_harmonics=vfd,
+        max_frequency=None if max_frequency is None else max_frequency * HZ,
+    )
+    if format == "json":
+        _echo_json(res.to_dict())
+    else:
+        typer.echo(f"{train.name}: torsional interference ({'PASS' if res.passes else 'FAIL'})")
+        typer.echo(res.table())
+    if plot is not None:
+        from ..plots.torsional import plot_interference
+
+        _close(plot_interference(res, path=plot / "torsional_interference.png"))
+        typer.echo(f"plot written to {plot / 'torsional_interference.png'}", err=format == "json")
+
+
+@torsional_app.command("response", epilog=EXIT_CODES_HELP)
+@cli_errors()
+def response_command(
+    model: ModelArg,
+    torque: Annotated[
+        list[str],
+        typer.Option(
+            "--torque",
+            help="harmonic torque KEY=VALUE,...: shaft, node, amplitude, order or frequency "
+            "(e.g. 'shaft=motor,node=4,amplitude=5 kN*m,order=2'); repeatable",
+        ),
+    ],
+    min_speed: Annotated[float | None, typer.Option(help="rpm (default 0.5 × nominal)")] = None,
+    max_speed: Annotated[float | None, typer.Option(help="rpm (default 1.2 × nominal)")] = None,
+    n_speeds: Annotated[int, typer.Option(help="number of speeds")] = 200,
+    mesh: MeshOpt = "flexible",
+    format: FormatOpt = "table",
+    plot: PlotOpt = None,
+    set_: SetOpt = None,
+) -> None:
+    """Forced torsional response: alternating shaft torque and stress, coupling torque, mesh
+    load reversal (tooth separation) over a speed sweep."""
+    from ..analyses.torsional import torsional_response
+
+    check_format(format)
+    _check_mesh(mesh)
+    check_plot_dir(plot)
+    exc = [parse_torque(t, k) for k, t in enumerate(torque)]
+    train = _load(model, set_)
+    nominal = abs(train.speed) / RPM
+    lo = 0.5 * nominal if min_speed is None else min_speed
+    hi = 1.2 * nominal if max_speed is None else max_speed
+    speeds = speed_grid(lo, hi, n_speeds, "--min-speed/--max-speed")
+    res = torsional_response(train, excitations=exc, speeds=speeds, mesh=mesh)
+    if format == "json":
+        _echo_json(res.to_dict())
+    else:
+        typer.echo(f"{train.name}: torsional forced response {lo:.0f}..{hi:.0f} rpm")
+        typer.echo(res.table())
+    if plot is not None:
+        from ..plots.torsional import plot_torsional_response
+
+        _close(plot_torsional_response(res, path=plot / "torsional_response.png"))
+        typer.echo(f"plot written to {plot / 'torsional_response.png'}", err=format == "json")
+
+
+@torsional_app.command("transient", epilog=EXIT_CODES_HELP)
+@cli_errors()
+def transient_command(
+    model: ModelArg,
+    t_end: Annotated[float, typer.Option("--t-end", help="end time, s")] = 20.0,
+    dt: Annotated[
+        float | None, typer.Option("--dt", help="time step, s (default: automatic)")
+    ] = None,
+    initial_speed: Annotated[
+        float, typer.Option("--initial-speed", help="rpm of the reference shaft at t = 0")
+    ] = 0.0,
+    mesh: MeshOpt = "flexible",
+    sn_m: Annotated[float, typer.Option("--sn-m", help="S-N curve exponent m (N = C S^-m)")] = 8.0,
+    sn_stress: Annotated[
+        str, typer.Option("--sn-stress", help="shear stress amplitude of the S-N point")
+    ] = "200 MPa",
+    sn_cycles: Annotated[float, typer.Option("--sn-cycles", help="cycles at that stress")] = 1e4,
+    endurance_limit: Annotated[
+        str | None, typer.Option("--endurance-limit", help="shear stress amplitude, e.g. '60 MPa'")
+    ] = None,
+    output: Annotated[
+        Path | None,
+        typer.Option("--output", "-o", help="write the histories: FILE.nc (NetCDF) or FILE.json"),
+    ] = None,
+    format: FormatOpt = "table",
+    plot: PlotOpt = None,
+    set_: SetOpt = None,
+) -> None:
+    """Start-up / short-circuit / trip transient of the model's torsional drives and loads:
+    peak torque per shaft section, coupling and mesh loads, fatigue damage, allowable starts."""
+    from ..analyses.torsional import SNCurve, fatigue, torsional_transient
+
+    check_format(format)
+    _check_mesh(mesh)
+    check_plot_dir(plot)
+    check_output_file(output, (".nc", ".json"))
+    if output is not None and output.suffix.lower() == ".nc":
+        import h5netcdf  # noqa: F401  (fails early, naming the extra to install)
+        import xarray  # noqa: F401
+    if not t_end > 0:
+        raise ModelError("the end time must be positive", field="--t-end", value=t_end)
+    if dt is not None and not dt > 0:
+        raise ModelError("the time step must be positive", field="--dt", value=dt)
+    if not sn_cycles > 0:
+        raise ModelError("cycles must be positive", field="--sn-cycles", value=sn_cycles)
+    try:
+        sn = SNCurve.from_point(
+            m=sn_m, stress=sn_stress, cycles=sn_cycles, endurance_limit=endurance_limit
+        )
+    except ValueError as exc:  # ModelError included: name the options
+        msg = exc.message if isinstance(exc, ModelError) else str(exc)
+        raise ModelError(
+            f"invalid S-N curve: {msg}",
+            field="--sn-m/--sn-stress/--sn-cycles/--endurance-limit",
+            value=f"m={sn_m:g}, {sn_stress} at {sn_cycles:g} cycles, endurance {endurance_limit}",
+            expected="m > 0 and positive stresses with units, e.g. --sn-stress '200 MPa'",
+        ) from None
+    train = _load(model, set_)
+    res = torsional_transient(
+        train, t_end=t_end, dt=dt, mesh=mesh, initial_speed=initial_speed * RPM
+    )
+    fat = fatigue(res, sn)
+    if output is not None:
+        res.save(output, fatigue=fat)
+    if format == "json":
+        _echo_json({**res.to_dict(), "fatigue": fat.to_dict()})
+    else:
+        typer.echo(f"{train.name}: torsional transient 0..{t_end:g} s")
+        typer.echo(res.table())
+        n = fat.allowable_starts
+        typer.echo("")
+        typer.echo(
+            f"fatigue (S-N m = {sn.m:g}, {sn_stress} at {sn_cycles:g} cycles"
+            f"{'' if endurance_limit is None else f', endurance {endurance_limit}'}): "
+            f"allowable events {'unlimited' if n == float('inf') else f'{n:.4g}'}"
+        )
+        typer.echo(fat.table())
+    if output is not None:
+        typer.echo(f"result written to {output}", err=format == "json")
+    if plot is not None:
+        from ..plots.torsional import plot_fatigue_damage, plot_torsional_transient
+
+        _close(plot_torsional_transient(res, path=plot / "torsional_transient.png"))
+        _close(plot_fatigue_damage(fat, path=plot / "torsional_fatigue.png"))
+        typer.echo(f"plots written to {plot}/", err=format == "json")
+
+
+def _close(fig) -> None:
+    import matplotlib.pyplot as plt
+
+    plt.close(fig)

@@ -1,0 +1,159 @@
+"""The ``[api_audit]`` table of a model: the inputs of the API 617 Level I stability analysis
+(where the anticipated cross-coupling acts, Q_A directly or the stages of its formula, the gas
+densities, the edition), so that ``gearrotor stability`` and the report's "API audit" section
+can run the audit from the file alone. The analysis is
+:func:`gearrotor.analyses.stability.level1`; its module docstring gives the formula.
+
+.. code-block:: toml
+
+    [api_audit]
+    edition = "8th"                      # API 617 8th edition (2014), the one implemented
+    qa = "5.68e7 N/m"                    # Q_A given directly, or [[api_audit.stages]]
+    at = [{ shaft = "pinion", node = 1 }]  # where Q acts ("mid_span": middle of the span)
+    # operating_speed = "10800 rpm"      # N_r of the formula (default: the model's speed)
+    # suction_density / discharge_density, or average_density (kg/m^3): the screening chart
+    # exclude_bearings = ["seal"]        # bearings (seals) left out of Level I
+
+    [[api_audit.stages]]                 # one impeller / blade row
+    shaft = "rotor"
+    node = 7
+    power = "1.5 MW"
+    diameter = "400 mm"                  # D_c (impeller) / D_t (blade pitch diameter)
+    height = "25 mm"                     # H_c (min. diffuser / discharge width) / H_t (blade)
+    density_ratio = 1.3                  # ρ_discharge / ρ_suction (centrifugal)
+    kind = "centrifugal"                 # or "axial" (axial compressor or turbine stage)
+"""
+
+from __future__ import annotations
+
+from typing import Literal
+
+from pydantic import Field, field_validator, model_validator
+
+from ..errors import ModelError
+from ..units import AngularSpeed, Density, Dimensionless, Length, Power, Stiffness
+from .components import NodeRef, Spec
+
+__all__ = ["ApiAudit", "AuditSite", "AuditStage", "EDITIONS"]
+
+#: the ``edition`` values accepted: the API 617 8th edition (2014) is the one implemented
+EDITIONS = ("8", "8th", "API 617 8th edition", "API 617 8th edition (2014)")
+
+
+def _positive(v, what: str):
+    if v is not None and not v > 0:
+        raise ValueError(f"expected a positive {what}")
+    return v
+
+
+class AuditSite(Spec):
+    """Where the Level I cross-coupling acts: a node of a shaft (``"mid_span"``: the node
+    nearest the middle of the shaft's bearing span), with its share ``weight`` of Q."""
+
+    shaft: str
+    node: int | Literal["mid_span"]
+    weight: Dimensionless = 1.0
+
+    @field_validator("node")
+    @classmethod
+    def _node(cls, v):
+        if isinstance(v, int) and v < 0:
+            raise ValueError("expected a node index >= 0 or 'mid_span'")
+        return v
+
+    @field_validator("weight")
+    @classmethod
+    def _weight(cls, v):
+        return _positive(v, "weight")
+
+
+class AuditStage(Spec):
+    """One impeller or blade row of the anticipated cross-coupling formula."""
+
+    shaft: str
+    node: int = Field(ge=0)
+    power: Power
+    diameter: Length
+    height: Length
+    density_ratio: Dimensionless = 1.0
+    kind: Literal["centrifugal", "axial"] = "centrifugal"
+
+    @field_validator("power", "diameter", "height", "density_ratio")
+    @classmethod
+    def _pos(cls, v, info):
+        return _positive(v, info.field_name.replace("_", " "))
+
+
+class ApiAudit(Spec):
+    """The Level I inputs (see the module docstring)."""
+
+    edition: str = "8th"
+    qa: Stiffness | None = None
+    at: list[AuditSite] = Field(default_factory=list)
+    stages: list[AuditStage] = Field(default_factory=list)
+    operating_speed: AngularSpeed | None = None
+    average_density: Density | None = None
+    suction_density: Density | None = None
+    discharge_density: Density | None = None
+    exclude_bearings: list[str] = Field(default_factory=list)
+
+    @field_validator("edition")
+    @classmethod
+    def _edition(cls, v):
+        if v not in EDITIONS:
+            raise ValueError("expected '8th' (API 617 8th edition, 2014: the edition implemented)")
+        return v
+
+    @field_validator("qa", "average_density", "suction_density", "discharge_density")
+    @classmethod
+    def _pos(cls, v, info):
+        return _positive(v, info.field_name.replace("_", " "))
+
+    @field_validator("operating_speed")
+    @classmethod
+    def _speed(cls, v):
+        return None if v is None else _positive(abs(v), "operating speed")
+
+    @model_validator(mode="after")
+    def _consistent(self) -> ApiAudit:
+        if (self.qa is None) == (not self.stages):
+            raise ValueError(
+                "give the anticipated cross-coupling either as qa (N/m) or as [[api_audit.stages]]"
+                ", one of the two"
+            )
+        if self.qa is not None and not self.at:
+            raise ValueError("qa given directly needs 'at', the nodes where it acts")
+        pair = (self.suction_density, self.discharge_density)
+        if (pair[0] is None) != (pair[1] is None):
+            raise ValueError("give both suction_density and discharge_density, or neither")
+        if self.average_density is not None and pair[0] is not None:
+            raise ValueError("give average_density or suction/discharge densities, not both")
+        return self
+
+    @property
+    def density(self) -> float | None:
+        """kg/m³, the average gas density of the screening chart (None: not given)."""
+        if self.average_density is not None:
+            return self.average_density
+        if self.suction_density is not None:
+            return 0.5 * (self.suction_density + self.discharge_density)
+        return None
+
+    def check(self, train) -> None:
+        """Cross-references against the train: shafts, nodes, excluded bearings."""
+        for k, s in enumerate(self.at):
+            if s.node == "mid_span":
+                train.shaft_index(s.shaft, f"api_audit.at[{k}].shaft")
+            else:
+                train.node_index(NodeRef(shaft=s.shaft, node=s.node), f"api_audit.at[{k}]")
+        for k, st in enumerate(self.stages):
+            train.node_index(NodeRef(shaft=st.shaft, node=st.node), f"api_audit.stages[{k}]")
+        names = [b.name or f"bearings[{k}]" for k, b in enumerate(train.bearings)]
+        for k, e in enumerate(self.exclude_bearings):
+            if e not in names:
+                raise ModelError(
+                    "no such bearing to exclude",
+                    field=f"api_audit.exclude_bearings[{k}]",
+                    value=e,
+                    expected=f"one of {names}",
+                )

@@ -1,0 +1,418 @@
+"""Faults of the machine and the user's hand, issue 17 "Faults" and issue 14 item 11: output
+locations are checked before anything runs; a full disk or a read-only file system is one
+error line naming the file (exit 2) and leaves no file behind; ``study run`` killed with SIGKILL
+leaves no worker alive, Ctrl-C is one line and exit 130, SIGTERM exit 143, and the next run
+removes the temporaries a killed run left.
+
+"Before anything runs" is shown by replacing the first step of the computation (reading the
+model, assembling it, planning the study) by a function that fails the test if called.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import re
+import signal
+import subprocess
+import sys
+import time
+import uuid
+from pathlib import Path
+
+import pytest
+from typer.testing import CliRunner
+
+from gearrotor.cli import app
+
+SINGLE = "unity_gearbox_single_shaft.toml"
+UNITY = "unity_gearbox.toml"
+BEARING = "bearings/pinion_3lobe_dam.toml"
+
+
+def invoke(*args):
+    return CliRunner().invoke(app, [str(a) for a in args])
+
+
+def one_line_exit_2(r, *needles):
+    assert r.exit_code == 2, (r.exit_code, r.output, r.exception)
+    assert r.stdout == "", r.stdout  # nothing computed, nothing printed
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("error: "), r.stderr
+    for n in needles:
+        assert n in lines[0], (n, lines[0])
+
+
+def _must_not_run(*args, **kwargs):
+    raise AssertionError("the computation started before the output location was checked")
+
+
+#: (command line with OUT for the output, option, kind, the first step of the computation)
+COMMANDS = [
+    (["modal", SINGLE, "--plot", "OUT"], "--plot", "directory", "gearrotor.io.load_model"),
+    (["campbell", SINGLE, "--plot", "OUT"], "--plot", "file", "gearrotor.io.load_model"),
+    (["unbalance", SINGLE, "--plot", "OUT"], "--plot", "directory", "gearrotor.io.load_model"),
+    (["floquet", UNITY, "--plot", "OUT"], "--plot", "file", "gearrotor.io.load_model"),
+    (
+        ["bearing", BEARING, "--plot", "OUT"],
+        "--plot",
+        "directory",
+        "gearrotor.bearings.io.load_bearing",
+    ),
+    (["transient", UNITY, "--output", "OUT"], "--output", "file", "gearrotor.io.load_model"),
+    (["transient", UNITY, "--plot", "OUT"], "--plot", "directory", "gearrotor.io.load_model"),
+    (
+        ["transient", UNITY, "--checkpoint", "OUT"],
+        "--checkpoint",
+        "file",
+        "gearrotor.io.load_model",
+    ),
+    (["transient-plot", "IN.nc", "--output", "OUT"], "--output", "directory", None),
+    (["report", SINGLE, "--output", "OUT"], "--output", "directory", "gearrotor.assembly.assemble"),
+]
+
+
+def _args(cmd, examples, out, tmp_path):
+    def one(a):
+        if a == "OUT":
+            return out
+        if a == "IN.nc":
+            return tmp_path / "never_read.nc"
+        return examples / a if a.endswith(".toml") else a
+
+    return [one(a) for a in cmd]
+
+
+def _bad_outputs(kind, tmp_path):
+    """Paths that cannot receive an output of this kind, with a part of the expected message."""
+    (tmp_path / "adir").mkdir(exist_ok=True)
+    (tmp_path / "afile").write_text("")
+    if kind == "file":
+        return [
+            (tmp_path / "adir", "existing folder"),
+            (tmp_path / "missing" / "x.out", "does not exist"),
+            (tmp_path / "afile" / "x.out", "is not a folder"),
+        ]
+    out = [(tmp_path / "afile", "existing file"), (tmp_path / "afile" / "sub", "is not a folder")]
+    if Path("/proc/self").exists():  # root may write almost anywhere, not into /proc
+        out.append((Path("/proc/nope"), "cannot write in /proc"))
+    return out
+
+
+@pytest.mark.parametrize(("cmd", "option", "kind", "first_step"), COMMANDS)
+def test_output_location_checked_before_anything_runs(
+    cmd, option, kind, first_step, examples, tmp_path, monkeypatch
+):
+    if first_step is not None:
+        monkeypatch.setattr(first_step, _must_not_run)
+    for out, needle in _bad_outputs(kind, tmp_path):
+        r = invoke(*_args(cmd, examples, out, tmp_path))
+        one_line_exit_2(r, option, needle, str(out))
+
+
+def test_modal_plot_into_proc_prints_no_table(examples):
+    """Issue 14 item 11, as reported: the modal table was printed, then the command failed."""
+    r = invoke("modal", examples / SINGLE, "--plot", "/proc/nope")
+    one_line_exit_2(r, "--plot", "/proc/nope")
+
+
+def test_transient_removes_the_temporaries_of_a_killed_run(examples, tmp_path, monkeypatch):
+    from gearrotor.errors import ModelError
+
+    def stop(*a, **k):
+        raise ModelError("stopped after the output checks")
+
+    monkeypatch.setattr("gearrotor.io.load_model", stop)
+    dead = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"], **_OUT)
+    planted = tmp_path / f"x.nc.tmp-{int(dead.stdout)}-a1b2c3"
+    unrelated = tmp_path / f"y.nc.tmp-{int(dead.stdout)}"
+    planted.write_bytes(b"partial")
+    unrelated.write_bytes(b"not ours to remove")
+    r = invoke("transient", examples / SINGLE, "--output", tmp_path / "x.nc")
+    assert r.exit_code == 2 and "stopped after the output checks" in r.stderr
+    assert not planted.exists() and unrelated.exists()
+
+
+_OUT = {"capture_output": True, "text": True, "check": True}
+
+
+STUDY = """
+name = "faults"
+model = "{model}"
+output = "{folder}"
+
+[set]
+"meshes[0].variation.terms" = 5
+
+[parameters]
+unbalance = {{ paths = ["unbalances[0].amount", "unbalances[1].amount"], unit = "g*mm" }}
+
+[cases]
+columns = ["unbalance"]
+rows = {rows}
+
+[analysis]
+type = "transient"
+t_end = "{t_end} s"
+
+[outputs]
+window = "0.05 s"
+"""
+
+
+def _study(tmp_path, examples, *, folder="faults.study", rows=(360, 720), t_end=0.1) -> Path:
+    path = tmp_path / f"study-{uuid.uuid4().hex[:6]}.toml"
+    path.write_text(
+        STUDY.format(
+            model=(examples / UNITY).as_posix(),
+            folder=folder,
+            rows=str([[r] for r in rows]),
+            t_end=t_end,
+        )
+    )
+    return path
+
+
+def test_study_outputs_checked_before_anything_runs(examples, tmp_path, monkeypatch):
+    monkeypatch.setattr("gearrotor.studies.execute.plan", _must_not_run)
+    monkeypatch.setattr("gearrotor.studies.collection.collect", _must_not_run)
+    (tmp_path / "afile").write_text("")
+    bad = _study(tmp_path, examples, folder=(tmp_path / "afile").as_posix())
+    one_line_exit_2(invoke("study", "run", bad), "output", "existing file")
+    one_line_exit_2(invoke("study", "report", bad), "output", "existing file")
+    good = _study(tmp_path, examples)
+    r = invoke("study", "report", good, "--output", tmp_path / "afile" / "x")
+    one_line_exit_2(r, "--output", "is not a folder")
+
+
+# ---- full disk, read-only file system (a small tmpfs where mounting is allowed) ------------------
+@contextlib.contextmanager
+def tmpfs(base: Path, size: str, *options: str):
+    mnt = base / f"mnt-{uuid.uuid4().hex[:6]}"
+    mnt.mkdir()
+    opts = ",".join((f"size={size}", "mode=0777", *options))
+    r = subprocess.run(
+        ["mount", "-t", "tmpfs", "-o", opts, "tmpfs", str(mnt)], capture_output=True, text=True
+    )
+    if r.returncode != 0:
+        mnt.rmdir()
+        pytest.skip(f"cannot mount a tmpfs here (not root / no CAP_SYS_ADMIN): {r.stderr.strip()}")
+    try:
+        yield mnt
+    finally:
+        subprocess.run(["umount", "-l", str(mnt)], check=False)
+        mnt.rmdir()
+
+
+def _leftovers(d: Path) -> list[str]:
+    return sorted(str(p.relative_to(d)) for p in d.rglob("*") if ".tmp-" in p.name)
+
+
+def test_transient_output_on_a_full_disk(examples, tmp_path):
+    """The result (~0.5 MB) does not fit a 64 kB file system: before the atomic writer, libhdf5
+    crashed the process (SIGSEGV, exit 139) and left ``x.nc.tmp``."""
+    with tmpfs(tmp_path, "64k") as mnt:
+        out = mnt / "x.nc"
+        r = invoke(
+            "transient", examples / SINGLE, "--t-end", "0.05", "--output", out, "--no-progress"
+        )
+        assert r.exit_code == 2, (r.output, r.exception)
+        assert r.stderr.strip() == f"error: no space left on device writing {out}"
+        assert not out.exists() and _leftovers(mnt) == []
+
+
+def test_transient_output_on_a_read_only_file_system(examples, tmp_path, monkeypatch):
+    monkeypatch.setattr("gearrotor.io.load_model", _must_not_run)
+    with tmpfs(tmp_path, "64k", "ro") as mnt:
+        r = invoke("transient", examples / SINGLE, "--output", mnt / "x.nc")
+        one_line_exit_2(r, "--output", "read-only file system", str(mnt / "x.nc"))
+
+
+def test_report_on_a_full_disk_names_the_report_file(examples, tmp_path, monkeypatch):
+    """The report is built in a temporary folder: the error names the file in the report folder
+    the user asked for, and nothing is left (the full disk is injected at the writer's fsync)."""
+    import errno
+
+    from gearrotor import files
+
+    def full(fd):
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+    monkeypatch.setattr(files.os, "fsync", full)
+    out = tmp_path / "rep"
+    r = invoke("report", examples / SINGLE, "--output", out, "--analyses", "modal")
+    assert r.exit_code == 2, (r.output, r.exception)
+    assert re.fullmatch(rf"error: no space left on device writing {out}/\S+\.png", r.stderr.strip())
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_study_run_on_a_full_disk(examples, tmp_path):
+    """The case files (~100 kB each) fill a 128 kB file system: one line naming the case file,
+    exit 2, no temporary left; the manifest written before is intact."""
+    with tmpfs(tmp_path, "128k") as mnt:
+        study = _study(mnt, examples, rows=(360, 720, 1080))
+        r = invoke("study", "run", study, "--workers", "1", "--no-progress")
+        assert r.exit_code == 2, (r.output, r.exception)
+        line = r.stderr.strip()
+        assert re.fullmatch(r"error: no space left on device writing \S+/cases/\w+\.nc", line), line
+        assert _leftovers(mnt) == []
+        assert (mnt / "faults.study" / "study.json").stat().st_size > 0
+
+
+def test_study_run_on_a_read_only_file_system(examples, tmp_path, monkeypatch):
+    monkeypatch.setattr("gearrotor.studies.execute.plan", _must_not_run)
+    with tmpfs(tmp_path, "64k", "ro") as mnt:
+        study = _study(tmp_path, examples, folder=(mnt / "s.study").as_posix())
+        one_line_exit_2(invoke("study", "run", study), "output", "read-only file system")
+
+
+# ---- signals -------------------------------------------------------------------------------------
+skip_without_proc = pytest.mark.skipif(
+    not Path("/proc/self/stat").exists(), reason="reads the process table from Linux /proc"
+)
+
+
+def _children(pid: int) -> list[int]:
+    out = []
+    for stat in Path("/proc").glob("[0-9]*/stat"):
+        with contextlib.suppress(OSError, IndexError, ValueError):
+            fields = stat.read_text().rsplit(")", 1)[1].split()
+            if int(fields[1]) == pid:
+                out.append(int(stat.parent.name))
+    return out
+
+
+def _alive(pid: int) -> bool:
+    try:
+        state = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0]
+    except OSError:
+        return False
+    return state != "Z"
+
+
+def _start_study(study: Path, *extra: str) -> subprocess.Popen:
+    """``python -m gearrotor study run`` in its own session (a terminal's Ctrl-C goes to the
+    whole group: ``os.killpg``), waiting until two workers are computing."""
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "gearrotor", "study", "run", str(study), "--workers", "2", *extra],
+        start_new_session=True,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env={**os.environ, "PYTHONPATH": str(Path(__file__).resolve().parents[1] / "src")},
+    )
+    deadline = time.time() + 60
+    while time.time() < deadline:
+        assert proc.poll() is None, proc.communicate()
+        # the resource tracker and two workers; the workers have been running a moment
+        if len([c for c in _children(proc.pid) if _alive(c)]) >= 3:
+            time.sleep(4.0)
+            return proc
+        time.sleep(0.1)
+    proc.kill()
+    raise AssertionError("the workers did not start")
+
+
+@pytest.mark.slow
+@skip_without_proc
+def test_sigkill_of_study_run_leaves_no_worker(examples, tmp_path):
+    study = _study(tmp_path, examples, rows=(360, 720, 1080, 1440), t_end=2.0)
+    proc = _start_study(study, "--no-progress")
+    workers = _children(proc.pid)
+    proc.kill()  # the parent only, as the OOM killer would
+    proc.wait(timeout=30)  # not communicate(): surviving workers would hold its pipes open
+    proc.stdout.close()
+    proc.stderr.close()
+    deadline = time.time() + 10
+    while any(_alive(w) for w in workers) and time.time() < deadline:
+        time.sleep(0.1)
+    assert not [w for w in workers if _alive(w)], "workers outlived their parent"
+    # the next run removes the temporaries a killed run leaves (one is planted: the kill above
+    # may or may not have hit a write)
+    cases = tmp_path / "faults.study" / "cases"
+    cases.mkdir(parents=True, exist_ok=True)
+    planted = cases / f"0123456789abcdef0123.nc.tmp-{proc.pid}-abcdef"
+    planted.write_bytes(b"partial")
+    r = invoke("study", "run", study, "--cases", "0", "--no-progress")
+    assert r.exit_code == 0, (r.output, r.exception)
+    assert not planted.exists() and _leftovers(tmp_path / "faults.study") == []
+
+
+@pytest.mark.slow
+@skip_without_proc
+@pytest.mark.parametrize(
+    ("sig", "code", "how"), [(signal.SIGINT, 130, "Ctrl-C"), (signal.SIGTERM, 143, "SIGTERM")]
+)
+def test_interrupted_study_run_is_one_line(examples, tmp_path, sig, code, how):
+    study = _study(tmp_path, examples, rows=(360, 720, 1080, 1440), t_end=2.0)
+    proc = _start_study(study, "--no-progress")
+    workers = _children(proc.pid)
+    if sig == signal.SIGINT:
+        os.killpg(proc.pid, sig)  # what a terminal does: the whole foreground group
+    else:
+        proc.send_signal(sig)
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == code, err
+    assert "Traceback" not in err, err
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith(f"interrupted ({how})"), err
+    assert "run the same command again to resume" in lines[0]
+    assert not [w for w in workers if _alive(w)]
+    assert _leftovers(tmp_path / "faults.study") == []
+
+
+# ---- numba's cache ----------------------------------------------------------------------------
+_WHERE = (
+    "import numba\n"
+    "from gearrotor.analyses.transient import kernels\n"
+    "from gearrotor.analyses.torsional import drive_laws\n"
+    "print(numba.config.CACHE_DIR)\n"
+    "print(kernels.rk4_modal._cache._cache_path)\n"
+    "print(drive_laws.law_torque._cache._cache_path)\n"
+)
+
+
+@pytest.mark.parametrize("user_choice", [False, True])
+def test_numba_cache_outside_the_package(tmp_path, user_choice):
+    """numba would write its cache next to the sources, into the installed package; it goes to
+    the user cache directory (XDG_CACHE_HOME on Linux) unless NUMBA_CACHE_DIR says otherwise.
+    numba decides where a kernel's cache is when the kernel is decorated: the paths of two
+    kernels are read, nothing is compiled."""
+    import gearrotor
+
+    env = {k: v for k, v in os.environ.items() if k != "NUMBA_CACHE_DIR"}
+    env["XDG_CACHE_HOME"] = str(tmp_path / "xdg")
+    env["PYTHONPATH"] = str(Path(gearrotor.__file__).parents[1])
+    expected = tmp_path / "xdg" / "gearrotor" / "numba"
+    if user_choice:
+        env["NUMBA_CACHE_DIR"] = str(tmp_path / "mine")
+        expected = tmp_path / "mine"
+    r = subprocess.run([sys.executable, "-c", _WHERE], env=env, capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    lines = r.stdout.split()
+    assert lines[0] == str(expected)
+    package = Path(gearrotor.__file__).parent
+    for cache in map(Path, lines[1:]):
+        assert cache.is_relative_to(expected) and not cache.is_relative_to(package), cache
+
+
+# ---- names used as file names ------------------------------------------------------------------
+@pytest.mark.slow
+def test_study_report_sanitises_probe_names(examples, tmp_path):
+    """A probe named ``../../x`` wrote outside the report folder, ``x/y`` failed after the
+    computation; both become plain file names inside it."""
+    study = _study(tmp_path, examples, rows=(360,), t_end=0.1)
+    text = study.read_text().replace(
+        "[set]\n", '[set]\n"probes[0].name" = "../../x"\n"probes[1].name" = "x/y"\n'
+    )
+    study.write_text(text)
+    r = invoke("study", "run", study, "--workers", "1", "--no-progress")
+    assert r.exit_code == 0, (r.output, r.exception)
+    out = tmp_path / "deep" / "er" / "report"
+    r = invoke("study", "report", study, "--output", out)
+    assert r.exit_code == 0, (r.output, r.exception)
+    written = [Path(p) for p in r.stdout.split()]
+    assert written and all(p.resolve().parent == out.resolve() for p in written), written
+    names = {p.name for p in written}
+    assert "spectra____x_00-00.png" in names and "spectra_x_y_00-00.png" in names, names
+    assert not list((tmp_path / "deep").glob("x*")) and not (tmp_path / "x_00-00.png").exists()

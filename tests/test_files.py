@@ -1,0 +1,256 @@
+"""The one atomic writer and the output-location checks (gearrotor.files), issue 17 "Faults".
+
+A write either replaces the destination with the whole new content or leaves the old file as it
+was, removes its temporary and raises one ModelError that names the file; the full-disk case is
+provoked on a real, tiny tmpfs where the machine lets us mount one (root in a container), and by
+an injected ENOSPC otherwise. The last test reads ``src/`` with ``ast``: no module but
+``files.py`` writes a file directly.
+"""
+
+from __future__ import annotations
+
+import ast
+import contextlib
+import errno
+import json
+import os
+import subprocess
+import sys
+import uuid
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from gearrotor import files
+from gearrotor.errors import ModelError
+
+SRC = Path(__file__).resolve().parents[1] / "src" / "gearrotor"
+
+
+def _leftovers(directory: Path) -> list[str]:
+    return sorted(p.name for p in directory.iterdir() if ".tmp-" in p.name)
+
+
+@contextlib.contextmanager
+def _tmpfs(base: Path, size: str, *options: str):
+    """A tmpfs of ``size`` mounted under ``base``; skips the test where mounting is not allowed."""
+    mnt = base / f"mnt-{uuid.uuid4().hex[:6]}"
+    mnt.mkdir()
+    opts = ",".join((f"size={size}", "mode=0777", *options))
+    r = subprocess.run(
+        ["mount", "-t", "tmpfs", "-o", opts, "tmpfs", str(mnt)], capture_output=True, text=True
+    )
+    if r.returncode != 0:
+        mnt.rmdir()
+        pytest.skip(f"cannot mount a tmpfs here (not root / no CAP_SYS_ADMIN): {r.stderr.strip()}")
+    try:
+        yield mnt
+    finally:
+        subprocess.run(["umount", "-l", str(mnt)], check=False)
+        mnt.rmdir()
+
+
+# ---- the atomic writer ---------------------------------------------------------------------
+def test_round_trips_leave_no_temporary(tmp_path):
+    xr = pytest.importorskip("xarray")
+    ds = xr.Dataset({"a": ("t", np.linspace(0.0, 1.0, 7))}, attrs={"title": "x"})
+    files.write_text(tmp_path / "a.txt", "héllo\n")
+    files.write_bytes(tmp_path / "b.bin", b"\x00\x01")
+    files.write_json(tmp_path / "c.json", {"k": [1, 2.5]})
+    files.write_netcdf(tmp_path / "d.nc", ds)
+    files.write_npz(tmp_path / "e.npz", q=np.arange(3.0))
+    assert (tmp_path / "a.txt").read_text(encoding="utf-8") == "héllo\n"
+    assert (tmp_path / "b.bin").read_bytes() == b"\x00\x01"
+    assert json.loads((tmp_path / "c.json").read_text()) == {"k": [1, 2.5]}
+    with xr.open_dataset(tmp_path / "d.nc", engine="h5netcdf") as back:
+        np.testing.assert_array_equal(back["a"].values, ds["a"].values)
+    with np.load(tmp_path / "e.npz") as z:
+        np.testing.assert_array_equal(z["q"], np.arange(3.0))
+    assert _leftovers(tmp_path) == []
+
+
+def test_figure_is_a_png(tmp_path):
+    pytest.importorskip("matplotlib")
+    from matplotlib.figure import Figure
+
+    fig = Figure()
+    fig.add_subplot().plot([0, 1], [1, 0])
+    files.save_figure(fig, tmp_path / "f.png", dpi=50)
+    assert (tmp_path / "f.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert _leftovers(tmp_path) == []
+
+
+def test_failure_keeps_the_old_file_and_removes_the_temporary(tmp_path):
+    target = tmp_path / "t.json"
+    files.write_json(target, {"old": True})
+    with pytest.raises(RuntimeError), files.atomic_file(target, "w") as fh:
+        fh.write('{"new": ')
+        raise RuntimeError("the producer failed half-way")
+    assert json.loads(target.read_text()) == {"old": True}
+    with pytest.raises(TypeError):  # not JSON: nothing is written at all
+        files.write_json(target, {"x": object()})
+    assert json.loads(target.read_text()) == {"old": True}
+    assert _leftovers(tmp_path) == []
+
+
+def test_injected_enospc_is_one_error_naming_the_file(tmp_path, monkeypatch):
+    """The same path as a real full disk (below), for machines where mount is not allowed."""
+
+    def full(fd):
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+    monkeypatch.setattr(files.os, "fsync", full)
+    target = tmp_path / "x.nc"
+    with pytest.raises(ModelError) as ei:
+        files.write_bytes(target, b"0" * 1000)
+    assert str(ei.value) == f"no space left on device writing {target}"
+    assert not target.exists() and _leftovers(tmp_path) == []
+
+
+def test_full_disk_netcdf_and_json(tmp_path):
+    """A 256 kB tmpfs and a ~1.6 MB dataset: libhdf5 is never asked to write to the full disk
+    (it crashed the process with SIGSEGV, exit 139, before this writer), so the write ends in one
+    error naming the file, and no temporary is left."""
+    xr = pytest.importorskip("xarray")
+    ds = xr.Dataset({"q": (("t", "d"), np.random.default_rng(0).normal(size=(20000, 10)))})
+    with _tmpfs(tmp_path, "256k") as mnt:
+        for target, write in (
+            (mnt / "big.nc", lambda p: files.write_netcdf(p, ds)),
+            (mnt / "big.json", lambda p: files.write_json(p, ds["q"].values.tolist())),
+        ):
+            with pytest.raises(ModelError, match=f"^no space left on device writing {target}$"):
+                write(target)
+            assert not target.exists()
+            assert _leftovers(mnt) == []
+
+
+def test_read_only_mount(tmp_path):
+    with _tmpfs(tmp_path, "64k", "ro") as mnt:
+        with pytest.raises(ModelError, match="read-only file system"):
+            files.check_output(mnt / "x.nc", "file", field="--output")
+        with pytest.raises(ModelError, match="read-only file system"):
+            files.check_output(mnt / "plots" / "deeper", "directory", field="--plot")
+        with pytest.raises(ModelError, match=f"read-only file system writing {mnt / 'x.txt'}"):
+            files.write_text(mnt / "x.txt", "x")
+
+
+# ---- output locations ----------------------------------------------------------------------
+def test_check_output_file(tmp_path):
+    assert files.check_output(tmp_path / "new.nc") == tmp_path / "new.nc"
+    (tmp_path / "adir").mkdir()
+    with pytest.raises(ModelError, match="--output: the output is an existing folder"):
+        files.check_output(tmp_path / "adir", field="--output")
+    with pytest.raises(ModelError, match="the folder .*missing does not exist"):
+        files.check_output(tmp_path / "missing" / "x.nc", field="--output")
+    (tmp_path / "afile").write_text("")
+    with pytest.raises(ModelError, match="is not a folder"):
+        files.check_output(tmp_path / "afile" / "x.nc")
+    assert _leftovers(tmp_path) == [] and not list(tmp_path.glob(".gearrotor-probe-*"))
+
+
+def test_check_output_directory(tmp_path):
+    files.check_output(tmp_path / "a" / "b" / "c", "directory")  # created later, with parents
+    assert not (tmp_path / "a").exists()  # the check creates nothing
+    (tmp_path / "afile").write_text("")
+    with pytest.raises(ModelError, match="existing file, not a directory"):
+        files.check_output(tmp_path / "afile", "directory", field="--plot")
+    with pytest.raises(ModelError, match="is not a folder"):
+        files.check_output(tmp_path / "afile" / "sub", "directory", field="--plot")
+
+
+@pytest.mark.skipif(not Path("/proc/self").exists(), reason="needs Linux /proc")
+def test_check_output_proc():
+    """``/proc`` accepts ``os.access(W_OK)`` for root but no new file: only a real probe tells."""
+    with pytest.raises(ModelError, match="--plot: cannot write in /proc"):
+        files.check_output("/proc/nope", "directory", field="--plot")
+    with pytest.raises(ModelError, match="cannot write in /proc"):
+        files.check_output("/proc/nope.png", "file", field="--plot")
+
+
+@pytest.mark.parametrize(
+    ("name", "expected"),
+    [("gear1_x", "gear1_x"), ("../../x", "___x"), ("x/y", "x_y"), ("..", "_"), ("", "_")],
+)
+def test_safe_name(name, expected):
+    out = files.safe_name(name)
+    assert out == expected
+    assert "/" not in out and ".." not in out and not out.startswith(".")
+
+
+def test_stale_temporaries_of_dead_processes_are_removed(tmp_path):
+    dead = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"], **_out())
+    dead_pid = int(dead.stdout)
+    stale = tmp_path / f"abc.nc.tmp-{dead_pid}"
+    stale_token = tmp_path / f"abc.nc.tmp-{dead_pid}-a1b2c3"
+    mine = tmp_path / f"def.nc.tmp-{os.getpid()}"
+    keep = tmp_path / "abc.nc"
+    for p in (stale, stale_token, mine, keep):
+        p.write_text("")
+    other = tmp_path / f"other.nc.tmp-{dead_pid}"
+    other.write_text("")
+    removed = files.remove_stale_temporaries(tmp_path, prefix="abc.nc.tmp-")
+    assert sorted(removed) == sorted([stale, stale_token])
+    assert other.exists()
+    assert files.remove_stale_temporaries(tmp_path) == [other]
+    assert mine.exists() and keep.exists()
+
+
+def _out():
+    return {"capture_output": True, "text": True, "check": True}
+
+
+# ---- no direct write anywhere else ----------------------------------------------------------
+_WRITE_METHODS = {"write_text", "write_bytes", "savefig", "to_netcdf", "to_csv", "write_html"}
+_MODULE_WRITERS = {("np", "save"), ("np", "savez"), ("np", "savez_compressed")}
+_MODULE_WRITERS |= {("numpy", n) for _, n in list(_MODULE_WRITERS)}
+_MODULE_WRITERS |= {("json", "dump"), ("pickle", "dump")}
+
+
+def _write_mode(call: ast.Call, position: int) -> bool:
+    mode = call.args[position] if len(call.args) > position else None
+    for kw in call.keywords:
+        if kw.arg == "mode":
+            mode = kw.value
+    if mode is None:
+        return False
+    if not isinstance(mode, ast.Constant):
+        return True  # a computed mode: count it, the writer must be files.py
+    return any(c in str(mode.value) for c in "wax+")
+
+
+def _direct_writes(tree: ast.AST) -> list[tuple[int, str]]:
+    found = []
+    for node in ast.walk(tree):
+        if not isinstance(node, ast.Call):
+            continue
+        f = node.func
+        if isinstance(f, ast.Name) and f.id == "open" and _write_mode(node, 1):
+            found.append((node.lineno, "open(..., write mode)"))
+        elif isinstance(f, ast.Attribute):
+            if f.attr in _WRITE_METHODS:
+                found.append((node.lineno, f".{f.attr}()"))
+            elif f.attr == "open" and _write_mode(node, 0):
+                found.append((node.lineno, ".open(write mode)"))
+            elif isinstance(f.value, ast.Name) and (f.value.id, f.attr) in _MODULE_WRITERS:
+                found.append((node.lineno, f"{f.value.id}.{f.attr}()"))
+    return found
+
+
+def test_the_scan_finds_direct_writes():
+    """The scan itself: each kind of direct write is found (so the test below can fail)."""
+    code = (
+        "open(p, 'w')\nopen(p, mode='ab')\np.open('w')\np.write_text(s)\nfig.savefig(p)\n"
+        "ds.to_netcdf(p)\nnp.savez(fh, a=a)\njson.dump(d, fh)\nopen(p)\np.open()\n"
+    )
+    assert [line for line, _ in _direct_writes(ast.parse(code))] == list(range(1, 9))
+
+
+def test_every_write_goes_through_files_py():
+    offenders = []
+    for path in sorted(SRC.rglob("*.py")):
+        if path == SRC / "files.py":
+            continue
+        for line, what in _direct_writes(ast.parse(path.read_text(encoding="utf-8"))):
+            offenders.append(f"{path.relative_to(SRC.parent)}:{line}: {what}")
+    assert not offenders, "direct writes outside gearrotor/files.py:\n" + "\n".join(offenders)

@@ -1,0 +1,125 @@
+"""The torsional section of ``gearrotor report`` (``--analyses torsional``): its numbers are the
+torsional analyses' numbers (the same quantity shows the same number in the page, report.json
+and the API), its verdict follows the margins, and the page stays self-contained."""
+
+from __future__ import annotations
+
+import json
+import re
+
+import numpy as np
+import pytest
+
+pytest.importorskip("plotly", reason="the HTML report needs plotly (gearrotor[report])")
+pytest.importorskip("matplotlib", reason="the report's PNG figures need matplotlib")
+
+from gearrotor.analyses.torsional import (  # noqa: E402
+    interference,
+    torsional_modes,
+)
+from gearrotor.plots.report import ANALYSES, make_report  # noqa: E402
+from gearrotor.plots.report.sections.torsional import transient_duration  # noqa: E402
+from torsional_helpers import disk, geared_train, shaft  # noqa: E402
+
+RPM = np.pi / 30
+
+
+def _train():
+    """Two shafts through a 50:20 mesh, a constant-torque drive and a quadratic load (the
+    figure tests' train): a start-up to ~1500 rpm in a few seconds."""
+    return geared_train(
+        [
+            shaft("g", 2e5, [disk(0, 3.0), disk(1, 0.6)]),
+            shaft("p", 5e4, [disk(0, 0.2), disk(1, 0.4)], start=0.5),
+        ],
+        [
+            {
+                "gear": ("g", 1, 50, 0.25),
+                "mate": ("p", 0, 20, 0.1),
+                "k": 1e9,
+                "driver": "gear",
+                "damping_ratio": 0.02,
+            }
+        ],
+        speed="1500 rpm",
+        torsional={
+            "drives": [
+                {
+                    "type": "torque",
+                    "shaft": "g",
+                    "node": 0,
+                    "rated_power": "30 kW",
+                    "rated_speed": "1500 rpm",
+                    "value": 250.0,
+                }
+            ],
+            "loads": [
+                {"type": "quadratic", "shaft": "p", "node": 1, "torque": 60.0, "speed": "3750 rpm"}
+            ],
+        },
+    )
+
+
+@pytest.fixture(scope="module")
+def report(tmp_path_factory):
+    out = tmp_path_factory.mktemp("rep") / "tors"
+    return make_report(_train(), out, analyses="torsional")
+
+
+def test_not_run_by_default():
+    assert "torsional" not in ANALYSES
+
+
+def test_numbers_are_the_analyses_numbers(report):
+    train = _train()
+    data = json.loads(report.json.read_text())
+    tors = data["torsional"]
+    modes = torsional_modes(train)
+    np.testing.assert_allclose(
+        [m["frequency_hz"] for m in tors["modes"]], modes.frequency_hz, rtol=1e-12
+    )
+    inter = interference(modes, speed_range=(1500 * RPM, 1500 * RPM))
+    assert tors["interference"]["passes"] == inter.passes
+    assert len(tors["interference"]["crossings"]) == len(inter.crossings)
+    verdict = [v for v in data["verdicts"] if "torsional" in v["check"]]
+    assert len(verdict) == 1 and verdict[0]["ok"] == inter.passes
+    # the transient: 20 s from rest (no event in the model), its section peaks
+    tr = report.results["torsional"]["transient"]
+    assert tr.time[-1] == pytest.approx(transient_duration(train))
+    assert tors["transient"]["t_end_s"] == pytest.approx(20.0)
+    peaks = [s["peak_torque_Nm"] for s in tors["transient"]["sections"]]
+    np.testing.assert_allclose(peaks, [s["peak_torque_Nm"] for s in tr.section_table()])
+    # the drive brings the train to the speed where 250 N·m balances the load (60 N·m at
+    # 3750 rpm on the pinion, 150 N·m reflected at the drive's 1500 rpm: 1936 rpm, T ~ Ω²)
+    final = tors["transient"]["final_speeds_rpm"]["g"]
+    assert final == pytest.approx(1500 * np.sqrt(250 / 150), rel=0.01)
+    # forced response: 1 % of the drive's rated torque at 1x and 2x
+    assert "1 % of" in tors["response"]["excitation"]
+    page = report.html.read_text(encoding="utf-8")
+    peak = tors["response"]["peak"]
+    assert f"{peak['shear_stress_Pa'] / 1e6:.3g} MPa" in page
+
+
+def test_page_has_the_section_with_inline_figures(report):
+    page = report.html.read_text(encoding="utf-8")
+    assert "<section id='torsional'>" in page
+    assert "Interference diagram" in page and "Torsional modes" in page
+    # figures inline (data URIs), nothing to fetch
+    assert not re.search(r"<img[^>]*\bsrc\s*=\s*['\"](?!data:)", page)
+    assert page.count('title="torsional_') == 5  # the section's five figures
+    names = {p.name for p in report.figures}
+    assert {
+        "torsional_modes.png",
+        "torsional_interference.png",
+        "torsional_response.png",
+        "torsional_transient.png",
+        "torsional_fatigue.png",
+    } <= names
+
+
+def test_transient_duration_covers_the_model_events(examples):
+    from gearrotor.io import load_model
+
+    train = load_model(examples / "motor_gearbox_compressor.toml")
+    assert transient_duration(train) == pytest.approx(24.0)  # load step at 22 s, + 2 s
+    assert transient_duration(_train()) == pytest.approx(20.0)
