@@ -61,6 +61,7 @@ def _cpu() -> str:
 def _clear_caches() -> None:
     static_analysis._JOURNAL_CACHE.clear()
     static_analysis._LAST_EQ.clear()
+    static_analysis._LAST_K.clear()
     static_analysis._RIGID_CACHE.clear()
 
 

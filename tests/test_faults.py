@@ -28,6 +28,8 @@ from gearrotor.cli import app
 SINGLE = "unity_gearbox_single_shaft.toml"
 UNITY = "unity_gearbox.toml"
 BEARING = "bearings/pinion_3lobe_dam.toml"
+MOTOR = "motor_gearbox_compressor.toml"
+LOAD, ASSEMBLE = "gearrotor.io.load_model", "gearrotor.assembly.assemble"
 
 
 def invoke(*args):
@@ -49,26 +51,41 @@ def _must_not_run(*args, **kwargs):
 
 #: (command line with OUT for the output, option, kind, the first step of the computation)
 COMMANDS = [
-    (["modal", SINGLE, "--plot", "OUT"], "--plot", "directory", "gearrotor.io.load_model"),
-    (["campbell", SINGLE, "--plot", "OUT"], "--plot", "file", "gearrotor.io.load_model"),
-    (["unbalance", SINGLE, "--plot", "OUT"], "--plot", "directory", "gearrotor.io.load_model"),
-    (["floquet", UNITY, "--plot", "OUT"], "--plot", "file", "gearrotor.io.load_model"),
+    (["modal", SINGLE, "--plot", "OUT"], "--plot", "directory", LOAD),
+    (["campbell", SINGLE, "--plot", "OUT"], "--plot", "figure", LOAD),
+    (["unbalance", SINGLE, "--plot", "OUT"], "--plot", "directory", LOAD),
+    (["floquet", UNITY, "--plot", "OUT"], "--plot", "figure", LOAD),
     (
         ["bearing", BEARING, "--plot", "OUT"],
         "--plot",
         "directory",
         "gearrotor.bearings.io.load_bearing",
     ),
-    (["transient", UNITY, "--output", "OUT"], "--output", "file", "gearrotor.io.load_model"),
-    (["transient", UNITY, "--plot", "OUT"], "--plot", "directory", "gearrotor.io.load_model"),
+    (["transient", UNITY, "--output", "OUT"], "--output", "file", LOAD),
+    (["transient", UNITY, "--plot", "OUT"], "--plot", "directory", LOAD),
     (
         ["transient", UNITY, "--checkpoint", "OUT"],
         "--checkpoint",
         "file",
-        "gearrotor.io.load_model",
+        LOAD,
     ),
     (["transient-plot", "IN.nc", "--output", "OUT"], "--output", "directory", None),
-    (["report", SINGLE, "--output", "OUT"], "--output", "directory", "gearrotor.assembly.assemble"),
+    (["static", SINGLE, "--plot", "OUT"], "--plot", "directory", ASSEMBLE),
+    (["ucs", SINGLE, "--plot", "OUT"], "--plot", "figure", LOAD),
+    (["stability", SINGLE, "--plot", "OUT"], "--plot", "figure", LOAD),
+    (
+        ["torsional", "modes", SINGLE, "--plot", "OUT"],
+        "--plot",
+        "directory",
+        LOAD,
+    ),
+    (
+        ["torsional", "transient", MOTOR, "--output", "OUT"],
+        "--output",
+        "file",
+        LOAD,
+    ),
+    (["report", SINGLE, "--output", "OUT"], "--output", "directory", ASSEMBLE),
 ]
 
 
@@ -85,17 +102,27 @@ def _args(cmd, examples, out, tmp_path):
 
 def _bad_outputs(kind, tmp_path):
     """Paths that cannot receive an output of this kind, with a part of the expected message."""
+    sfx = ".png" if kind == "figure" else ".nc"  # the suffixes the commands accept
     (tmp_path / "adir").mkdir(exist_ok=True)
+    (tmp_path / f"adir{sfx}").mkdir(exist_ok=True)
     (tmp_path / "afile").write_text("")
     if kind == "file":
         return [
-            (tmp_path / "adir", "existing folder"),
-            (tmp_path / "missing" / "x.out", "does not exist"),
-            (tmp_path / "afile" / "x.out", "is not a folder"),
+            (tmp_path / f"adir{sfx}", "existing folder"),
+            (tmp_path / "missing" / f"x{sfx}", "does not exist"),
+            (tmp_path / "afile" / f"x{sfx}", "is not a folder"),
         ]
-    out = [(tmp_path / "afile", "existing file"), (tmp_path / "afile" / "sub", "is not a folder")]
+    if kind == "figure":  # a file whose missing folders the figure function creates
+        out = [
+            (tmp_path / f"adir{sfx}", "existing folder"),
+            (tmp_path / "afile" / "x.png", "not a folder"),
+        ]
+    else:
+        out = [(tmp_path / "afile", "existing file"), (tmp_path / "afile" / "sub", "not a folder")]
     if Path("/proc/self").exists():  # root may write almost anywhere, not into /proc
-        out.append((Path("/proc/nope"), "cannot write in /proc"))
+        out.append(
+            (Path("/proc/nope.png" if kind == "figure" else "/proc/nope"), "cannot write in /proc")
+        )
     return out
 
 
@@ -122,7 +149,7 @@ def test_transient_removes_the_temporaries_of_a_killed_run(examples, tmp_path, m
     def stop(*a, **k):
         raise ModelError("stopped after the output checks")
 
-    monkeypatch.setattr("gearrotor.io.load_model", stop)
+    monkeypatch.setattr(LOAD, stop)
     dead = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"], **_OUT)
     planted = tmp_path / f"x.nc.tmp-{int(dead.stdout)}-a1b2c3"
     unrelated = tmp_path / f"y.nc.tmp-{int(dead.stdout)}"
@@ -222,7 +249,7 @@ def test_transient_output_on_a_full_disk(examples, tmp_path):
 
 
 def test_transient_output_on_a_read_only_file_system(examples, tmp_path, monkeypatch):
-    monkeypatch.setattr("gearrotor.io.load_model", _must_not_run)
+    monkeypatch.setattr(LOAD, _must_not_run)
     with tmpfs(tmp_path, "64k", "ro") as mnt:
         r = invoke("transient", examples / SINGLE, "--output", mnt / "x.nc")
         one_line_exit_2(r, "--output", "read-only file system", str(mnt / "x.nc"))
@@ -416,3 +443,20 @@ def test_study_report_sanitises_probe_names(examples, tmp_path):
     names = {p.name for p in written}
     assert "spectra____x_00-00.png" in names and "spectra_x_y_00-00.png" in names, names
     assert not list((tmp_path / "deep").glob("x*")) and not (tmp_path / "x_00-00.png").exists()
+
+
+def test_ctrl_c_of_transient_is_one_line(examples, tmp_path, monkeypatch):
+    """Ctrl-C during the run (KeyboardInterrupt from the integration loop): one line, exit 130,
+    naming the checkpoint the same command resumes from."""
+    ck = tmp_path / "run.ck"
+
+    def interrupted(*args, checkpoint=None, **kwargs):
+        ck.write_bytes(b"state")  # the checkpoint a real run leaves
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr("gearrotor.analyses.transient.transient", interrupted)
+    r = invoke("transient", examples / SINGLE, "--checkpoint", ck, "--no-progress")
+    assert r.exit_code == 130, (r.output, r.exception)
+    assert r.stderr.strip() == (
+        f"interrupted (Ctrl-C): the state is saved in {ck}; run the same command again to resume"
+    )

@@ -140,7 +140,12 @@ def test_growth_rate_matches_the_transient():
     train = load_model(EXAMPLES / "compressor_gearbox.toml", ov)
     fl = floquet(train)
     assert fl.growth[0] > 5.0
-    r = transient(train, t_end=0.5, integrator=ModalRK4(static_correction=False))
+    # the basis keeps the full model's modes to 23.8 kHz (the modes alone meet the 1x check there):
+    # the default basis (modes to 1.25 x mesh frequency, 5 kHz, plus the 1x and mesh-frequency
+    # response shapes; issue 16) gives 22.05 1/s here, 5 % low, since the pumped pair's
+    # frequencies shift with the compliance of the modes left out
+    integ = ModalRK4(static_correction=False, cutoff=23_782.0)
+    r = transient(train, t_end=0.5, integrator=integ)
     k = list(r.node_labels).index("pinion[0]")
     t, x = r.time, r.node_x[:, k]
     om = float(np.mean(np.abs(r.shaft_speed[:, 0])))

@@ -93,6 +93,7 @@ class BearingInfo:
     dofs: NDArray  # (2,) journal x, y
     support_dofs: NDArray | None  # (2,) pedestal x, y, or None for ground
     element: RadialBearing
+    kind: str = "bearing"  # "bearing" or "seal" (an annular seal to ground, any sign)
 
     def scatter(self, K: _Triplets, C: _Triplets, speed: float) -> None:
         k, c = self.element.K(speed), self.element.C(speed)
@@ -383,6 +384,20 @@ def assemble(train: Train) -> Assembly:
             K.add(sup, np.diag([b.support.kxx, b.support.kyy]))
             C.add(sup, np.diag([b.support.cxx, b.support.cyy]))
         info = BearingInfo(b.name or f"bearings[{k}]", si, dofs, sup, el)
+        if not el.speed_dependent:
+            info.scatter(K, C, 0.0)
+        bearings.append(info)
+    for k, sl in enumerate(train.seals):  # seals: like a bearing to ground, any sign
+        si, dofs = node_dofs(sl, f"seals[{k}]", [0, 1])
+        if sl.table is not None:
+            t = sl.table
+            vals = np.column_stack([t.kxx, t.kxy, t.kyx, t.kyy, t.cxx, t.cxy, t.cyx, t.cyy])
+            el = RadialBearing(table=CoefficientTable(np.asarray(t.speed), vals, t.extrapolate))
+        elif sl.table_file is not None:
+            el = RadialBearing(table=_film_table(sl, f"seals[{k}]", layout.shafts[si]))
+        else:
+            el = RadialBearing(*sl.coefficients())
+        info = BearingInfo(sl.name or f"seals[{k}]", si, dofs, None, el, kind="seal")
         if not el.speed_dependent:
             info.scatter(K, C, 0.0)
         bearings.append(info)

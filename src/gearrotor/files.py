@@ -175,16 +175,40 @@ def _probe(directory: Path, field: str | None, value: Path, expected: str) -> No
     _discard(Path(name))
 
 
-def check_output(path: str | os.PathLike, kind: str = "file", *, field: str | None = None) -> Path:
+def _writable_ancestor(folder: Path, field: str | None, value: Path, expected: str) -> None:
+    """The nearest existing folder on the way to ``folder`` (which mkdir -p would create) is a
+    folder and can be written."""
+    anc = folder
+    while not anc.exists() and anc != anc.parent:
+        if anc.is_symlink():  # a dangling link: mkdir would fail on it
+            break
+        anc = anc.parent
+    if not anc.is_dir():
+        raise ModelError(f"{anc} is not a folder", field=field, value=str(value), expected=expected)
+    _probe(anc, field, value, expected)
+
+
+def check_output(
+    path: str | os.PathLike, kind: str = "file", *, field: str | None = None, parents: bool = False
+) -> Path:
     """Check, before anything runs, that ``path`` can receive an output; raise a
     :class:`ModelError` naming ``field`` and the path otherwise. Returns ``Path(path)``.
 
-    kind ``"file"``: ``path`` is not an existing folder, its folder exists and can be written.
+    kind ``"file"``: ``path`` is not an existing folder, its folder exists and can be written;
+    with ``parents`` (a figure, whose folders the plotting function creates) its folder may
+    also be missing, as long as it can be created.
     kind ``"directory"``: ``path`` is a folder or does not exist yet (it will be created with
     its missing parents), and the nearest existing folder on the way can be written.
     """
     path = Path(path)
-    if kind == "file":
+    if kind == "file" and parents:
+        expected = "a file path in a writable location"
+        if path.is_dir():
+            raise ModelError(
+                "the output is an existing folder", field=field, value=str(path), expected=expected
+            )
+        _writable_ancestor(path.parent, field, path, expected)
+    elif kind == "file":
         expected = "a file path in an existing, writable folder"
         if path.is_dir():
             raise ModelError(
@@ -212,16 +236,7 @@ def check_output(path: str | os.PathLike, kind: str = "file", *, field: str | No
                 value=str(path),
                 expected=expected,
             )
-        anc = path
-        while not anc.exists() and anc != anc.parent:
-            if anc.is_symlink():  # a dangling link: mkdir would fail on it
-                break
-            anc = anc.parent
-        if not anc.is_dir():
-            raise ModelError(
-                f"{anc} is not a folder", field=field, value=str(path), expected=expected
-            )
-        _probe(anc, field, path, expected)
+        _writable_ancestor(path, field, path, expected)
     else:
         raise ValueError(f"kind must be 'file' or 'directory', not {kind!r}")
     return path

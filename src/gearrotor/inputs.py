@@ -22,6 +22,7 @@ __all__ = [
     "MAX_LISTED",
     "TABLE_COLUMNS",
     "TableFile",
+    "depth_ok",
     "list_some",
     "parse_toml",
     "read_table",
@@ -84,7 +85,8 @@ def read_text(path: str | Path, kind: str = "input") -> str:
         ) from None
 
 
-def _depth_ok(doc: Any) -> bool:
+def depth_ok(doc: Any) -> bool:
+    """Whether nested dicts/lists ``doc`` are at most :data:`MAX_DEPTH` levels deep (iterative)."""
     stack = [(doc, 1)]
     while stack:
         node, depth = stack.pop()
@@ -105,7 +107,7 @@ def parse_toml(text: str, name: str, kind: str = "input") -> dict:
         raise ModelError(f"invalid TOML: {str(exc).splitlines()[0]}", file=name) from None
     except RecursionError:
         doc = None
-    if doc is None or not _depth_ok(doc):
+    if doc is None or not depth_ok(doc):
         raise ModelError(
             f"the {kind} file nests tables or arrays too deeply",
             file=name,

@@ -105,9 +105,14 @@ def _dim(unit: str):
 MAX_EXPRESSION_LENGTH = 200
 MAX_OPERATORS = 40
 MAX_EXPONENT = 64
+_SUPERSCRIPT = "⁰¹²³⁴⁵⁶⁷⁸⁹⁻"
+_SUPER_DIGITS = str.maketrans(_SUPERSCRIPT, "0123456789-")
+_NAME_CHAR = rf"(?:(?![{_SUPERSCRIPT}])[\w°%Ω])"
 _TOKEN = re.compile(
-    r"\s*(?:(?P<num>(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)|(?P<op>\*\*|[-+*/^()])"
-    r"|(?P<name>(?:[^\W\d]|[°%Ω])(?:\w|[°%Ω])*))"
+    r"\s*(?:(?P<num>(?:\d[\d,]*\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)"
+    r"|(?P<op>\*\*|[-+*/^()·⋅])"
+    rf"|(?P<sup>[{_SUPERSCRIPT}]+)"
+    rf"|(?P<name>(?:(?![{_SUPERSCRIPT}])[^\W\d]|[°%Ω]){_NAME_CHAR}*))"
 )
 
 
@@ -134,8 +139,13 @@ def _check_expression(text: str) -> None:
             bad = text[pos:].lstrip()[:1]
             raise ValueError(f"cannot read {text!r}: unexpected character {bad!r}")
         pos = m.end()
+        if m.group("sup") is not None:  # "m²": a power written in superscript digits
+            exp = m.group("sup").translate(_SUPER_DIGITS)
+            parts += ["**", f"({exp})"]
+            prev_operand = True
+            continue
         if m.group("op") is not None:
-            op = "**" if m.group("op") == "^" else m.group("op")
+            op = {"^": "**", "·": "*", "⋅": "*"}.get(m.group("op"), m.group("op"))
             if op == "(" and prev_operand:
                 parts.append("*")
             parts.append(op)
@@ -143,7 +153,7 @@ def _check_expression(text: str) -> None:
             continue
         if prev_operand:  # "6500 rpm", "kg m": implicit multiplication
             parts.append("*")
-        parts.append(m.group("num") if m.group("num") is not None else "x")
+        parts.append(m.group("num").replace(",", "") if m.group("num") is not None else "x")
         prev_operand = True
     try:
         tree = ast.parse(" ".join(parts), mode="eval")

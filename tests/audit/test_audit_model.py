@@ -53,6 +53,10 @@ def test_table_parses_with_units_and_round_trips(model):
     kw = level1_inputs(model, qa=1e6, at=[("s", 3)], average_density=40.0, exclude_bearings=[])
     assert kw["qa"] == 1e6 and kw["stages"] == () and kw["at"] == (Site("s", 3),)
     assert kw["average_density"] == 40.0 and kw["exclude_bearings"] == ()
+    # stages given as arguments act at their own nodes, not at the table's sites
+    st = Stage("s", 3, 1e6, 0.3, 0.02, 1.1)
+    kw = level1_inputs(model, stages=[st])
+    assert kw["stages"] == (st,) and kw["at"] == ()
 
 
 def test_absent_table_is_not_serialised(model):

@@ -5,6 +5,7 @@ the value (parser errors included: no multi-line boxes). Speed options accept un
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import pytest
 
@@ -88,3 +89,34 @@ def test_help_still_works():
     assert r.exit_code == 0 and "--speed" in r.stdout
     r, _ = run()
     assert "modal" in r.stdout  # a bare command prints its help
+
+
+EX = Path(__file__).resolve().parents[2] / "examples"
+MOTOR = EX / "motor_gearbox_compressor.toml"
+UNITY = EX / "unity_gearbox.toml"
+OTHER_COMMANDS = [
+    (
+        "torsional-maxf-nan",
+        ["torsional", "modes", MOTOR, "--max-frequency", "nan"],
+        ["--max-frequency"],
+    ),
+    ("torsional-t-end-inf", ["torsional", "transient", MOTOR, "--t-end", "inf"], ["--t-end"]),
+    ("torsional-margin", ["torsional", "campbell", MOTOR, "--margin", "2"], ["--margin", "<= 1"]),
+    (
+        "torsional-n-speeds",
+        ["torsional", "response", MOTOR, "--torque", "x", "--n-speeds", "1e8"],
+        ["--n-speeds"],
+    ),
+    ("ucs-method", ["ucs", UNITY, "--method", "qr"], ["--method", "'qr'"]),
+    ("ucs-n-points", ["ucs", UNITY, "--n-points", "1"], ["--n-points"]),
+    ("stability-mcs", ["stability", UNITY, "--mcs", "-5"], ["--mcs", "> 0"]),
+    ("static-speed", ["static", UNITY, "--speed", "nan"], ["--speed", "finite"]),
+]
+
+
+@pytest.mark.parametrize(
+    "args, needles", [c[1:] for c in OTHER_COMMANDS], ids=[c[0] for c in OTHER_COMMANDS]
+)
+def test_bad_option_of_other_commands_refused(args, needles):
+    r, dt = run(*args)
+    check_refused(r, dt, *needles)

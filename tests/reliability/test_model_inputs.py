@@ -39,6 +39,8 @@ SET_CASES = [
     ("elements-float", ["shafts[0].sections[0].elements=4.5"], ["elements", "4.5"]),
     ("bearing-dup-name", ["bearings[1].name=B1"], ["bearings[1].name", "bearings[0].name", "B1"]),
     ("probe-angle-nan", ["probes[0].angle=nan"], ["probes[0].angle", "finite"]),
+    ("set-deep", ["speed=" + "[" * 5000 + "]" * 5000], ["--set", "too deeply"]),
+    ("set-bad-path", ["meshes[0]]x=1"], ["meshes[0]]x"]),
 ]
 
 
@@ -165,3 +167,27 @@ def test_bad_table_file_refused(small, name, content, needles):
     r, dt = run("modal", small)
     check_refused(r, dt, "small.toml", "bearings[0].table_file", name, *needles)
     assert files_in(small.parent) == before
+
+
+EX = Path(__file__).resolve().parents[2] / "examples"
+WRONG_KIND = [
+    ("study-as-model", ["modal", EX / "unity_gearbox_study.toml"], ["a study file, not a rotor"]),
+    ("bearing-as-model", ["modal", EX / "bearings" / "plain_ld1.toml"], ["a bearing file, not"]),
+    ("model-as-study", ["study", "status", UNITY], ["rotor model file, not a study file"]),
+]
+
+
+@pytest.mark.parametrize(
+    "args, needles", [c[1:] for c in WRONG_KIND], ids=[c[0] for c in WRONG_KIND]
+)
+def test_wrong_kind_of_file_named(args, needles):
+    r, dt = run(*args)
+    check_refused(r, dt, *needles)
+
+
+def test_many_errors_one_line(small):
+    """Several problems are one line (the README: errors are one line), at most ten listed."""
+    text = small.read_text().replace('k = "1e7 N/m"', 'k = "nan"').replace("node = 2", "node = -1")
+    small.write_text(text)
+    r, dt = run("modal", small)
+    check_refused(r, dt, "small.toml", "errors in the model", "bearings[0].k", "node")

@@ -55,7 +55,7 @@ def test_static_all_with_plots(examples, tmp_path):
     assert [p["operating_point"] for p in saved["operating_points"]][-1] == "LC10"
     # the table shows the number the JSON holds
     fy = saved["operating_points"][-1]["bearings"][0]["force_N"][1]
-    assert f"{fy:.5g}" in r.stdout
+    assert f"{fy:.6g}" in r.stdout
     assert not list(out.glob("*.tmp*"))
 
 

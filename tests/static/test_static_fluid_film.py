@@ -136,3 +136,50 @@ def test_example_operating_points_against_spec_load_cases(steam):
             f = r.bearings[k].force
             assert f[0] * scale == pytest.approx(fx, rel=5e-3, abs=5)
             assert (f[1] - weight[k]) * scale - 826 == pytest.approx(fy, rel=5e-3, abs=5)
+
+
+def test_floquet_and_campbell_at_operating_point(examples):
+    """floquet/campbell with operating_point= are the analyses of at_operating_point's train
+    (coefficients at each sweep speed's static load); a held torque and a held power give
+    different loads away from the point's speed (T = P/Ω)."""
+    from test_static_gears import gear_pair
+
+    from gearrotor.analyses import campbell
+    from gearrotor.analyses.floquet import floquet
+
+    file = str(examples / "bearings" / "plain_ld1.toml")
+    t = gear_pair()
+    data = t.model_dump()
+    for b in data["bearings"]:
+        if b["shaft"] == "p":
+            b["k"] = None
+            b["fluid_film"] = {"file": file, "speeds": ["2000 rpm", "4000 rpm"]}
+    data["operating_points"] = [
+        {
+            "name": "P",
+            "power": "30 kW",
+            "drive": {"shaft": "p", "node": 0},
+            "load": {"shaft": "g", "node": 8},
+        },
+        {
+            "name": "T",
+            "power": "30 kW",
+            "hold": "torque",
+            "drive": {"shaft": "p", "node": 0},
+            "load": {"shaft": "g", "node": 8},
+        },
+    ]
+    t = gr.Train.model_validate(data)
+    a = floquet(t, operating_point="P", ka_ratio=0.1)
+    b = floquet(at_operating_point(t, "P"), speed=t.speed, ka_ratio=0.1)
+    assert a.speed == pytest.approx(t.speed)
+    assert np.allclose(a.growth, b.growth, rtol=1e-9, atol=1e-9)
+    assert np.allclose(a.mode_frequency, b.mode_frequency, rtol=1e-12)
+    speeds = np.array([250.0, 300.0, 350.0])
+    c = campbell(t, speeds=speeds, max_frequency=2000.0, operating_point="P")
+    d = campbell(at_operating_point(t, "P", speeds=speeds), speeds=speeds, max_frequency=2000.0)
+    assert np.allclose(c.damped_frequency, d.damped_frequency, rtol=1e-12, equal_nan=True)
+    for w in speeds:
+        p, q = static(t, "P", speed=w), static(t, "T", speed=w)
+        assert p.drive_torque == pytest.approx(30e3 / w, rel=1e-12)
+        assert q.drive_torque == pytest.approx(30e3 / t.speed, rel=1e-12)

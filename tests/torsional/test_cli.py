@@ -132,6 +132,22 @@ def test_transient_outputs_agree_with_the_printed_summary(model, tmp_path):
         (["transient", "{m}", "-o", "{tmp}/run.csv"], "--output"),
         (["transient", "{m}", "--plot", "{tmp}/afile"], "--plot"),
         (["transient", "{m}", "--t-end", "0"], "--t-end"),
+        (["transient", "{m}", "--t-end", "nan"], "--t-end"),
+        (["transient", "{m}", "--initial-speed", "-5"], "--initial-speed"),
+        (
+            [
+                "response",
+                "{m}",
+                "--torque",
+                "shaft=motor,node=4,amplitude=1,order=1",
+                "--n-speeds",
+                "100000000",
+            ],
+            "--n-speeds",
+        ),  # fmt: skip
+        (["campbell", "{m}", "--margin", "1.5"], "--margin"),
+        (["campbell", "{m}", "--line-frequency", "-60"], "--line-frequency"),
+        (["modes", "{m}", "--n-modes", "0"], "--n-modes"),
     ],
 )
 def test_bad_input_exits_2_before_running(model, tmp_path, args, needle):
@@ -140,4 +156,16 @@ def test_bad_input_exits_2_before_running(model, tmp_path, args, needle):
     res = _run(*argv)
     assert res.exit_code == 2, res.output
     assert needle in res.stderr and "Traceback" not in res.output
+    assert len(res.stderr.strip().splitlines()) == 1  # one line, no usage box
     assert not list(tmp_path.glob("*.nc")) and not list(tmp_path.glob("*.png"))
+
+
+@pytest.mark.parametrize("sub", ["modes", "campbell", "response", "transient"])
+def test_help_states_the_exit_codes_and_a_missing_model_exits_2(sub, tmp_path):
+    r = _run("torsional", sub, "--help")
+    assert r.exit_code == 0, r.output
+    text = " ".join(r.output.split())
+    assert "Exit status: 0 done; 2 invalid input" in text and "3 solver failure" in text
+    extra = ["--torque", "shaft=motor,node=4,amplitude=1,order=1"] if sub == "response" else []
+    r = _run("torsional", sub, tmp_path / "nope.toml", *extra)
+    assert r.exit_code == 2 and "nope.toml" in r.stderr

@@ -130,3 +130,33 @@ def test_example_start_up_six_dof_agrees_with_the_torsional_model(examples):
     ls6 = tm.cp_stiffness[0] * twist + tm.cp_damping[0] * rate
     peak_t = max(abs(tors.coupling_torque_max[0]), abs(tors.coupling_torque_min[0]))
     assert np.abs(ls6).max() == pytest.approx(peak_t, rel=0.01)
+
+
+def test_checkpoint_resumed_after_pull_in_keeps_the_motor_in_step(tmp_path, monkeypatch):
+    """A start-up stopped after the pull-in (0.33 s) resumes from its last checkpoint with the
+    motor still in step at its captured load angle: bit-identical to a run that was not
+    stopped (the state is part of the checkpoint; re-synchronising at the resumed angle would
+    change the torque from there on)."""
+    from gearrotor.analyses.transient import Checkpoint, driver
+
+    train = _single_shaft()
+    kw = dict(t_end=0.6, initial="rest", save=Save(dt=1e-3))
+    reference = transient(train, checkpoint=Checkpoint(tmp_path / "ref.npz"), **kw)
+    real = driver.kn.rk4_modal
+
+    def dies_at_70_percent(t0, dt, nst, *args):
+        if t0 + nst * dt > 0.42:
+            raise KeyboardInterrupt
+        return real(t0, dt, nst, *args)
+
+    ck = Checkpoint(tmp_path / "run.npz", every=1e9)
+    monkeypatch.setattr(driver.kn, "rk4_modal", dies_at_70_percent)
+    with pytest.raises(KeyboardInterrupt):
+        transient(_single_shaft(), checkpoint=ck, **kw)
+    monkeypatch.setattr(driver.kn, "rk4_modal", real)
+    saved = np.load(ck.path)
+    assert saved["drive_state"][0, 0] == 1.0  # stopped after the pull-in
+    res = transient(_single_shaft(), checkpoint=ck, **kw)
+    assert res.stats.steps > res.stats.rhs_evaluations // 4  # it did resume
+    np.testing.assert_array_equal(res.shaft_speed, reference.shaft_speed)
+    np.testing.assert_array_equal(res.final_q, reference.final_q)

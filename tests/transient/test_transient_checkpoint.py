@@ -12,11 +12,10 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-import typer
 from typer.testing import CliRunner
 
 from gearrotor.analyses.transient import RK4, Checkpoint, Save, driver, transient
-from gearrotor.cli.transient import transient_command
+from gearrotor.cli import app
 from gearrotor.errors import ModelError
 
 T_END, DT, SAVE_DT = 0.2, 2e-5, 2e-4
@@ -150,19 +149,12 @@ def _real_checkpoint(train, path, monkeypatch):
     assert path.exists()
 
 
-def _app():
-    app = typer.Typer()
-    app.command("transient")(transient_command)
-    app.command("other")(lambda: None)  # two commands: the first word names the command
-    return app
-
-
 def test_cli_damaged_checkpoint_and_bad_options(examples, tmp_path, monkeypatch):
     model = str(examples / "unity_gearbox_single_shaft.toml")
     ck = tmp_path / "run.npz"
     ck.write_bytes(b"\x00" * 100)
     r = CliRunner().invoke(
-        _app(), ["transient", model, "--t-end", "0.01", "--checkpoint", str(ck), "--no-progress"]
+        app, ["transient", model, "--t-end", "0.01", "--checkpoint", str(ck), "--no-progress"]
     )
     assert r.exit_code == 2, (r.output, r.exception)
     lines = r.stderr.strip().splitlines()
@@ -178,7 +170,7 @@ def test_cli_damaged_checkpoint_and_bad_options(examples, tmp_path, monkeypatch)
         (["--checkpoint", str(ck), "--checkpoint-wall", "-1"], "--checkpoint-wall"),
         (["--checkpoint-every", "0.1"], "--checkpoint-every"),  # without a checkpoint file
     ):
-        r = CliRunner().invoke(_app(), ["transient", model, *args])
+        r = CliRunner().invoke(app, ["transient", model, *args])
         assert r.exit_code == 2, (args, r.output, r.exception)
         assert r.stderr.startswith(f"error: {field}: "), r.stderr
         assert len(r.stderr.strip().splitlines()) == 1

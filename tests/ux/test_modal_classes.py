@@ -84,7 +84,8 @@ def test_positive_real_eigenvalue_is_unstable_not_rigid_or_overdamped():
     t = single_shaft(
         length=0.1,
         elements=2,
-        bearings=[{"node": 0, "k": 1e5, "c": -2e5}, {"node": 2, "k": 1e5, "c": -2e5}],
+        bearings=[{"node": 0, "k": 1e5}, {"node": 2, "k": 1e5}],
+        seals=[{"shaft": "s", "node": n, "c": -2e5} for n in (0, 2)],  # negative damping
     )
     res = modal(t)
     pos = res.real_eigenvalues > 1.0

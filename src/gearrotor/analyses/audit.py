@@ -104,7 +104,8 @@ def level1_inputs(
 ) -> dict:
     """Keyword arguments of :func:`~.stability.level1`: the model's ``[api_audit]`` table with
     the given arguments in place of its values (``qa`` or ``stages`` replace both of the
-    table's Q_A sources; a site's node ``"mid_span"`` becomes the middle of its shaft's span).
+    table's Q_A sources, and then the table's sites are not used either; a site's node
+    ``"mid_span"`` becomes the middle of its shaft's span).
     """
     table = train.api_audit
     if qa is not None and stages:
@@ -113,7 +114,8 @@ def level1_inputs(
             field="qa / stages",
             expected="one of the two",
         )
-    if qa is None and not stages:
+    from_table = qa is None and not stages
+    if from_table:
         if table is None:
             raise ModelError(
                 "the stability audit needs the anticipated cross-coupling Q_A",
@@ -127,7 +129,7 @@ def level1_inputs(
             for s in table.stages
         ]
     sites = at
-    if not sites and table is not None:
+    if not sites and from_table:  # the table's sites go with the table's Q_A
         sites = [(s.shaft, s.node, s.weight) for s in table.at]
     resolved = []
     for k, s in enumerate(sites or ()):
@@ -161,15 +163,27 @@ def stability_audit(
     speeds: Sequence[float] | None = None,
     n_curve: int = 11,
     rtol: float = 1e-4,
+    operating_point=None,
     **level1_args,
 ) -> StabilityAudit:
     """Level I (at the model's MCS, inputs from :func:`level1_inputs` with ``level1_args``)
-    and Level II at ``speeds`` (rad/s, default :func:`level2_speeds`)."""
+    and Level II at ``speeds`` (rad/s, default :func:`level2_speeds`).
+
+    ``operating_point`` (name or :class:`~gearrotor.model.OperatingPoint`): fluid-film bearings
+    at the coefficients of the point's static loads, evaluated at the MCS and the Level II
+    speeds, meshes on the loaded flank (:func:`~gearrotor.analyses.static.at_operating_point`).
+    """
     train = model.train if isinstance(model, Assembly) else model
-    model_max_continuous_speed(train, "the stability audit (Level I runs at the MCS)")
+    mcs = model_max_continuous_speed(train, "the stability audit (Level I runs at the MCS)")
+    ws = list(speeds) if speeds is not None else level2_speeds(train)
+    if operating_point is not None:
+        from .static.operating import model_at_operating_point
+
+        at = sorted({float(abs(w)) for w in [mcs, *ws]})
+        train = model_at_operating_point(train, operating_point, at)[0]
     kw = level1_inputs(train, **level1_args)
     r1 = level1(train, n_curve=n_curve, rtol=rtol, **kw)
-    r2 = level2(train, speeds=list(speeds) if speeds is not None else level2_speeds(train))
+    r2 = level2(train, speeds=ws)
     if r1.passed:
         verdict, by = "pass", "Level I"
     else:

@@ -192,6 +192,7 @@ def floquet(
     tol: float = 1e-6,
     max_slices: int = 4096,
     method: str = "auto",
+    operating_point=None,
 ) -> FloquetResult:
     """Floquet exponents of the train at its model speed (constant speeds, teeth in contact).
 
@@ -208,7 +209,25 @@ def floquet(
         eigenvector matrix has a condition number above 1e8).
 
     Backlash is ignored (the teeth are taken in contact); mesh damping acts at all times.
+
+    operating_point : name or :class:`~gearrotor.model.OperatingPoint` (a Train model only):
+    fluid-film bearings at the coefficients of the point's static loads at ``speed`` (default
+    the point's speed), meshes on the loaded flank
+    (:func:`~gearrotor.analyses.static.at_operating_point`).
     """
+    if operating_point is not None:
+        from .static.operating import model_at_operating_point
+
+        if isinstance(model, TransientSystem):
+            raise ModelError(
+                "an operating point needs the model, not a built system",
+                field="operating_point",
+                value=str(operating_point),
+                expected="floquet(train, operating_point=...)",
+            )
+        at = None if speed is None else [float(speed)]
+        model, w_op = model_at_operating_point(model, operating_point, at)
+        speed = abs(w_op) if speed is None else speed
     if method not in ("auto", "lawson", "magnus"):
         raise ModelError(
             "unknown Floquet method",

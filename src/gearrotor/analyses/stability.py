@@ -508,6 +508,7 @@ def _level1_train(train: Train, exclude_bearings: Sequence[str]) -> tuple[Train,
     bare = train.model_copy(
         update={
             "cross_couplings": [],
+            "seals": [],
             "bearings": [
                 b for b, n in zip(train.bearings, names, strict=True) if n not in exclude_bearings
             ],
@@ -518,6 +519,7 @@ def _level1_train(train: Train, exclude_bearings: Sequence[str]) -> tuple[Train,
         "cross_couplings": [
             c.name or f"cross_couplings[{k}]" for k, c in enumerate(train.cross_couplings)
         ],
+        "seals": [sl.name or f"seals[{k}]" for k, sl in enumerate(train.seals)],
         "bearings": list(exclude_bearings),
         "rotating_damping_materials": dropped_damping,
     }

@@ -215,6 +215,7 @@ class _Synchronous:
             update={
                 "bearings": [_bare_bearing(b) for b in train.bearings],
                 "cross_couplings": [],
+                "seals": [],
             }
         )
         asm = assemble(bare)
@@ -404,6 +405,8 @@ def _groups(asm: Assembly) -> tuple[list[float], NDArray]:
 def _default_stiffness(asm: Assembly, n: int) -> NDArray:
     vals = []
     for b in asm.bearings:
+        if b.kind == "seal":  # the map is of the bearings' stiffness
+            continue
         el = b.element
         if el.table is not None:
             vals.extend(el.table.values[:, 0])
@@ -423,6 +426,8 @@ def _bearing_curves(asm: Assembly) -> tuple[BearingCurve, ...]:
     names = [s.name for s in asm.train.shafts]
     out = []
     for b in asm.bearings:
+        if b.kind == "seal":
+            continue
         el = b.element
         if el.table is not None:
             t = el.table

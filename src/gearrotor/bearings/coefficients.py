@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import csv
 import math
-import tomllib
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -422,74 +421,10 @@ def _toml_str(s: str) -> str:
 
 
 def load_table(path: str | Path) -> BearingTable:
-    """Read a table written by :func:`save_table` (CSV or TOML)."""
-    path = Path(path)
-    cols = ["speed_rpm", *COEFFICIENT_NAMES]
-    if path.suffix.lower() == ".csv":
-        name, load = "", (0.0, 0.0)
-        data: dict[str, list[float]] = {c: [] for c in cols}
-        header = None
-        with path.open(newline="") as fh:
-            for line_no, line in enumerate(fh, start=1):
-                if line.startswith("# bearing:"):
-                    head, _, rest = line[len("# bearing:") :].partition("; load Fx,Fy = ")
-                    name = head.strip()
-                    try:
-                        load = tuple(float(v) for v in rest.replace("N", "").split(","))[:2]
-                    except ValueError:
-                        load = (0.0, 0.0)
-                    continue
-                if line.startswith("#") or not line.strip():
-                    continue
-                row = next(csv.reader([line]))
-                if header is None:
-                    header = [h.strip() for h in row]
-                    if header != cols:
-                        raise ModelError(
-                            "unexpected CSV columns",
-                            field="header",
-                            value=header,
-                            expected=",".join(cols),
-                            file=str(path),
-                        )
-                    continue
-                try:
-                    for c, v in zip(cols, row, strict=True):
-                        data[c].append(float(v))
-                except ValueError as exc:
-                    raise ModelError(
-                        "bad number in table",
-                        field=f"line {line_no}",
-                        value=line.strip(),
-                        expected="9 numbers",
-                        file=str(path),
-                    ) from exc
-        return BearingTable(*(np.array(data[c]) for c in cols), load=load, name=name)
-    if path.suffix.lower() == ".toml":
-        with path.open("rb") as fh:
-            doc = tomllib.load(fh)
-        unknown = set(doc) - set(cols) - {"name", "load"}
-        if unknown:
-            raise ModelError(
-                "unknown keys in table",
-                field=", ".join(sorted(unknown)),
-                value=sorted(unknown),
-                expected=", ".join(cols),
-                file=str(path),
-            )
-        missing = [c for c in cols if c not in doc]
-        if missing:
-            raise ModelError(
-                "missing columns in table",
-                field=", ".join(missing),
-                value=None,
-                expected=", ".join(cols),
-                file=str(path),
-            )
-        load = tuple(float(v) for v in doc.get("load", (0.0, 0.0)))
-        return BearingTable(
-            *(np.array(doc[c], dtype=float) for c in cols), load=load, name=str(doc.get("name", ""))
-        )
-    raise ModelError(
-        "unknown table format", field="path", value=str(path), expected="a .csv or .toml file"
-    )
+    """Read a table written by :func:`save_table` (CSV or TOML) through the checked reader
+    :func:`gearrotor.inputs.read_table`: whatever the file holds, the result is a table or one
+    :class:`~gearrotor.errors.ModelError` naming the file (and line or column)."""
+    from ..inputs import read_table
+
+    t = read_table(path, ("speed_rpm", *COEFFICIENT_NAMES))
+    return BearingTable(*(np.array(v) for v in t.columns.values()), load=t.load, name=t.name)

@@ -452,13 +452,8 @@ def load_bearing(path: str | Path) -> BearingCase:
 
 def load_table_file(path: str | Path):
     """Read a bearing coefficient table file (CSV or TOML, as written by
-    :func:`~gearrotor.bearings.save_table`) through the checked reader
-    :func:`gearrotor.inputs.read_table`: the result is a
-    :class:`~gearrotor.bearings.BearingTable` or one :class:`ModelError` naming the file."""
-    import numpy as np
+    :func:`~gearrotor.bearings.save_table`), checked: the same as
+    :func:`~gearrotor.bearings.load_table`."""
+    from .coefficients import load_table
 
-    from ..inputs import read_table
-    from .coefficients import COEFFICIENT_NAMES, BearingTable
-
-    t = read_table(path, ("speed_rpm", *COEFFICIENT_NAMES))
-    return BearingTable(*(np.array(v) for v in t.columns.values()), load=t.load, name=t.name)
+    return load_table(path)

@@ -80,9 +80,15 @@ def parse_load(text: str) -> tuple[float, float]:
 def parse_speed(text: str) -> float:
     """``--speed``: a plain number is rpm (signed); a string with units is converted. → rad/s."""
     try:
-        return float(text) * math.pi / 30.0
+        value = float(text) * math.pi / 30.0
     except ValueError:
         pass
+    else:
+        if not math.isfinite(value):
+            raise ModelError(
+                "not a finite number", field="--speed", value=text, expected="a speed in rpm"
+            )
+        return value
     from ..units import to_si
 
     try:

@@ -57,7 +57,7 @@ def campbell_command(
 
     check_format(format)
     if plot is not None:
-        check_output(plot, "file", field="--plot")
+        check_output(plot, "file", field="--plot", parents=True)
     train = load_model(model, parse_overrides(set_))
     check_operating_point(train, operating_point)
     hi = max_speed if max_speed is not None else 1.25 * abs(train.speed) / RPM

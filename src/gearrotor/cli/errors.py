@@ -12,6 +12,9 @@ status      meaning
             anything runs. Option-syntax errors of the command-line parser also exit with 2.
 3           a solver failed: divergence, no convergence, non-finite response, a step above
             the integrator's stability limit (:class:`~gearrotor.errors.SolverError`)
+130         ``study run`` or ``transient`` stopped by Ctrl-C (one line; the finished cases,
+            or the checkpoint, are kept and the same command resumes)
+143         ``study run`` stopped by SIGTERM (likewise)
 ==========  ============================================================================
 
 Every error is one message on stderr, no traceback: ``error: FILE: FIELD: what (got VALUE);

@@ -13,7 +13,16 @@ import typer
 from ..errors import ModelError
 from ..files import check_output, save_figure
 from .errors import cli_errors
-from .options import RPM, FormatOpt, SetOpt, check_format, count, rpm
+from .options import (
+    RPM,
+    FormatOpt,
+    OperatingPointOpt,
+    SetOpt,
+    check_format,
+    check_operating_point,
+    count,
+    rpm,
+)
 
 __all__ = ["floquet_command"]
 
@@ -58,6 +67,7 @@ def floquet_command(
     plot: Annotated[
         Path | None, typer.Option(help="PNG: largest growth rate against speed (or Ka)")
     ] = None,
+    operating_point: OperatingPointOpt = None,
     set_: SetOpt = None,
 ) -> None:
     """Floquet exponents of the train under its periodic mesh stiffness (teeth in contact,
@@ -69,7 +79,7 @@ def floquet_command(
 
     check_format(format)
     if plot is not None:
-        check_output(plot, "file", field="--plot")
+        check_output(plot, "file", field="--plot", parents=True)
     if n < 1:
         raise ModelError("at least one exponent", field="--n", value=n, expected="≥ 1")
     train = load_model(model, parse_overrides(set_))
@@ -80,6 +90,14 @@ def floquet_command(
             raise ModelError(
                 "speeds must be positive", field="--speeds", value=v, expected="> 0 rpm"
             )
+    check_operating_point(train, operating_point)
+    if operating_point is not None:
+        from ..analyses.static.operating import model_at_operating_point
+
+        if sp == [None]:
+            w_op = train.operating_point(operating_point).reference_speed(train.speed)
+            sp = [abs(w_op) / RPM]
+        train = model_at_operating_point(train, operating_point, [v * RPM for v in sp])[0]
     system = build_system(train)
     for k in kas:  # every Ka must be able to act, before anything runs
         check_ka_ratio(system, k)
@@ -183,5 +201,6 @@ def _plot(cases, n_speeds: int, kas: list[float | None], path: Path) -> None:
     ax.set_ylabel("largest Floquet growth rate (1/s)")
     ax.set_title("Parametric stability (above the neutral band: unstable)")
     ax.grid(alpha=0.3)
+    path.parent.mkdir(parents=True, exist_ok=True)
     save_figure(fig, path, dpi=120)
     plt.close(fig)

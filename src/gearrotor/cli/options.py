@@ -9,7 +9,6 @@ The parsers check an option's value when the command line is read, before anythi
 from __future__ import annotations
 
 import math
-import os
 from collections.abc import Callable
 from pathlib import Path
 from typing import Annotated
@@ -18,6 +17,7 @@ import numpy as np
 import typer
 
 from ..errors import ModelError
+from ..files import check_output
 
 __all__ = [
     "RPM",
@@ -35,6 +35,7 @@ __all__ = [
     "choice",
     "count",
     "duration",
+    "number",
     "rpm",
     "speed_grid",
 ]
@@ -83,6 +84,7 @@ McsOpt = Annotated[
     float | None,
     typer.Option(
         "--mcs",
+        parser=lambda text: rpm(0, strict=True)(text),  # rpm() is defined below
         help="maximum continuous speed of the reference shaft, rpm (overrides the model's "
         "max_continuous_speed)",
     ),
@@ -141,27 +143,15 @@ def operating_range_from_options(train, operating_range: str | None, mcs: float 
 
 
 def check_png(path: Path | None, field: str = "--plot") -> None:
-    """An output PNG path that can be written (checked before anything runs)."""
+    """A PNG output path in an existing, writable folder (checked before anything runs)."""
+
     if path is None:
         return
     if path.suffix.lower() != ".png":
         raise ModelError(
             "the figure is written as PNG", field=field, value=str(path), expected="a .png file"
         )
-    if path.is_dir():
-        raise ModelError(
-            "the figure path is a directory", field=field, value=str(path), expected="a file"
-        )
-    parent = path.parent
-    while not parent.exists() and parent != parent.parent:
-        parent = parent.parent
-    if not parent.is_dir() or not os.access(parent, os.W_OK | os.X_OK):
-        raise ModelError(
-            "cannot write the figure here",
-            field=field,
-            value=str(path),
-            expected=f"a path in a writable directory ({parent} is not)",
-        )
+    check_output(path, "file", field=field, parents=True)
 
 
 #: Most speeds of a sweep (``--n-speeds``): each is an eigenvalue or a linear solve.
@@ -200,6 +190,29 @@ def rpm(minimum: float | None = None, *, strict: bool = False) -> Callable[[str]
         value = _number(text, "angular_speed", "rpm", RPM)
         if minimum is not None and (value <= minimum if strict else value < minimum):
             raise _bad(text, "out of range", f"{'>' if strict else '>='} {minimum:g} rpm")
+        return value
+
+    return parse
+
+
+def number(
+    minimum: float | None = None, *, strict: bool = False, maximum: float | None = None
+) -> Callable[[str], float]:
+    """Parser of a plain-number option (a fraction, an exponent, Hz): finite, at least
+    ``minimum`` (above it when ``strict``), at most ``maximum``."""
+
+    def parse(text: str) -> float:
+        try:
+            value = float(str(text).strip())
+        except ValueError:
+            raise _bad(text, "not a number", "a number") from None
+        if not math.isfinite(value):
+            raise _bad(text, "not a finite number", "a finite number")
+        low = minimum is not None and (value <= minimum if strict else value < minimum)
+        if low or (maximum is not None and value > maximum):
+            rng = [f"{'>' if strict else '>='} {minimum:g}"] if minimum is not None else []
+            rng += [f"<= {maximum:g}"] if maximum is not None else []
+            raise _bad(text, "out of range", " and ".join(rng))
         return value
 
     return parse

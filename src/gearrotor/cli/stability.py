@@ -24,11 +24,15 @@ from .options import (
     RPM,
     FormatOpt,
     McsOpt,
+    OperatingPointOpt,
     OperatingRangeOpt,
     SetOpt,
     check_format,
+    check_operating_point,
     check_png,
+    number,
     operating_range_from_options,
+    rpm,
 )
 
 __all__ = ["stability_command", "parse_site", "parse_stage"]
@@ -167,7 +171,8 @@ def stability_command(
         typer.Option(help="H_c (min. diffuser / impeller discharge width) / blade height H_t, m"),
     ] = None,
     density_ratio: Annotated[
-        float | None, typer.Option(help="discharge / suction gas density ρ_d/ρ_s")
+        float | None,
+        typer.Option(parser=number(0, strict=True), help="discharge / suction gas density ρ_d/ρ_s"),
     ] = None,
     kind: Annotated[str, typer.Option(help="centrifugal (impeller) or axial (stage)")] = (
         "centrifugal"
@@ -185,7 +190,10 @@ def stability_command(
     ] = None,
     operating_speed: Annotated[
         float | None,
-        typer.Option(help="normal operating speed N_r of the formula, rpm (default: the model's)"),
+        typer.Option(
+            parser=rpm(0, strict=True),
+            help="normal operating speed N_r of the formula, rpm (default: the model's)",
+        ),
     ] = None,
     exclude_bearing: Annotated[
         list[str] | None,
@@ -193,6 +201,7 @@ def stability_command(
     ] = None,
     operating_range: OperatingRangeOpt = None,
     mcs: McsOpt = None,
+    operating_point: OperatingPointOpt = None,
     format: FormatOpt = "table",
     plot: Annotated[
         Path | None,
@@ -263,6 +272,7 @@ def stability_command(
         )
 
     train = load_model(model, parse_overrides(set_))
+    check_operating_point(train, operating_point)
     train = operating_range_from_options(train, operating_range, mcs)
     if train.max_continuous_speed is None:
         raise ModelError(
@@ -314,11 +324,13 @@ def stability_command(
         operating_speed=None if operating_speed is None else operating_speed * RPM,
         average_density=rho,
         exclude_bearings=exclude_bearing or None,
+        operating_point=operating_point,
     )
     if format == "json":
         typer.echo(json.dumps({"model": train.name, **res.to_dict()}, indent=1))
     else:
-        typer.echo(f"{train.name}: API 617 stability audit")
+        at = f" at operating point {operating_point}" if operating_point else ""
+        typer.echo(f"{train.name}: API 617 stability audit{at}")
         typer.echo(res.table())
     if plot is not None:
         import matplotlib.pyplot as plt

@@ -12,7 +12,15 @@ import typer
 from ..errors import ModelError
 from ..files import check_output, write_text
 from .errors import cli_errors
-from .options import RPM, FormatOpt, OperatingPointOpt, SetOpt, check_format, check_operating_point
+from .options import (
+    RPM,
+    FormatOpt,
+    OperatingPointOpt,
+    SetOpt,
+    check_format,
+    check_operating_point,
+    rpm,
+)
 
 __all__ = ["static_command"]
 
@@ -30,7 +38,10 @@ def static_command(
     ] = False,
     speed: Annotated[
         float | None,
-        typer.Option(help="reference shaft speed, rpm, instead of the point's (its 'hold' kept)"),
+        typer.Option(
+            parser=rpm(),
+            help="reference shaft speed, rpm, instead of the point's (its 'hold' kept)",
+        ),
     ] = None,
     format: FormatOpt = "table",
     plot: Annotated[

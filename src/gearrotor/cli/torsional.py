@@ -22,15 +22,27 @@ atomically. Exit statuses are those of :mod:`.errors`.
 from __future__ import annotations
 
 import json
-import os
+import math
 from pathlib import Path
 from typing import Annotated
 
 import typer
 
 from ..errors import ModelError
+from ..files import check_output
 from .errors import EXIT_CODES_HELP, cli_errors
-from .options import RPM, FormatOpt, SetOpt, check_format, speed_grid
+from .options import (
+    MAX_SPEEDS,
+    RPM,
+    FormatOpt,
+    SetOpt,
+    check_format,
+    count,
+    duration,
+    number,
+    rpm,
+    speed_grid,
+)
 
 __all__ = [
     "torsional_app",
@@ -48,6 +60,7 @@ torsional_app = typer.Typer(
     no_args_is_help=True,
     add_completion=False,
     pretty_exceptions_enable=False,
+    epilog=EXIT_CODES_HELP,
 )
 
 ModelArg = Annotated[Path, typer.Argument(help="TOML model file")]
@@ -57,6 +70,25 @@ MeshOpt = Annotated[
 ]
 PlotOpt = Annotated[Path | None, typer.Option("--plot", help="directory for PNG figures")]
 HZ = 2 * 3.141592653589793
+
+
+def _finite(text: str) -> float:
+    """Parser of a plain finite number."""
+    try:
+        value = float(text)
+    except ValueError:
+        value = float("nan")
+    if not math.isfinite(value):
+        raise typer.BadParameter(f"not a finite number (got {text!r}); expected e.g. 8")
+    return value
+
+
+def _hz(text: str) -> float:
+    """Parser of a frequency option in Hz: finite and positive."""
+    value = _finite(text)
+    if not value > 0:
+        raise typer.BadParameter(f"out of range (got {text!r}); expected a frequency > 0 Hz")
+    return value
 
 
 def _check_mesh(mesh: str) -> None:
@@ -69,20 +101,8 @@ def _check_mesh(mesh: str) -> None:
 def check_plot_dir(plot: Path | None) -> None:
     """``--plot DIR`` must be a directory that can be created and written (checked before the
     analysis runs)."""
-    if plot is None:
-        return
-    if plot.exists() and not plot.is_dir():
-        raise ModelError(
-            "the plot directory is a file", field="--plot", value=str(plot), expected="a directory"
-        )
-    parent = plot if plot.exists() else _existing_parent(plot)
-    if not os.access(parent, os.W_OK | os.X_OK):
-        raise ModelError(
-            "cannot write the plot directory",
-            field="--plot",
-            value=str(plot),
-            expected=f"a writable location ({parent} is not writable)",
-        )
+    if plot is not None:
+        check_output(plot, "directory", field="--plot")
 
 
 def check_output_file(path: Path | None, suffixes: tuple[str, ...]) -> None:
@@ -96,35 +116,7 @@ def check_output_file(path: Path | None, suffixes: tuple[str, ...]) -> None:
             value=str(path),
             expected=" or ".join(f"a {s} file" for s in suffixes),
         )
-    parent = path.parent if str(path.parent) else Path(".")
-    if not parent.is_dir():
-        raise ModelError(
-            "the output directory does not exist",
-            field="--output",
-            value=str(path),
-            expected=f"an existing directory ({parent})",
-        )
-    if path.is_dir() or not os.access(parent, os.W_OK | os.X_OK):
-        raise ModelError(
-            "cannot write the output file",
-            field="--output",
-            value=str(path),
-            expected="a writable file path",
-        )
-
-
-def _existing_parent(p: Path) -> Path:
-    p = p.absolute()
-    while not p.exists():
-        p = p.parent
-    if not p.is_dir():
-        raise ModelError(
-            "the plot directory cannot be created (a parent is a file)",
-            field="--plot",
-            value=str(p),
-            expected="a directory path",
-        )
-    return p
+    check_output(path, "file", field="--output")
 
 
 def parse_orders(text: str | None) -> list[tuple[str, float]]:
@@ -225,9 +217,14 @@ def modes_command(
     model: ModelArg,
     mesh: MeshOpt = "flexible",
     max_frequency: Annotated[
-        float | None, typer.Option("--max-frequency", help="Hz, keep modes up to it")
+        float | None,
+        typer.Option(
+            "--max-frequency", parser=number(0, strict=True), help="Hz, keep modes up to it"
+        ),
     ] = None,
-    n_modes: Annotated[int | None, typer.Option("--n-modes", help="keep the lowest N")] = 12,
+    n_modes: Annotated[
+        int | None, typer.Option("--n-modes", parser=count(1), help="keep the lowest N")
+    ] = 12,
     shapes: Annotated[bool, typer.Option(help="JSON: add each mode's twist per shaft")] = False,
     format: FormatOpt = "table",
     plot: PlotOpt = None,
@@ -239,8 +236,6 @@ def modes_command(
     check_format(format)
     _check_mesh(mesh)
     check_plot_dir(plot)
-    if n_modes is not None and n_modes < 1:
-        raise ModelError("n-modes must be at least 1", field="--n-modes", value=n_modes)
     train = _load(model, set_)
     res = torsional_modes(
         train,
@@ -266,15 +261,25 @@ def modes_command(
 def campbell_command(
     model: ModelArg,
     min_speed: Annotated[
-        float | None, typer.Option(help="rpm, minimum operating speed (default nominal)")
+        float | None,
+        typer.Option(parser=rpm(0), help="rpm, minimum operating speed (default nominal)"),
     ] = None,
     max_speed: Annotated[
-        float | None, typer.Option(help="rpm, maximum continuous speed (default nominal)")
+        float | None,
+        typer.Option(
+            parser=rpm(0, strict=True), help="rpm, maximum continuous speed (default nominal)"
+        ),
     ] = None,
-    margin: Annotated[float, typer.Option(help="required separation (fraction)")] = 0.10,
+    margin: Annotated[
+        float, typer.Option(parser=number(0, maximum=1), help="required separation (fraction)")
+    ] = 0.10,
     line_frequency: Annotated[
         float | None,
-        typer.Option("--line-frequency", help="Hz (default: the electric drives')"),
+        typer.Option(
+            "--line-frequency",
+            parser=number(0, strict=True),
+            help="Hz (default: the electric drives')",
+        ),
     ] = None,
     orders: Annotated[
         str | None, typer.Option(help="extra orders SHAFT:MULTIPLE, e.g. 'motor:6'")
@@ -284,7 +289,10 @@ def campbell_command(
         typer.Option(help="multiples of the first electric drive's stator frequency, e.g. '6,12'"),
     ] = None,
     max_frequency: Annotated[
-        float | None, typer.Option("--max-frequency", help="Hz, highest mode checked")
+        float | None,
+        typer.Option(
+            "--max-frequency", parser=number(0, strict=True), help="Hz, highest mode checked"
+        ),
     ] = None,
     mesh: MeshOpt = "flexible",
     format: FormatOpt = "table",
@@ -299,15 +307,15 @@ def campbell_command(
     check_plot_dir(plot)
     extra = parse_orders(orders)
     vfd = _floats(vfd_harmonics, "--vfd-harmonics", "6,12")
-    if line_frequency is not None and not line_frequency > 0:
+    if not 0 <= margin < 1:
         raise ModelError(
-            "the line frequency must be positive", field="--line-frequency", value=line_frequency
+            "the separation margin is a fraction", field="--margin", value=margin, expected="0..1"
         )
     train = _load(model, set_)
     nominal = abs(train.speed) / RPM
     lo = nominal if min_speed is None else min_speed
     hi = nominal if max_speed is None else max_speed
-    if not 0 < lo <= hi:
+    if not lo <= hi:
         raise ModelError(
             "invalid operating speed range",
             field="--min-speed/--max-speed",
@@ -348,9 +356,15 @@ def response_command(
             "(e.g. 'shaft=motor,node=4,amplitude=5 kN*m,order=2'); repeatable",
         ),
     ],
-    min_speed: Annotated[float | None, typer.Option(help="rpm (default 0.5 × nominal)")] = None,
-    max_speed: Annotated[float | None, typer.Option(help="rpm (default 1.2 × nominal)")] = None,
-    n_speeds: Annotated[int, typer.Option(help="number of speeds")] = 200,
+    min_speed: Annotated[
+        float | None, typer.Option(parser=rpm(0), help="rpm (default 0.5 × nominal)")
+    ] = None,
+    max_speed: Annotated[
+        float | None, typer.Option(parser=rpm(0, strict=True), help="rpm (default 1.2 × nominal)")
+    ] = None,
+    n_speeds: Annotated[
+        int, typer.Option(parser=count(2, MAX_SPEEDS), help="number of speeds")
+    ] = 200,
     mesh: MeshOpt = "flexible",
     format: FormatOpt = "table",
     plot: PlotOpt = None,
@@ -386,19 +400,29 @@ def response_command(
 @cli_errors()
 def transient_command(
     model: ModelArg,
-    t_end: Annotated[float, typer.Option("--t-end", help="end time, s")] = 20.0,
+    t_end: Annotated[float, typer.Option("--t-end", parser=duration(), help="end time, s")] = 20.0,
     dt: Annotated[
-        float | None, typer.Option("--dt", help="time step, s (default: automatic)")
+        float | None,
+        typer.Option("--dt", parser=duration(), help="time step, s (default: automatic)"),
     ] = None,
     initial_speed: Annotated[
-        float, typer.Option("--initial-speed", help="rpm of the reference shaft at t = 0")
+        float,
+        typer.Option("--initial-speed", parser=rpm(), help="rpm of the reference shaft at t = 0"),
     ] = 0.0,
     mesh: MeshOpt = "flexible",
-    sn_m: Annotated[float, typer.Option("--sn-m", help="S-N curve exponent m (N = C S^-m)")] = 8.0,
+    sn_m: Annotated[
+        float,
+        typer.Option(
+            "--sn-m", parser=number(0, strict=True), help="S-N curve exponent m (N = C S^-m)"
+        ),
+    ] = 8.0,
     sn_stress: Annotated[
         str, typer.Option("--sn-stress", help="shear stress amplitude of the S-N point")
     ] = "200 MPa",
-    sn_cycles: Annotated[float, typer.Option("--sn-cycles", help="cycles at that stress")] = 1e4,
+    sn_cycles: Annotated[
+        float,
+        typer.Option("--sn-cycles", parser=number(0, strict=True), help="cycles at that stress"),
+    ] = 1e4,
     endurance_limit: Annotated[
         str | None, typer.Option("--endurance-limit", help="shear stress amplitude, e.g. '60 MPa'")
     ] = None,
@@ -421,10 +445,6 @@ def transient_command(
     if output is not None and output.suffix.lower() == ".nc":
         import h5netcdf  # noqa: F401  (fails early, naming the extra to install)
         import xarray  # noqa: F401
-    if not t_end > 0:
-        raise ModelError("the end time must be positive", field="--t-end", value=t_end)
-    if dt is not None and not dt > 0:
-        raise ModelError("the time step must be positive", field="--dt", value=dt)
     if not sn_cycles > 0:
         raise ModelError("cycles must be positive", field="--sn-cycles", value=sn_cycles)
     try:

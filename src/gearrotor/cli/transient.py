@@ -77,13 +77,16 @@ def transient_command(
         float | None,
         typer.Option(
             "--checkpoint-every",
+            parser=duration(),
             help="simulated seconds between checkpoints (default: 5 % of --t-end)",
         ),
     ] = None,
     checkpoint_wall: Annotated[
         float,
         typer.Option(
-            "--checkpoint-wall", help="and at the latest every this many seconds of wall time"
+            "--checkpoint-wall",
+            parser=duration(),
+            help="and at the latest every this many seconds of wall time",
         ),
     ] = 60.0,
 ) -> None:

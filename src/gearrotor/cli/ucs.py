@@ -18,6 +18,8 @@ from .options import (
     SetOpt,
     check_format,
     check_png,
+    choice,
+    count,
     operating_range_from_options,
 )
 
@@ -52,9 +54,18 @@ def ucs_command(
         str | None,
         typer.Option(help="highest bearing stiffness (default: a decade above the bearings)"),
     ] = None,
-    n_points: Annotated[int, typer.Option(help="stiffness values, log spaced")] = 31,
-    n_modes: Annotated[int, typer.Option(help="forward critical speeds per shaft")] = 4,
-    method: Annotated[str, typer.Option(help="auto, dense or sparse eigensolver")] = "auto",
+    n_points: Annotated[
+        int, typer.Option(parser=count(2, 10_000), help="stiffness values, log spaced")
+    ] = 31,
+    n_modes: Annotated[
+        int, typer.Option(parser=count(1), help="forward critical speeds per shaft")
+    ] = 4,
+    method: Annotated[
+        str,
+        typer.Option(
+            parser=choice("auto", "dense", "sparse"), help="auto, dense or sparse eigensolver"
+        ),
+    ] = "auto",
     operating_range: OperatingRangeOpt = None,
     mcs: McsOpt = None,
     format: FormatOpt = "table",

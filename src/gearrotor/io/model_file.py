@@ -111,19 +111,13 @@ def format_validation_error(
                     f"{line[1]}: {len(keys)} unknown keys {_list_some(keys)} (not fields of "
                     "this table; check the spelling)"
                 )
-    if len(lines) > MAX_LISTED:
-        lines = [*lines[:MAX_LISTED], f"... and {len(lines) - MAX_LISTED} more errors"]
-    head = f"{file}: " if file else ""
-    if len(lines) == 1:
+    n = len(lines)
+    if n > MAX_LISTED:
+        lines = [*lines[:MAX_LISTED], f"... and {n - MAX_LISTED} more"]
+    if n == 1:
         return ModelError(lines[0], file=file)
-    return (
-        ModelError(
-            f"{len(lines)} errors in {what}\n  " + "\n  ".join(lines),
-            file=None if not file else file,
-        )
-        if head
-        else ModelError(f"{len(lines)} errors in {what}\n  " + "\n  ".join(lines))
-    )
+    # one line, like every error message (the README's promise): the problems joined by "; "
+    return ModelError(f"{n} errors in {what}: " + "; ".join(lines), file=file or None)
 
 
 def _list_some(keys: list[str]) -> str:
@@ -152,10 +146,23 @@ def _parse_path(path: str) -> list[str | int]:
 
 def _coerce(value: str) -> Any:
     """A --set value: TOML scalar syntax if it parses (numbers, booleans, arrays), else a string."""
+    from ..inputs import MAX_DEPTH, depth_ok
+
     try:
-        return tomllib.loads(f"v = {value}")["v"]
+        out = tomllib.loads(f"v = {value}")["v"]
     except tomllib.TOMLDecodeError:
         return value
+    except RecursionError:
+        out = None
+    if out is None or not depth_ok(out):
+        shown = value if len(value) <= 40 else value[:37] + "..."
+        raise ModelError(
+            "the value nests arrays or tables too deeply",
+            field="--set",
+            value=shown,
+            expected=f"at most {MAX_DEPTH} levels",
+        )
+    return out
 
 
 def parse_overrides(items: list[str] | None) -> dict[str, str]:
@@ -243,6 +250,16 @@ def model_from_file_data(data: dict, path: str | Path, overrides: dict | None = 
             file=name,
             expected="a model (see docs/model_format.md)",
         )
+    if "shafts" not in data:
+        other = (
+            "a bearing file" if "bearing" in data else "a study file" if "cases" in data else None
+        )
+        if other:
+            raise ModelError(
+                f"this is {other}, not a rotor model file",
+                file=name,
+                expected="a model file with [[shafts]] (see docs/model_format.md)",
+            )
     try:
         data = apply_overrides(data, overrides)
     except ModelError as exc:
@@ -273,7 +290,12 @@ def _check_files(train: Train, file: str) -> None:
 
 def _resolve_paths(data: dict, base: Path) -> None:
     """Make the bearing files of a model absolute, relative to the model file's folder."""
-    for b in data.get("bearings", []) if isinstance(data.get("bearings"), list) else []:
+    items = [
+        b
+        for group in ("bearings", "seals")
+        for b in (data.get(group) if isinstance(data.get(group), list) else [])
+    ]
+    for b in items:
         if not isinstance(b, dict):
             continue
         if isinstance(b.get("table_file"), str):

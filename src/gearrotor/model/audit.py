@@ -32,7 +32,7 @@ from pydantic import Field, field_validator, model_validator
 
 from ..errors import ModelError
 from ..units import AngularSpeed, Density, Dimensionless, Length, Power, Stiffness
-from .components import NodeRef, Spec
+from .components import Int, NodeRef, Spec
 
 __all__ = ["ApiAudit", "AuditSite", "AuditStage", "EDITIONS"]
 
@@ -51,7 +51,7 @@ class AuditSite(Spec):
     nearest the middle of the shaft's bearing span), with its share ``weight`` of Q."""
 
     shaft: str
-    node: int | Literal["mid_span"]
+    node: Int | Literal["mid_span"]
     weight: Dimensionless = 1.0
 
     @field_validator("node")
@@ -71,7 +71,7 @@ class AuditStage(Spec):
     """One impeller or blade row of the anticipated cross-coupling formula."""
 
     shaft: str
-    node: int = Field(ge=0)
+    node: Int = Field(ge=0)
     power: Power
     diameter: Length
     height: Length

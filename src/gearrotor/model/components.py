@@ -54,6 +54,7 @@ __all__ = [
     "FluidFilm",
     "Support",
     "Bearing",
+    "Seal",
     "ThrustBearing",
     "CrossCoupling",
     "Coupling",
@@ -340,20 +341,67 @@ class Bearing(NodeRef):
             )
         return self
 
+    @field_validator("k", "kxx", "kyy", "c", "cxx", "cyy")
+    @classmethod
+    def _direct_nonnegative(cls, v, info):
+        # a bearing's direct stiffness and damping are >= 0: a negative direct stiffness is a
+        # seal's (labyrinth seals), a [[seals]] entry; computed tables (fluid film) may differ
+        if v is not None and v < 0:
+            unit = "N/m" if info.field_name.startswith("k") else "N*s/m"
+            raise ValueError(
+                f"a bearing's direct {'stiffness' if unit == 'N/m' else 'damping'} must be >= 0, "
+                f"got {v:.6g} {unit}; a negative direct stiffness or damping belongs to a seal: "
+                "give it as [[seals]]"
+            )
+        return v
+
     def coefficients(self) -> tuple[float, ...]:
         """The constant coefficients kxx kxy kyx kyy cxx cxy cyx cyy (isotropic shortcuts added)."""
-        k = self.k or 0.0
-        c = self.c or 0.0
-        return (
-            self.kxx + k,
-            self.kxy,
-            self.kyx,
-            self.kyy + k,
-            self.cxx + c,
-            self.cxy,
-            self.cyx,
-            self.cyy + c,
+        return _eight(self)
+
+
+def _eight(b) -> tuple[float, ...]:
+    k = b.k or 0.0
+    c = b.c or 0.0
+    return (b.kxx + k, b.kxy, b.kyx, b.kyy + k, b.cxx + c, b.cxy, b.cyx, b.cyy + c)
+
+
+class Seal(NodeRef):
+    """An annular seal (labyrinth, damper, hole-pattern) between a shaft node and ground: 8
+    coefficients, constant (``k``/``c`` isotropic shortcuts or kxx..cyy) or a ``table`` against
+    speed, or a saved ``table_file``. Unlike a bearing's, its direct stiffness and damping may
+    be negative (a labyrinth seal's direct stiffness often is). It assembles like a bearing to
+    ground in every analysis; API 617 Level I analyses and undamped critical speed maps leave
+    seals out, as they leave out the cross-coupling destabilisers."""
+
+    name: str | None = None
+    k: Stiffness | None = None
+    c: Damping | None = None
+    kxx: Stiffness = 0.0
+    kxy: Stiffness = 0.0
+    kyx: Stiffness = 0.0
+    kyy: Stiffness = 0.0
+    cxx: Damping = 0.0
+    cxy: Damping = 0.0
+    cyx: Damping = 0.0
+    cyy: Damping = 0.0
+    table: BearingTable | None = None
+    table_file: str | None = None
+    extrapolate: Literal["error", "hold"] = "error"
+
+    @model_validator(mode="after")
+    def _one_source(self) -> Seal:
+        constant = any(
+            getattr(self, n)
+            for n in ("k", "c", "kxx", "kxy", "kyx", "kyy", "cxx", "cxy", "cyx", "cyy")
         )
+        if (self.table is not None) + (self.table_file is not None) + constant > 1:
+            raise ValueError("give one coefficient source: constants, 'table' or 'table_file'")
+        return self
+
+    def coefficients(self) -> tuple[float, ...]:
+        """The constant coefficients kxx kxy kyx kyy cxx cxy cyx cyy (isotropic shortcuts added)."""
+        return _eight(self)
 
 
 class ThrustBearing(NodeRef):

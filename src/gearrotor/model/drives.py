@@ -77,7 +77,7 @@ from ..units import (
     Torque,
     Voltage,
 )
-from .components import NodeRef, Spec
+from .components import Int, NodeRef, Spec
 
 __all__ = [
     "SpeedTorqueTable",
@@ -132,7 +132,7 @@ class EquivalentCircuit(Spec):
     x2: Resistance = Field(ge=0, description="rotor leakage reactance")
     xm: Resistance = Field(gt=0, description="magnetising reactance")
     voltage: Voltage = Field(gt=0, description="line-to-line rms voltage")
-    phases: int = Field(default=3, ge=1)
+    phases: Int = Field(default=3, ge=1)
 
     def thevenin(self) -> tuple[float, float, float]:
         """(V_th phase rms, R_th, X_th) of the stator side seen from the rotor branch."""
@@ -243,7 +243,7 @@ class _DriveBase(NodeRef):
 
 
 class _ElectricDrive(_DriveBase):
-    poles: int = Field(ge=2, description="number of poles (even)")
+    poles: Int = Field(ge=2, description="number of poles (even)")
     line_frequency: Frequency = Field(gt=0, description="rad/s, e.g. '60 Hz'")
     voltage: VoltageProfile | None = None
     short_circuit: ShortCircuit | None = None
@@ -365,7 +365,7 @@ class StressConcentration(Spec):
     (``section`` index of the shaft's ``sections``): keyways, shoulder fillets, shrink fits."""
 
     shaft: str
-    section: int = Field(ge=0)
+    section: Int = Field(ge=0)
     factor: Dimensionless = Field(ge=1)
 
 

@@ -16,7 +16,7 @@ import numpy as np
 from pydantic import Field, field_validator, model_validator
 
 from ..units import Acceleration, AngularSpeed, Force, Power, Torque
-from .components import NodeRef, Spec
+from .components import Flag, NodeRef, Spec
 
 __all__ = ["OperatingPoint", "StaticForce", "STANDARD_GRAVITY"]
 
@@ -50,7 +50,7 @@ class OperatingPoint(Spec):
     hold: Literal["power", "torque"] | None = None
     drive: NodeRef | None = None
     load: NodeRef | None = None
-    gravity: bool = True
+    gravity: Flag = True
     gravity_direction: tuple[float, float, float] = (0.0, -1.0, 0.0)
     gravity_acceleration: Acceleration = Field(default=STANDARD_GRAVITY, ge=0)
     forces: list[StaticForce] = Field(default_factory=list)

@@ -28,6 +28,7 @@ from .components import (
     Mesh,
     NodeRef,
     Probe,
+    Seal,
     Shaft,
     Spec,
     ThrustBearing,
@@ -42,7 +43,7 @@ _REL_TOL = 1e-6
 # optional Train fields left out of the model JSON when absent
 _OMIT_WHEN_ABSENT = ("torsional", "operating_speed_range", "max_continuous_speed", "api_audit")
 # optional Train lists left out of the model JSON when empty
-_OMIT_WHEN_EMPTY = ("operating_points",)
+_OMIT_WHEN_EMPTY = ("operating_points", "seals")
 
 
 @dataclass(frozen=True)
@@ -86,6 +87,7 @@ class Train(Spec):
     materials: dict[str, Material] = Field(min_length=1)
     shafts: list[Shaft] = Field(min_length=1)
     bearings: list[Bearing] = Field(default_factory=list)
+    seals: list[Seal] = Field(default_factory=list)  # annular seals: like bearings, any sign
     thrust_bearings: list[ThrustBearing] = Field(default_factory=list)
     cross_couplings: list[CrossCoupling] = Field(default_factory=list)
     couplings: list[Coupling] = Field(default_factory=list)
@@ -402,6 +404,7 @@ class Train(Spec):
         self._check_names()
         groups = [
             ("bearings", self.bearings),
+            ("seals", self.seals),
             ("thrust_bearings", self.thrust_bearings),
             ("cross_couplings", self.cross_couplings),
             ("unbalances", self.unbalances),

@@ -398,6 +398,12 @@ def study_from_dict(data: dict, *, file: str | Path) -> Study:
         raise ModelError(
             "the study file is empty", file=name, expected="a study file (see docs/studies.md)"
         )
+    if "shafts" in data and "cases" not in data:
+        raise ModelError(
+            "this is a rotor model file, not a study file",
+            file=name,
+            expected="a study file naming its model (see docs/studies.md)",
+        )
     try:
         spec = StudyFile.model_validate(data)
     except ValidationError as exc:

@@ -53,6 +53,7 @@ __all__ = ["static", "static_sweep", "resolve_operating_point", "journal_equilib
 _MAX_OUTER = 50
 _JOURNAL_CACHE: dict = {}
 _LAST_EQ: dict = {}
+_LAST_K: dict = {}
 _JOURNAL_CACHE_SIZE = 1024
 _counter = {"solves": 0}
 
@@ -79,26 +80,38 @@ def _case(file: str):
     return _bearing_case(file, p.stat().st_mtime_ns if p.exists() else 0)
 
 
-def journal_equilibrium(file: str, load: tuple[float, float], speed: float, start=None):
-    """Equilibrium and (synchronous) stiffness of the bearing of ``file`` under ``load`` (N)
-    at ``speed`` (rad/s, signed), cached by value: ``(Equilibrium, K (2, 2))``."""
+def journal_equilibrium(
+    file: str, load: tuple[float, float], speed: float, start=None, *, stiffness: bool = True
+):
+    """Equilibrium and static stiffness of the bearing of ``file`` under ``load`` (N) at
+    ``speed`` (rad/s, signed), cached by value (file version, load, speed):
+    ``(Equilibrium, K (2, 2))``. ``stiffness=False``: K may be that of the last journal of
+    this bearing and speed (an estimate, enough for the static iteration to converge: on a
+    statically determinate shaft it does not matter at all); it is computed when none is."""
     from ...bearings import equilibrium, static_stiffness
 
     case = _case(file)
-    key = (file, float(load[0]), float(load[1]), float(speed))
+    p = Path(file)
+    version = p.stat().st_mtime_ns if p.exists() else 0  # an edited bearing file is re-solved
+    key = (file, version, float(load[0]), float(load[1]), float(speed))
+    last = (file, version, float(speed))
     hit = _JOURNAL_CACHE.get(key)
-    if hit is not None:
-        return hit
-    if start is None:  # warm start from the last journal solved for this bearing and speed
-        start = _LAST_EQ.get((file, float(speed)))
-    eq = equilibrium(case.bearing, load, speed, options=case.options, start=start)
-    _LAST_EQ[(file, float(speed))] = eq
-    kb = static_stiffness(case.bearing, eq, options=case.options)
-    _counter["solves"] += 1
-    if len(_JOURNAL_CACHE) >= _JOURNAL_CACHE_SIZE:
-        _JOURNAL_CACHE.pop(next(iter(_JOURNAL_CACHE)))
-    _JOURNAL_CACHE[key] = (eq, kb)
-    return _JOURNAL_CACHE[key]
+    if hit is None:
+        if start is None:  # warm start from the last journal solved for this bearing and speed
+            start = _LAST_EQ.get(last)
+        eq = equilibrium(case.bearing, load, speed, options=case.options, start=start)
+        _LAST_EQ[last] = eq
+        _counter["solves"] += 1
+        if len(_JOURNAL_CACHE) >= _JOURNAL_CACHE_SIZE:
+            _JOURNAL_CACHE.pop(next(iter(_JOURNAL_CACHE)))
+        hit = _JOURNAL_CACHE[key] = [eq, None]
+    eq, kb = hit
+    if kb is None:
+        if not stiffness and last in _LAST_K:
+            return eq, _LAST_K[last]
+        kb = hit[1] = static_stiffness(case.bearing, eq, options=case.options)
+        _LAST_K[last] = kb
+    return eq, kb
 
 
 _RIGID_CACHE: dict = {}
@@ -375,7 +388,9 @@ def static(
             )
         iterations += 1
         for k, spec, info in films:
-            eq, Kb = _solve_journal(k, spec, info, new[k], speeds[info.shaft], state[k][3])
+            eq, Kb = _solve_journal(
+                k, spec, info, new[k], speeds[info.shaft], state[k][3], exact=iterations > 1
+            )
             state[k] = [new[k], np.array([eq.x, eq.y]), Kb, eq]
 
     q = sol.q
@@ -482,11 +497,13 @@ def _force_tol(spec, load: NDArray, speed: float) -> float:
     return 10 * case.options.tol * max(float(np.linalg.norm(load)), fref)
 
 
-def _solve_journal(k, spec, info, load, speed, start):
+def _solve_journal(k, spec, info, load, speed, start, exact):
     file = spec.fluid_film.file
     name = f"{info.name} (bearings[{k}])"
     try:
-        eq, Kb = journal_equilibrium(file, (float(load[0]), float(load[1])), speed, start)
+        eq, Kb = journal_equilibrium(
+            file, (float(load[0]), float(load[1])), speed, start, stiffness=exact
+        )
     except SolverError:
         raise ModelError(
             f"journal bearing {name} cannot carry its load (no film equilibrium: the "

@@ -224,7 +224,7 @@ class StaticResult:
         lines = [
             f"operating point {self.operating_point}: {self.speed * 30 / math.pi:.6g} rpm, "
             f"{self.power / 1e3:.6g} kW, drive torque {self.drive_torque:.6g} N*m",
-            f"{'bearing':<32}{'Fx N':>11}{'Fy N':>11}{'Fz N':>11}{'|F| N':>11}{'angle':>8}"
+            f"{'bearing':<32}{'Fx N':>12}{'Fy N':>12}{'Fz N':>12}{'|F| N':>12}{'angle':>8}"
             f"{'ecc':>7}{'att deg':>8}{'hmin um':>9}{'pmax MPa':>9}{'loss kW':>8}",
         ]
         big = max([b.magnitude for b in self.bearings] + [m.normal for m in self.meshes] + [1.0])
@@ -240,8 +240,8 @@ class StaticResult:
                 return f"{'-':>{width}}" if v is None else f"{v:>{width}{spec}}"
 
             lines.append(
-                f"{b.name[:31]:<32}{f[0]:>11.5g}{f[1]:>11.5g}{f[2]:>11.5g}"
-                f"{clean(b.magnitude):>11.5g}{d['angle_deg'] if clean(b.magnitude) else 0.0:>8.1f}"
+                f"{b.name[:31]:<32}{f[0]:>12.6g}{f[1]:>12.6g}{f[2]:>12.6g}"
+                f"{clean(b.magnitude):>12.6g}{d['angle_deg'] if clean(b.magnitude) else 0.0:>8.1f}"
                 + fmt(d["eccentricity_ratio"], ".3f", 7)
                 + fmt(d["attitude_deg"], ".1f", 8)
                 + fmt(d["min_film_um"], ".1f", 9)
@@ -250,13 +250,13 @@ class StaticResult:
             )
         if self.meshes:
             lines.append(
-                f"{'mesh':<32}{'Ft N':>11}{'Fr N':>11}{'Fa N':>11}{'Fn N':>11}{'misalign um':>13}"
+                f"{'mesh':<32}{'Ft N':>12}{'Fr N':>12}{'Fa N':>12}{'Fn N':>12}{'misalign um':>13}"
             )
             for m in self.meshes:
                 mis = "-" if math.isnan(m.misalignment) else f"{m.misalignment * 1e6:.2f}"
                 lines.append(
-                    f"{m.name[:31]:<32}{clean(m.tangential):>11.5g}{clean(m.separating):>11.5g}"
-                    f"{clean(m.axial):>11.5g}{clean(m.normal):>11.5g}{mis:>13}"
+                    f"{m.name[:31]:<32}{clean(m.tangential):>12.6g}{clean(m.separating):>12.6g}"
+                    f"{clean(m.axial):>12.6g}{clean(m.normal):>12.6g}{mis:>13}"
                 )
         lines.append(f"{'shaft':<32}{'max defl um':>12}{'max vM MPa':>12}")
         for s in self.shafts:

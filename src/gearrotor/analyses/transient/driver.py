@@ -70,6 +70,18 @@ def _check_memory(n_rec: int, n_out: int, n_shafts: int, n_steps: int, t_end: fl
         )
 
 
+def _restore_drive_state(path, ck: dict, state: NDArray) -> None:
+    """The drives' event state (synchronous motors' pull-in) from a checkpoint, in place."""
+    saved = ck.get("drive_state")
+    if saved is None or saved.shape != state.shape or not np.all(np.isfinite(saved)):
+        raise ModelError(
+            "the checkpoint lacks the drives' state (written before drives were saved, or damaged)",
+            file=str(path),
+            expected="delete it to start the run afresh",
+        )
+    state[:] = saved
+
+
 def _check_checkpoint_options(ck: Checkpoint) -> None:
     if not (np.isfinite(ck.every) and ck.every >= 0):
         raise ModelError(
@@ -234,6 +246,8 @@ def transient(
             rec_om=rec_om,
         )
         q, v = ck["q"].copy(), ck["v"].copy()
+        if prep.drive_state.size:  # synchronous motors that pulled in stay in step
+            _restore_drive_state(checkpoint.path, ck, prep.drive_state)
         nr = step0 // save_every
         rec_q[:nr], rec_v[:nr], rec_a[:nr] = ck["rec_q"], ck["rec_v"], ck["rec_a"]
         rec_om[:nr], rec_t[:nr] = ck["rec_om"], ck["rec_t"]
@@ -323,6 +337,7 @@ def transient(
                 rec_a=rec_a[:nr],
                 rec_om=rec_om[:nr],
                 rec_t=rec_t[:nr],
+                drive_state=prep.drive_state,
             )
             last_ck = now
             last_ck_step = step

@@ -5,7 +5,7 @@ stability region (:mod:`.step_limits`)."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 import scipy.linalg as la
@@ -33,6 +33,8 @@ class _Prepared:
     out: NDArray  # active output DOFs
     Phi_out: NDArray | None
     info: dict
+    # the drives' event state inside P (synchronous motors' pull-in), saved with checkpoints
+    drive_state: NDArray = field(default_factory=lambda: np.zeros((0, 2)))
 
 
 def _mass_factor(M: sp.csr_array) -> tuple[NDArray, ...]:
@@ -128,6 +130,7 @@ def _prepare_physical(system: TransientSystem, integ: RK4, out: NDArray, frozen:
     z_idx = np.concatenate(z_sup + [np.zeros(0, int)]).astype(np.int64)
     g_ptr = np.concatenate([[0], np.cumsum([len(g) for g in g_rows])]).astype(np.int64)
     g_idx = np.concatenate(g_rows + [np.zeros(0, int)]).astype(np.int64)
+    forces = _pack_forces(system, sel, modal=False, bearing_ref=False)
     P = (
         *_csr(system.K),
         *_csr(system.C),
@@ -141,7 +144,7 @@ def _prepare_physical(system: TransientSystem, integ: RK4, out: NDArray, frozen:
         bool(frozen),
         bool(system.reactions),
         sel,
-        *_pack_forces(system, sel, modal=False, bearing_ref=False),
+        *forces,
         Minv_a,
         *Minv_u,
         system.unbalance_dofs.astype(np.int64).reshape(-1, 3),
@@ -166,7 +169,9 @@ def _prepare_physical(system: TransientSystem, integ: RK4, out: NDArray, frozen:
         np.zeros(n),
     )
     K1 = tuple(np.zeros(n) for _ in range(10))
-    return _Prepared("physical", integ.dt, n, P, W, K1, out, None, {"n_dof": n})
+    return _Prepared(
+        "physical", integ.dt, n, P, W, K1, out, None, {"n_dof": n}, drive_state=forces[-1][3]
+    )
 
 
 def _prepare_modal(system: TransientSystem, integ: ModalRK4, out: NDArray) -> _Prepared:
@@ -183,10 +188,21 @@ def _prepare_modal(system: TransientSystem, integ: ModalRK4, out: NDArray) -> _P
         else (integ.cutoff_factor * excitation_frequency(system))
     )
     backlash = any(law.backlash > 0 for law in system.meshes)
-    separated = bool(integ.separated_modes)
+    separated = integ.separated_modes
+    if separated is None:
+        separated = "torsional" if backlash else False
     if separated and system.meshes:
         _, Kf, _ = system.linear_matrices(meshes=False)
-        separated = la.eigh(0.5 * (Kf + Kf.T), M)
+        w2s, Vs = la.eigh(0.5 * (Kf + Kf.T), M)
+        if separated == "torsional":
+            # the free shafts' torsional modes: what the speeds do while the teeth are apart
+            # (their lateral modes only add Ritz vectors far above the cut-off, issue 16)
+            tors = system.assembly.dof_kind()[system.active] == 2
+            ke = np.einsum("ij,ij->j", Vs, M @ Vs)
+            kt = np.einsum("ij,ij->j", Vs[tors], M[np.ix_(tors, tors)] @ Vs[tors])
+            keep = kt > 0.5 * ke
+            w2s, Vs = w2s[keep], Vs[:, keep]
+        separated = (w2s, Vs)
     else:
         separated = None
     static = integ.static_correction
@@ -241,6 +257,7 @@ def _prepare_modal(system: TransientSystem, integ: ModalRK4, out: NDArray) -> _P
     ns = len(system.a_weights)
     nu = len(system.unbalance_dofs)
     r = 2 * (ns + nu)
+    forces = _pack_forces(system, sel, modal=True, bearing_ref=True)
     P = (
         lam,
         np.ascontiguousarray(Cr),
@@ -251,7 +268,7 @@ def _prepare_modal(system: TransientSystem, integ: ModalRK4, out: NDArray) -> _P
         bool(system.reactions),
         np.searchsorted(sel, k_dofs).astype(np.int64),
         np.ascontiguousarray(Ka[np.ix_(k_dofs, k_dofs)]),
-        *_pack_forces(system, sel, modal=True, bearing_ref=True),
+        *forces,
     )
     W = (
         np.zeros(len(sel)),
@@ -273,4 +290,15 @@ def _prepare_modal(system: TransientSystem, integ: ModalRK4, out: NDArray) -> _P
         "Phi": Phi,
         "M": M,
     }
-    return _Prepared("modal", dt, m, P, W, K1, out, np.ascontiguousarray(Phi[out]), info)
+    return _Prepared(
+        "modal",
+        dt,
+        m,
+        P,
+        W,
+        K1,
+        out,
+        np.ascontiguousarray(Phi[out]),
+        info,
+        drive_state=forces[-1][3],
+    )

@@ -28,6 +28,7 @@ __all__ = [
     "spectrum",
     "amplitude_at",
     "spectral_lines",
+    "check_result",
     "load_result",
     "build_result",
 ]
@@ -380,8 +381,106 @@ def load_result(path: str | Path):
     path = Path(path)
     if not path.exists():
         raise ModelError("result file not found", file=str(path))
-    with xr.open_dataset(path, engine="h5netcdf") as ds:
-        return ds.load()
+    if path.is_dir():
+        raise ModelError("the result file is a directory", file=str(path), expected=_RESULT)
+    try:
+        with xr.open_dataset(path, engine="h5netcdf") as ds:
+            ds = ds.load()
+    except (OSError, ValueError, KeyError, TypeError, RecursionError) as exc:
+        text = str(exc).splitlines()[0][:120] if str(exc) else ""
+        raise ModelError(
+            f"cannot read the result file ({type(exc).__name__}{': ' + text if text else ''})",
+            file=str(path),
+            expected=_RESULT,
+        ) from None
+    check_result(ds, str(path))
+    return ds
+
+
+_RESULT = "a NetCDF file written by 'gearrotor transient --output'"
+#: variables every reader of a saved result uses
+_REQUIRED = ("shaft_speed", "x", "y")
+#: largest embedded model (characters)
+_MAX_MODEL_JSON = 4 * 1024 * 1024
+
+
+def check_result(ds, file: str) -> None:
+    """Check what a saved transient result holds before anything reads it (a file may come from
+    anywhere): the variables the figures use, a time axis that is finite and increasing, finite
+    values, and an embedded model (``model_json``) that is a valid model. Raises
+    :class:`ModelError` naming the file and what is wrong."""
+    missing = [v for v in ("time", *_REQUIRED) if v not in ds.variables]
+    if missing:
+        raise ModelError(
+            "not a gearrotor transient result",
+            file=file,
+            value=f"missing {', '.join(missing)}",
+            expected=_RESULT,
+        )
+    t = np.asarray(ds["time"].values)
+    if t.ndim != 1 or t.size < 2 or not np.issubdtype(t.dtype, np.number):
+        raise ModelError(
+            "the time axis must be one-dimensional with at least 2 samples",
+            field="time",
+            file=file,
+            value=f"shape {t.shape}",
+        )
+    if not np.all(np.isfinite(t)) or not np.all(np.diff(t) > 0):
+        raise ModelError(
+            "the time axis must be finite and strictly increasing",
+            field="time",
+            file=file,
+            expected="increasing sample times in s",
+        )
+    for name, var in ds.data_vars.items():
+        vals = np.asarray(var.values)
+        if not np.issubdtype(vals.dtype, np.number):
+            if name in _REQUIRED:
+                raise ModelError("not numeric", field=str(name), file=file, expected=_RESULT)
+            continue
+        if not np.all(np.isfinite(vals)):
+            raise ModelError(
+                "the result holds values that are not finite",
+                field=str(name),
+                file=file,
+                expected="finite numbers (a saved run that did not diverge)",
+            )
+    if "model_json" in ds.attrs:
+        _check_model_json(ds.attrs["model_json"], file)
+
+
+def _check_model_json(text, file: str) -> None:
+    from ...inputs import MAX_DEPTH, depth_ok
+    from ...model import Train
+
+    where = dict(field="model_json", file=file)
+    if not isinstance(text, str) or len(text) > _MAX_MODEL_JSON:
+        raise ModelError(
+            "the embedded model is not JSON text of a sensible size",
+            **where,
+            expected=f"a JSON model of at most {_MAX_MODEL_JSON} characters",
+        )
+    try:
+        model = json.loads(text)
+    except (ValueError, RecursionError):
+        raise ModelError("the embedded model is not valid JSON", **where) from None
+    if not isinstance(model, dict) or not depth_ok(model):
+        raise ModelError(
+            "the embedded model is not a model",
+            **where,
+            expected=f"a JSON object nested at most {MAX_DEPTH} levels",
+        )
+    from pydantic import ValidationError
+
+    from ...io import format_validation_error
+
+    try:
+        Train.model_validate(model).layout()
+    except (ValidationError, ModelError) as exc:
+        if isinstance(exc, ValidationError):
+            exc = format_validation_error(exc, model, None, "the embedded model")
+        detail = "; ".join(line.strip() for line in str(exc).splitlines()[:4])[:300]
+        raise ModelError(f"the embedded model is invalid: {detail}", **where) from None
 
 
 def _line_text(line: dict, rate: float) -> str:

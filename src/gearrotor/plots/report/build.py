@@ -165,6 +165,7 @@ def make_report(
         operating_points = (operating_point,)
     elif "operating_points" in analyses:
         operating_points = tuple(p.name for p in base_train.operating_points)
+    speed_given = speed is not None  # the API checks use the model's range unless a speed is
     op_note = None
     if operating_point is not None:
         from ...analyses.static import at_operating_point
@@ -218,7 +219,7 @@ def make_report(
         analyses,
         w,
         fmax,
-        operating_range=model_operating_range(train) if speed is None else None,
+        operating_range=None if speed_given else model_operating_range(train),
         api=api,
         transient_file=None if transient is None else Path(transient),
         n_campbell=n_campbell,

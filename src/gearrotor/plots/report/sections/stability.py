@@ -39,6 +39,9 @@ def _stability(res, camp) -> dict:
             "speed_rpm": float(res.speed * RPM),
             "stable": bool(res.stable),
             "unstable_modes": [int(i) for i in np.flatnonzero(res.unstable)],
+            # positive real eigenvalues (not rigid-body): static divergence, e.g. a negative
+            # stiffness; they make the train unstable without an oscillating unstable mode
+            "divergent_eigenvalues": int(np.sum(res.real_eigenvalues[~res.rigid_body] > 0)),
             "low_damping_modes": [
                 int(i)
                 for i in lat
@@ -173,6 +176,20 @@ def _stability_html(stab: dict) -> str:
     return "\n".join(parts)
 
 
+def _why_unstable(m: dict) -> str:
+    """What makes an unstable train unstable, in words (never an empty list)."""
+    parts = []
+    if m["unstable_modes"]:
+        parts.append(f"growing modes {', '.join(str(i) for i in m['unstable_modes'])}")
+    n = m.get("divergent_eigenvalues", 0)
+    if n:
+        parts.append(
+            f"{n} positive real eigenvalue{'s' if n > 1 else ''} (static divergence: a "
+            "negative stiffness)"
+        )
+    return ", ".join(parts) or "see the modes table"
+
+
 def _verdicts(stab: dict) -> list[dict]:
     out = []
     m = stab.get("modal")
@@ -188,8 +205,7 @@ def _verdicts(stab: dict) -> list[dict]:
             {
                 "check": f"stability at {m['speed_rpm']:.0f} rpm",
                 "ok": m["ok"],
-                "detail": ("stable; " if m["stable"] else f"UNSTABLE modes {m['unstable_modes']}; ")
-                + txt,
+                "detail": ("stable; " if m["stable"] else f"UNSTABLE: {_why_unstable(m)}; ") + txt,
             }
         )
     c = stab.get("campbell")
