@@ -5,11 +5,7 @@ by gear meshes that couple lateral, torsional and axial motion; damped eigenvalu
 diagrams, unbalance response, nonlinear transients and fluid-film bearings.
 """
 
-from .analyses import ModalResult, modal
-from .assembly import Assembly, assemble
 from .errors import GearrotorError, ModelError, SolverError
-from .io import load_model
-from .model import Train
 
 __version__ = "0.1.0"
 
@@ -28,10 +24,29 @@ __all__ = [
 ]
 
 
-def __getattr__(name: str):
-    # the transient solver compiles numba kernels: import it only when it is used
-    if name == "transient":
-        from .analyses.transient import transient
+# imported on first use (PEP 562), so that ``import gearrotor`` and ``gearrotor --help`` stay
+# light: the model pulls in pint and its unit registry, the analyses scipy.optimize, and the
+# transient solver compiles numba kernels
+_LAZY = {
+    "Assembly": ".assembly",
+    "assemble": ".assembly",
+    "ModalResult": ".analyses.modal",
+    "modal": ".analyses.modal",
+    "load_model": ".io",
+    "Train": ".model",
+    "transient": ".analyses.transient",
+}
 
-        return transient
+
+def __getattr__(name: str):
+    if name in _LAZY:
+        import importlib
+
+        value = getattr(importlib.import_module(_LAZY[name], __name__), name)
+        globals()[name] = value
+        return value
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_LAZY))

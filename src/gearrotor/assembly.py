@@ -16,7 +16,7 @@ material damping (per unit speed; empty without it).
 from __future__ import annotations
 
 import functools
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -78,7 +78,7 @@ class MeshInfo:
     geometry: MeshGeometry
     w: NDArray  # (12,) kinematic vector, δ = w · q[dofs]
     stiffness: float  # average Kg, N/m
-    damping: float  # N·s/m
+    damping: float  # N·s/m (resolved from the model's damping_ratio when it gives one)
     shafts: tuple[int, int]
     teeth: tuple[int, int]
     spec_index: int
@@ -443,7 +443,7 @@ def assemble(train: Train) -> Assembly:
             )
         )
 
-    return Assembly(
+    asm = Assembly(
         train=train,
         n_dof=n,
         node_offset=tuple(offsets),
@@ -458,3 +458,53 @@ def assemble(train: Train) -> Assembly:
         dof_labels=tuple(labels),
         support_offset=tuple(support_offset),
     )
+    return _with_mesh_damping_ratios(asm)
+
+
+def _with_mesh_damping_ratios(asm: Assembly) -> Assembly:
+    """Resolve ``Mesh.damping_ratio`` into the mesh damper ``c w wᵀ`` of C0, once, for every
+    analysis (modal, Campbell, unbalance, transient, Floquet).
+
+    The mesh mode is the undamped mode φ_i (mass-normalised; the model at its nominal speed
+    without gyroscopics, the symmetric part of its stiffness, the meshes at Kg) with the largest
+    mesh strain-energy fraction ``Kg (w·φ_i)² / ω_i²``. A damper ``c w wᵀ`` adds ``c (w·φ_i)²``
+    to that mode's modal damping ``2 ζ ω_i``, hence ``c = 2 ζ ω_i / (w·φ_i)²``.
+    """
+    train = asm.train
+    specs = [train.meshes[m.spec_index] for m in asm.meshes]
+    if all(s.damping_ratio is None for s in specs):
+        return asm
+    import scipy.linalg as la
+
+    for m, s in zip(asm.meshes, specs, strict=True):
+        if s.damping_ratio is not None and s.damping > 0:
+            raise ModelError(
+                "give either mesh 'damping' or 'damping_ratio', not both",
+                field=f"meshes[{m.spec_index}].damping_ratio",
+                value=s.damping_ratio,
+            )
+    M, _, _, K = asm.matrices(train.speed)
+    Kd = K.toarray()
+    try:
+        w2, V = la.eigh(0.5 * (Kd + Kd.T), M.toarray())
+    except la.LinAlgError:
+        raise ModelError(
+            "mesh damping_ratio needs a positive definite mass matrix (mass on every DOF)",
+            field=f"meshes[{asm.meshes[0].spec_index}].damping_ratio",
+        ) from None
+    # rigid-body modes: ω² at round-off, ~ε·max ω² (1e-16); elastic modes of stiff models (a
+    # mesh mode under 1e14 N/m bearings) can be 1e-8 of max ω², so the cut is at 1e-10
+    elastic = w2 > 1e-10 * w2.max()
+    C = _Triplets()
+    meshes = []
+    for m, s in zip(asm.meshes, specs, strict=True):
+        if s.damping_ratio is None:
+            meshes.append(m)
+            continue
+        wphi = V[m.dofs].T @ m.w
+        frac = np.where(elastic, m.stiffness * wphi**2 / np.where(elastic, w2, 1.0), 0.0)
+        i = int(np.argmax(frac))
+        c = 2.0 * s.damping_ratio * float(np.sqrt(w2[i])) / wphi[i] ** 2
+        C.add(m.dofs, c * np.outer(m.w, m.w))
+        meshes.append(replace(m, damping=float(c)))
+    return replace(asm, C0=asm.C0 + C.csr(asm.n_dof), meshes=tuple(meshes))

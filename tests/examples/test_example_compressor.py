@@ -65,8 +65,10 @@ def test_pinion_mode_at_10x(doc_runs):
     modes = [m for m in res["modes"] if 9.5 <= m["frequency_rpm"] / 5700 <= 10.5]
     assert len(modes) == 1, modes
     m = modes[0]
-    assert m["frequency_rpm"] == pytest.approx(56974, rel=5e-3)  # 10.00x; seed: ~57,000 cpm
-    assert m["log_dec"] == pytest.approx(0.194, abs=0.03)
+    # with the 2 % mesh damper (modal uses damping_ratio since issue 14): 10.18x; without it
+    # 56,974 cpm = 10.00x, the seed's ~57,000 cpm (the doc's tuning)
+    assert m["frequency_rpm"] == pytest.approx(58009, rel=5e-3)
+    assert m["log_dec"] == pytest.approx(0.203, abs=0.03)
     assert m["type"] == "L-T" and m["stable"]
     assert m["whirl_per_shaft"]["pinion"] == "B"
     assert m["energy_torsional"] > 0.5

@@ -112,14 +112,15 @@ class CampbellResult:
 
     def table(self) -> str:
         rpm = 30 / np.pi
+        wo = max([len("order"), *(len(str(c.order)) for c in self.crossings)])  # fits its text
         rows = [
-            f"{'mode':>4} {'order':>14} {'speed rpm':>11} {'freq rpm':>11} {'log dec':>8} "
+            f"{'mode':>4} {'order':<{wo}} {'speed rpm':>11} {'freq rpm':>11} {'log dec':>8} "
             f"{'whirl':>5} {'type':>5}"
         ]
         rows.append("-" * len(rows[0]))
         for c in self.crossings:
             rows.append(
-                f"{c.mode:>4} {c.order:>14} {c.speed * rpm:>11.1f} "
+                f"{c.mode:>4} {c.order!s:<{wo}} {c.speed * rpm:>11.1f} "
                 f"{c.frequency * rpm:>11.1f} {c.log_dec:>8.3g} {c.whirl:>5} "
                 f"{c.mode_type:>5}"
             )

@@ -40,7 +40,7 @@ from ..model import Train
 from .transient.equations import TransientSystem, build_system
 from .transient.mesh import fourier_coefficients, stiffness
 
-__all__ = ["FloquetResult", "floquet"]
+__all__ = ["check_ka_ratio", "FloquetResult", "floquet"]
 
 
 @dataclass(frozen=True)
@@ -73,6 +73,8 @@ class FloquetResult:
     slices: int
     change: float
     n_modes: int
+    # per mesh: the stiffness law used ({"mesh", "law", "ka_ratio", "contact_ratio", "terms"})
+    mesh_laws: tuple[dict, ...] = ()
 
     @property
     def log_dec(self) -> NDArray:
@@ -117,6 +119,7 @@ class FloquetResult:
             "period_s": self.period,
             "mesh_frequency_cpm": [float(x * 60 / (2 * np.pi)) for x in self.mesh_frequency],
             "ka_ratio": list(self.ka_ratio),
+            "mesh_laws": [dict(d) for d in self.mesh_laws],
             "n_modes": self.n_modes,
             "slices": self.slices,
             "multiplier_change": self.change,
@@ -124,6 +127,39 @@ class FloquetResult:
             "stable": self.stable,
             "exponents": rows,
         }
+
+
+def check_ka_ratio(system, ratios) -> None:
+    """Refuse a Ka/Kg that cannot act (a ModelError naming the mesh field): on a mesh whose
+    stiffness is a table, or whose Fourier law has no terms (``variation.terms = 0``: the
+    stiffness would stay Kg and every Ka give the same result). ``ratios``: one per mesh or
+    one for all (None keeps the model's law)."""
+    laws = system.meshes
+    if not isinstance(ratios, (list, tuple)):
+        ratios = [ratios] * len(laws)
+    for k, (law, r) in enumerate(zip(laws, ratios, strict=False)):
+        if r is not None and not 0 <= r < 1:
+            raise ModelError(
+                "Ka/Kg out of range", field="ka_ratio", value=r, expected="0 ≤ Ka/Kg < 1"
+            )
+        if r is None or r == 0:
+            continue
+        idx = system.assembly.meshes[k].spec_index
+        if law.has_table:
+            raise ModelError(
+                "Ka/Kg cannot act on a mesh whose stiffness is a table (the table is the law)",
+                field=f"meshes[{idx}].stiffness_table",
+                value=f"Ka/Kg {r:g}",
+                expected="no --ka for this model, or remove the table",
+            )
+        if system.train.meshes[idx].variation.terms == 0:
+            raise ModelError(
+                "Ka/Kg cannot act: the mesh stiffness law has no Fourier terms, so the "
+                "stiffness does not vary",
+                field=f"meshes[{idx}].variation.terms",
+                value=0,
+                expected=f"≥ 1, e.g. --set meshes[{idx}].variation.terms=5 (with .contact_ratio)",
+            )
 
 
 def _common_period(rates: list[float]) -> float:
@@ -252,13 +288,26 @@ def floquet(
         ok = d >= 0
         wm.append(Phi[d[ok]].T @ law.w[ok])
     wm = np.array(wm)  # (nm, m)
-    laws_eff = []
+    check_ka_ratio(system, ratios)
+    laws_eff, used = [], []
     for k, (law, r) in enumerate(zip(laws, ratios, strict=True)):
+        idx = system.assembly.meshes[k].spec_index
+        v = system.train.meshes[idx].variation
         if r is not None and not law.has_table:
-            v = system.train.meshes[system.assembly.meshes[k].spec_index].variation
             a, b = fourier_coefficients(v.contact_ratio, v.phase, v.terms)
             law = replace(law, ka=r * law.kg, coef_a=a, coef_b=b)
         laws_eff.append(law)
+        used.append(
+            {
+                "mesh": law.name,
+                "law": "table"
+                if law.has_table
+                else ("fourier" if law.ka and len(law.coef_a) else "constant"),
+                "ka_ratio": None if law.has_table else float(law.ka / law.kg),
+                "contact_ratio": float(v.contact_ratio),
+                "terms": int(v.terms),
+            }
+        )
 
     A0 = np.zeros((2 * m, 2 * m))
     A0[:m, m:] = np.eye(m)
@@ -338,6 +387,7 @@ def floquet(
         slices=ns,
         change=float(change),
         n_modes=m,
+        mesh_laws=tuple(used),
     )
 
 

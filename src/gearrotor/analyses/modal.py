@@ -10,21 +10,41 @@ shift-invert Arnoldi (ARPACK) about a small negative real shift, increasing the 
 requested modes until every mode below ``max_frequency`` is enclosed. Dense is chosen for small
 models because it is exact (no missed modes) and fast: 504 states take ~0.1 s.
 
-Classification, all documented in :class:`ModalResult`:
+Classification, one per eigenvalue, used by the table, the JSON, the footer and the report
+alike (:attr:`ModalResult.mode_class`, :attr:`ModalResult.real_class`,
+:meth:`ModalResult.class_counts`):
 
-* **rigid-body**: a mode that strains nothing: its strain-energy frequency
-  ``√(|φᴴKφ| / φᴴMφ)`` is below ``rigid_tol`` (free torsion of a geared pair, free axial
-  motion). Judging by strain energy rather than by |λ| is robust: a zero eigenvalue of a free
-  mode is a defective (Jordan) pair that round-off splits by ~√ε‖A‖ into two small, possibly
-  complex, eigenvalues, while its eigenvector stays accurate;
-* **over-damped**: a real eigenvalue (listed in ``real_eigenvalues``) or a complex pair with a
-  damping ratio ζ ≥ ``overdamped_zeta`` (such a pair decays by e^{-2π ζ/√(1-ζ²)} per period,
-  i.e. it never completes one oscillation visibly; listed in the modes with ``overdamped``);
+* **rigid-body** (real eigenvalues only): a mode that strains nothing: its strain-energy
+  frequency ``√(|φᴴKφ| / φᴴMφ)`` is below ``rigid_tol`` and it does not grow faster than
+  ``rigid_tol`` (free torsion of a geared pair, free axial motion). Judging by strain energy
+  rather than by |λ| is robust: a zero eigenvalue of a free mode is a defective (Jordan) pair
+  that round-off splits by ~√ε‖A‖ into two small, possibly complex, eigenvalues, while its
+  eigenvector stays accurate;
+* **unstable**: Re λ > ``ROUNDOFF``·|λ| (a growing complex pair, or a positive real eigenvalue
+  beyond round-off: never "rigid-body" and never "over-damped");
+* **over-damped**: a negative real eigenvalue (listed in ``real_eigenvalues``), or a complex
+  pair with ζ ≥ ``overdamped_zeta``: its frequency is ~0 against its decay rate (it decays by
+  e^{-2π ζ/√(1-ζ²)} < e^{-140} per period, it never shows an oscillation: typically a real pair of
+  a heavily damped bearing split by gyroscopic coupling). Its ζ prints as ">0.9999", not 1;
+* **undamped**: |Re λ| ≤ ``ROUNDOFF``·|λ|: the log dec and ζ are round-off and are reported as
+  exactly 0 (not ±1e-14);
+* **damped**: every other complex pair.
+
 * **whirl** per shaft: the sense of the orbits of the shaft's nodes, weighted by amplitude,
   relative to that shaft's spin (``F`` forward, ``B`` backward, ``-`` no lateral motion);
-* **type**: kinetic-energy fractions in lateral (x, y, θx, θy), torsional (θz) and axial (z)
-  DOFs; every group with at least ``type_threshold`` of the energy is named: ``L``, ``T``,
-  ``A``, ``L-T``, ...
+* **type**: energy shares of the DOF groups lateral ``L`` (x, y, θx, θy, pedestals), torsional
+  ``T`` (θz) and axial ``A`` (z). A group's share is the larger of its kinetic-energy fraction
+  ``φᴴM_gφ / φᴴMφ`` and its strain-energy fraction ``U_g / U``. U_g is the group's diagonal
+  block of the symmetric stiffness without the meshes, plus its part of the gear meshes' spring
+  energy ``kg |δ|²``: the mesh deflection ``δ = w·φ = δ_L + δ_T + δ_A`` couples the groups, and
+  each group takes the share ``|δ_g|² / Σ|δ_h|²`` of it (a mesh mode on rigid bearings is
+  ``T``; a mesh deflected by whirl and twist together is ``L-T``). The mode is named by every
+  group with a share of at least ``type_threshold`` (default 5 %): ``L``, ``T``, ``A``,
+  ``L-T``, ``L-T-A``, ... Both energies count because a stiff mesh couples without straining:
+  in the flagship's 5978 rpm mode the gears roll on each other as the shafts whirl (7 % of the
+  kinetic energy in torsion, ~0 in the mesh spring), while in its 57,000 rpm mode the mesh
+  spring holds 15 % of the strain energy. A strain-free (rigid-body) mode's shares are
+  kinetic only. The meshes' fraction of the strain energy is reported too (``share_mesh``).
 """
 
 from __future__ import annotations
@@ -41,10 +61,26 @@ from ..assembly import Assembly, assemble
 from ..errors import ModelError, SolverError
 from ..model import Train
 
-__all__ = ["ModalResult", "modal", "DENSE_LIMIT", "state_matrices"]
+__all__ = [
+    "ModalResult",
+    "modal",
+    "DENSE_LIMIT",
+    "MODE_CLASSES",
+    "REAL_CLASSES",
+    "format_log_dec",
+    "format_zeta",
+    "shares_to_types",
+    "state_matrices",
+]
 
 DENSE_LIMIT = 2000
 KIND_NAMES = ("L", "A", "T")  # index = Assembly.dof_kind() code
+# |Re λ| / |λ| at or below which a pair's damping is round-off: conservative modes come out of
+# the dense solver at ~1e-15 and out of ARPACK (sparse, a Campbell sweep) at up to ~1e-8
+ROUNDOFF = 1e-7
+TYPE_THRESHOLD = 0.05  # energy share from which a DOF group (or the mesh) names the mode type
+MODE_CLASSES = ("damped", "undamped", "over-damped", "unstable")
+REAL_CLASSES = ("rigid-body", "over-damped", "unstable")
 
 
 @dataclass(frozen=True)
@@ -64,10 +100,15 @@ class ModalResult:
     whirl: tuple[str, ...]
     energy_fractions: NDArray  # (n, 3): lateral, axial, torsional kinetic-energy fractions
     mode_type: tuple[str, ...]
-    overdamped: NDArray  # bool (n,)
-    real_eigenvalues: NDArray  # real eigenvalues (over-damped / rigid-body), 1/s
-    rigid_body: NDArray  # bool per real eigenvalue
+    overdamped: NDArray  # bool (n,): mode_class == "over-damped"
+    real_eigenvalues: NDArray  # real eigenvalues (over-damped / rigid-body / unstable), 1/s
+    rigid_body: NDArray  # bool per real eigenvalue: real_class == "rigid-body"
     n_rigid_body: int
+    # (n, 4): lateral, axial, torsional shares (max of kinetic and strain fractions) and the
+    # mesh springs' strain-energy fraction; they name mode_type (module docstring)
+    energy_shares: NDArray
+    mode_class: tuple[str, ...]  # per mode, one of MODE_CLASSES
+    real_class: tuple[str, ...]  # per real eigenvalue, one of REAL_CLASSES
     method: str
     n_eigenvalues: int  # eigenvalues with |λ| ≤ max_frequency (all returned if none given)
     shaft_names: tuple[str, ...]
@@ -83,11 +124,19 @@ class ModalResult:
 
     @property
     def damping_ratio(self) -> NDArray:
-        return -self.eigenvalues.real / np.abs(self.eigenvalues)
+        """ζ = −Re λ / |λ|; exactly 0 for an undamped mode (round-off, see ``mode_class``)."""
+        return np.where(self._undamped, 0.0, -self.eigenvalues.real / np.abs(self.eigenvalues))
 
     @property
     def log_dec(self) -> NDArray:
-        return -2 * np.pi * self.eigenvalues.real / self.eigenvalues.imag
+        """δ = −2π Re λ / Im λ; exactly 0 for an undamped mode (round-off)."""
+        return np.where(
+            self._undamped, 0.0, -2 * np.pi * self.eigenvalues.real / self.eigenvalues.imag
+        )
+
+    @property
+    def _undamped(self) -> NDArray:
+        return np.abs(self.eigenvalues.real) <= ROUNDOFF * np.abs(self.eigenvalues)
 
     @property
     def frequency_rpm(self) -> NDArray:
@@ -99,14 +148,30 @@ class ModalResult:
 
     @property
     def stable(self) -> bool:
-        return not bool(np.any(self.unstable)) and not bool(
-            np.any(self.real_eigenvalues[~self.rigid_body] > 0)
-        )
+        return not bool(np.any(self.unstable)) and "unstable" not in self.real_class
 
     @property
     def unstable(self) -> NDArray:
-        """Growing modes: Re λ > 1e-9 |λ| (round-off of a conservative mode stays below)."""
-        return self.eigenvalues.real > 1e-9 * np.abs(self.eigenvalues)
+        """Growing modes: Re λ > ``ROUNDOFF`` |λ| (round-off of a conservative mode stays
+        below; log dec < −6.3e-7)."""
+        return self.eigenvalues.real > ROUNDOFF * np.abs(self.eigenvalues)
+
+    def class_counts(self) -> dict[str, dict[str, int]]:
+        """How many modes (complex pairs, the table's rows) and real eigenvalues of each class."""
+        return {
+            "modes": {c: self.mode_class.count(c) for c in MODE_CLASSES},
+            "real_eigenvalues": {c: self.real_class.count(c) for c in REAL_CLASSES},
+        }
+
+    def counts_line(self) -> str:
+        """The footer of the table (and the report's note): the class counts in words."""
+        cc = self.class_counts()
+        modes = ", ".join(f"{v} {k}" for k, v in cc["modes"].items() if v)
+        real = ", ".join(f"{v} {k}" for k, v in cc["real_eigenvalues"].items() if v)
+        line = f"modes: {len(self)} ({modes or 'none'})"
+        if len(self.real_eigenvalues):
+            line += f"; real eigenvalues: {len(self.real_eigenvalues)} ({real})"
+        return line
 
     def __len__(self) -> int:
         return len(self.eigenvalues)
@@ -143,6 +208,11 @@ class ModalResult:
                 "energy_lateral": float(self.energy_fractions[i, 0]),
                 "energy_axial": float(self.energy_fractions[i, 1]),
                 "energy_torsional": float(self.energy_fractions[i, 2]),
+                "share_lateral": float(self.energy_shares[i, 0]),
+                "share_axial": float(self.energy_shares[i, 1]),
+                "share_torsional": float(self.energy_shares[i, 2]),
+                "share_mesh": float(self.energy_shares[i, 3]),
+                "class": self.mode_class[i],
                 "stable": not bool(self.unstable[i]),
                 "overdamped": bool(self.overdamped[i]),
             }
@@ -152,24 +222,22 @@ class ModalResult:
         real = [
             {
                 "eigenvalue": float(v),
-                "rigid_body": bool(r),
-                "decay_time_s": (float(-1 / v) if v < 0 else None),
+                "class": c,
+                "rigid_body": c == "rigid-body",
+                "decay_time_s": (float(-1 / v) if c == "over-damped" else None),
             }
-            for v, r in zip(self.real_eigenvalues, self.rigid_body, strict=True)
+            for v, c in zip(self.real_eigenvalues, self.real_class, strict=True)
         ]
         return {
-            "speed_rpm": float(self.speed * 30 / np.pi),
+            "speed_rpm": _rpm(self.speed),
             "shaft_speeds_rpm": dict(
-                zip(
-                    self.shaft_names,
-                    (float(s * 30 / np.pi) for s in self.shaft_speeds),
-                    strict=True,
-                )
+                zip(self.shaft_names, (_rpm(s) for s in self.shaft_speeds), strict=True)
             ),
             "n_dof": int(self.assembly.n_dof),
             "method": self.method,
             "stable": self.stable,
             "n_rigid_body_modes": int(self.n_rigid_body),
+            "class_counts": self.class_counts(),
             "modes": modes,
             "real_modes": real,
         }
@@ -181,27 +249,39 @@ class ModalResult:
             f"{'whirl':>6} {'type':>6}  notes"
         )
         rows = [head, "-" * len(head)]
+        ld, zeta = self.log_dec, self.damping_ratio
         for i in range(len(self)):
-            notes = []
-            if self.overdamped[i]:
-                notes.append("over-damped")
-            if self.unstable[i]:
-                notes.append("UNSTABLE")
+            cls = self.mode_class[i]
             whirl = (
                 "/".join(self.whirl_per_shaft[i]) if len(self.shaft_names) > 1 else self.whirl[i]
             )
             rows.append(
                 f"{i:>3} {self.frequency_rpm[i]:>12.2f} {self.frequency_hz[i]:>10.3f} "
-                f"{self.log_dec[i]:>9.4g} {self.damping_ratio[i]:>7.4f} {whirl:>6} "
-                f"{self.mode_type[i]:>6}  {' '.join(notes)}"
+                f"{format_log_dec(ld[i]):>9} {format_zeta(zeta[i]):>7} {whirl:>6} "
+                f"{self.mode_type[i]:>6}  {_NOTE[cls]}"
             )
-        if len(self.real_eigenvalues):
-            nr = int(np.sum(self.rigid_body))
-            rows.append(
-                f"real eigenvalues: {len(self.real_eigenvalues)} "
-                f"({nr} rigid-body, {len(self.real_eigenvalues) - nr} over-damped)"
-            )
+        rows.append(self.counts_line())
         return "\n".join(rows)
+
+
+_NOTE = {"damped": "", "undamped": "undamped", "over-damped": "over-damped", "unstable": "UNSTABLE"}
+
+
+def _rpm(w: float) -> float:
+    """rad/s → rpm to 12 significant digits: a speed given as 6500 rpm reads 6500.0, not the
+    round trip's 6499.999999999999."""
+    return float(f"{w * 30 / np.pi:.12g}")
+
+
+def format_log_dec(v: float) -> str:
+    return "0" if v == 0 else f"{v:.4g}"
+
+
+def format_zeta(z: float) -> str:
+    """ζ to 4 decimals, never rounded up to 1 (an oscillating pair has ζ < 1)."""
+    if 0.99995 <= z < 1.0:
+        return ">0.9999"
+    return "0" if z == 0 else f"{z:.4f}"
 
 
 def state_matrices(M, C, K) -> tuple[NDArray, NDArray]:
@@ -260,9 +340,13 @@ def _solve_sparse(M, Cg, K, asm, max_frequency, n_modes, k0=None) -> tuple[NDArr
     scale = max_frequency if max_frequency else 1.0
     sigma = -1e-3 * scale
     k = min(k0 or max(n_modes or 20, 10), 2 * n - 2)
+    # a fixed start vector: ARPACK's default is random, which made repeated calls (and the
+    # Campbell diagram's tracking) differ in the last digits; a seeded generic vector keeps every
+    # mode's component non-zero and makes results reproducible
+    v0 = np.random.default_rng(20261125).standard_normal(2 * n)
     while True:
         try:
-            lam, V = spla.eigs(A, k=k, M=B, sigma=sigma, which="LM")
+            lam, V = spla.eigs(A, k=k, M=B, sigma=sigma, which="LM", v0=v0)
         except spla.ArpackNoConvergence as exc:
             raise SolverError(f"sparse eigensolver did not converge for {k} modes: {exc}") from None
         except RuntimeError:  # SuperLU could not factor the shifted matrix: M is singular
@@ -291,20 +375,78 @@ def _scale_vector(asm: Assembly) -> NDArray:
     return s
 
 
+def _energy_shares(phi: NDArray, asm: Assembly, K) -> NDArray:
+    """(m, 4) shares of lateral, axial and torsional energy, and the meshes' strain-energy
+    fraction (see the module docstring)."""
+    kind = asm.dof_kind()
+    Ks = 0.5 * (K + K.T)
+    for m in asm.meshes:
+        rows, cols = np.repeat(m.dofs, 12), np.tile(m.dofs, 12)
+        vals = m.stiffness * np.outer(m.w, m.w).ravel()
+        Ks = Ks - sp.coo_array((vals, (rows, cols)), shape=K.shape)
+    Ks = sp.csr_array(Ks)
+    n_m = len(phi)
+    kin = np.zeros((n_m, 3))
+    strain = np.zeros((n_m, 3))
+    for k in range(3):
+        mask = (kind == k).astype(float)
+        Mk = asm.M.multiply(mask[:, None]).multiply(mask[None, :]).tocsr()
+        Kk = Ks.multiply(mask[:, None]).multiply(mask[None, :]).tocsr()
+        kin[:, k] = np.real(np.einsum("mi,mi->m", phi.conj(), (Mk @ phi.T).T))
+        strain[:, k] = np.real(np.einsum("mi,mi->m", phi.conj(), (Kk @ phi.T).T))
+    kin = np.maximum(kin, 0.0)
+    strain = np.maximum(strain, 0.0)
+    mesh = np.zeros(n_m)
+    for m in asm.meshes:
+        # the mesh deflection δ = Σ_g δ_g: its energy goes to each group by |δ_g|² / Σ|δ_h|²
+        parts = np.zeros((n_m, 3), complex)
+        for k in range(3):
+            sel = kind[m.dofs] == k
+            parts[:, k] = phi[:, m.dofs[sel]] @ m.w[sel]
+        e = m.stiffness * np.abs(parts.sum(axis=1)) ** 2
+        p2 = np.abs(parts) ** 2
+        strain += e[:, None] * p2 / np.maximum(p2.sum(axis=1, keepdims=True), 1e-300)
+        mesh += e
+    kin_frac = kin / np.maximum(kin.sum(axis=1, keepdims=True), 1e-300)
+    total = strain.sum(axis=1)
+    has_strain = total > 1e-12 * max(float(total.max(initial=0.0)), 1e-300)
+    st = np.maximum(total, 1e-300)[:, None]
+    shares = np.zeros((n_m, 4))
+    shares[:, :3] = np.where(has_strain[:, None], np.maximum(kin_frac, strain / st), kin_frac)
+    shares[:, 3] = np.where(has_strain, mesh / st[:, 0], 0.0)
+    return shares
+
+
+def shares_to_types(shares: NDArray, threshold: float = TYPE_THRESHOLD) -> tuple[str, ...]:
+    """Mode types from energy shares (columns L, A, T): the groups at or above the threshold
+    (the largest alone when none is)."""
+    types = []
+    for f in shares:
+        groups = {k for k in range(3) if f[k] >= threshold} or {int(np.argmax(f[:3]))}
+        types.append("-".join(KIND_NAMES[k] for k in (0, 2, 1) if k in groups))
+    return tuple(types)
+
+
 def _classify(lam, V, asm, speeds, K, *, rigid_tol, overdamped_zeta, type_threshold, max_frequency):
     lam = np.asarray(lam)
     mag = np.abs(lam)
     KV = K @ V
     strain = np.abs(np.einsum("ij,ij->j", V.conj(), KV))
     kinetic = np.real(np.einsum("ij,ij->j", V.conj(), asm.M @ V))
-    rigid = np.sqrt(strain / np.maximum(kinetic, 1e-300)) < rigid_tol
-    imag_tol = 1e-9 * np.maximum(mag, 1.0)
+    # strain-free and not growing faster than rigid_tol: a positive real eigenvalue beyond the
+    # tolerance is an instability, never a rigid-body mode
+    rigid = (np.sqrt(strain / np.maximum(kinetic, 1e-300)) < rigid_tol) & (lam.real < rigid_tol)
+    imag_tol = ROUNDOFF * np.maximum(mag, 1.0)
     is_real = (np.abs(lam.imag) <= imag_tol) | rigid
     real_vals = lam[is_real].real
     real_rigid = rigid[is_real]
     order_r = np.argsort(real_vals)[::-1]
     real_vals, real_rigid = real_vals[order_r], real_rigid[order_r]
-    n_rigid = int(np.sum(rigid))
+    real_class = tuple(
+        "rigid-body" if r else ("unstable" if v > ROUNDOFF * abs(v) else "over-damped")
+        for v, r in zip(real_vals, real_rigid, strict=True)
+    )
+    n_rigid = real_class.count("rigid-body")
     sel = (~is_real) & (lam.imag > 0)
     if max_frequency is not None:
         sel &= lam.imag <= max_frequency
@@ -319,7 +461,7 @@ def _classify(lam, V, asm, speeds, K, *, rigid_tol, overdamped_zeta, type_thresh
     ref = phi[np.arange(len(idx)), kmax] * scale[kmax]
     phi = phi / ref[:, None]
 
-    # kinetic-energy fractions by DOF kind
+    # kinetic-energy fractions by DOF kind (reported), and the energy shares that name the type
     Md = asm.M
     kind = asm.dof_kind()
     frac = np.zeros((len(idx), 3))
@@ -329,11 +471,8 @@ def _classify(lam, V, asm, speeds, K, *, rigid_tol, overdamped_zeta, type_thresh
         frac[:, k] = np.real(np.einsum("mi,mi->m", phi.conj(), (Mk @ phi.T).T))
     frac = np.maximum(frac, 0.0)
     frac /= np.maximum(frac.sum(axis=1, keepdims=True), 1e-300)
-    order = (0, 2, 1)  # L, T, A
-    types = []
-    for f in frac:
-        names = [KIND_NAMES[k] for k in order if f[k] >= type_threshold]
-        types.append("-".join(names) if names else KIND_NAMES[int(np.argmax(f))])
+    shares = _energy_shares(phi, asm, K)
+    types = shares_to_types(shares, type_threshold)
 
     # whirl per shaft
     whirl_ps = []
@@ -355,18 +494,31 @@ def _classify(lam, V, asm, speeds, K, *, rigid_tol, overdamped_zeta, type_thresh
         whirl.append(per_shaft[int(np.argmax(lat_amp))])
 
     zeta = -lam_m.real / np.abs(lam_m)
-    overdamped = zeta >= overdamped_zeta
+    mode_class = []
+    for z, lr, lm in zip(zeta, lam_m.real, np.abs(lam_m), strict=True):
+        if lr > ROUNDOFF * lm:
+            mode_class.append("unstable")
+        elif abs(lr) <= ROUNDOFF * lm:
+            mode_class.append("undamped")
+        elif z >= overdamped_zeta:
+            mode_class.append("over-damped")
+        else:
+            mode_class.append("damped")
+    overdamped = np.array([c == "over-damped" for c in mode_class], bool)
     return dict(
         eigenvalues=lam_m,
         mode_shapes=phi,
         whirl_per_shaft=tuple(whirl_ps),
         whirl=tuple(whirl),
         energy_fractions=frac,
-        mode_type=tuple(types),
+        mode_type=types,
         overdamped=overdamped,
         real_eigenvalues=real_vals,
-        rigid_body=real_rigid,
+        rigid_body=np.array([c == "rigid-body" for c in real_class], bool),
         n_rigid_body=n_rigid,
+        energy_shares=shares,
+        mode_class=tuple(mode_class),
+        real_class=real_class,
     )
 
 
@@ -379,7 +531,7 @@ def modal(
     method: str = "auto",
     rigid_tol: float | None = None,
     overdamped_zeta: float = 0.999,
-    type_threshold: float = 0.1,
+    type_threshold: float = TYPE_THRESHOLD,
     sparse_k: int | None = None,
     operating_point=None,
 ) -> ModalResult:
@@ -396,7 +548,8 @@ def modal(
         (default 1e-2 rad/s, 0.1 rpm: far below any bearing or elastic mode, far above the
         round-off of a free mode, ~1e-5 rad/s)
     overdamped_zeta : damping ratio from which a complex pair is flagged over-damped
-    type_threshold : kinetic-energy fraction from which a DOF group names the mode type
+    type_threshold : energy share (kinetic + strain, see the module docstring) from which a DOF
+        group, or the mesh springs, name the mode type (default 5 %)
     sparse_k : initial number of eigenvalues the sparse solver asks for (it doubles the number
         until every mode below ``max_frequency`` is enclosed)
     operating_point : name or :class:`~gearrotor.model.OperatingPoint`: fluid-film bearings at
@@ -439,9 +592,15 @@ def modal(
         max_frequency=max_frequency,
     )
     if n_modes is not None:
-        for key in ("eigenvalues", "mode_shapes", "energy_fractions", "overdamped"):
+        for key in (
+            "eigenvalues",
+            "mode_shapes",
+            "energy_fractions",
+            "overdamped",
+            "energy_shares",
+        ):
             res[key] = res[key][:n_modes]
-        for key in ("whirl_per_shaft", "whirl", "mode_type"):
+        for key in ("whirl_per_shaft", "whirl", "mode_type", "mode_class"):
             res[key] = res[key][:n_modes]
     return ModalResult(
         speed=w,

@@ -159,27 +159,35 @@ class UnbalanceResult:
         }
 
     def table(self) -> str:
+        """Peaks (pk-pk, as the API 617 limit beside them) and critical speeds (0-pk at the
+        peak, AF, margins, result), with a legend of the columns."""
         rpm, um = 30 / np.pi, 1e6
-        rows = [f"{'probe':>12} {'peak um 0-pk':>13} {'at rpm':>9} {'limit um pk-pk':>15}"]
+        rows = [f"{'probe':>12} {'peak µm pk-pk':>14} {'at rpm':>9} {'limit µm pk-pk':>15}"]
         crit = [
-            f"{'probe':>12} {'critical rpm':>13} {'amp um':>9} {'AF':>7} {'SM %':>7} "
-            f"{'req %':>7} {'ok':>4}"
+            f"{'probe':>12} {'critical rpm':>13} {'µm 0-pk':>9} {'AF':>7} {'SM %':>7} "
+            f"{'req %':>7} {'check':>6}"
         ]
         for p, lim in zip(self.probes, self.vibration_limit, strict=True):
             k = int(np.argmax(p.amplitude))
             rows.append(
-                f"{p.name:>12} {p.amplitude[k] * um:>13.3f} {self.speeds[k] * rpm:>9.0f} "
+                f"{p.name:>12} {2 * p.amplitude[k] * um:>14.3f} {self.speeds[k] * rpm:>9.0f} "
                 f"{lim * um:>15.2f}"
             )
             for c in p.criticals:
                 af = "-" if c.amplification_factor is None else f"{c.amplification_factor:.2f}"
                 sm = "-" if c.separation_margin is None else f"{c.separation_margin:.1f}"
                 rq = "-" if c.required_margin is None else f"{c.required_margin:.1f}"
+                ok = {True: "pass", False: "FAIL", None: "n/a"}[c.ok]
                 crit.append(
                     f"{p.name:>12} {c.speed * rpm:>13.0f} {c.amplitude * um:>9.3f} "
-                    f"{af:>7} {sm:>7} {rq:>7} {str(c.ok):>4}"
+                    f"{af:>7} {sm:>7} {rq:>7} {ok:>6}"
                 )
-        return "\n".join(rows) + "\n\n" + "\n".join(crit)
+        legend = (
+            "AF: amplification factor (API 684 half-power method); SM: separation margin of the "
+            "critical from the operating range; req: the API 617 required margin; check: SM ≥ "
+            "req; '-' and n/a: not determined (a half-power point outside the sweep)"
+        )
+        return "\n".join(rows) + "\n\n" + "\n".join(crit) + "\n" + legend
 
 
 def shaft_masses(asm: Assembly) -> NDArray:

@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..errors import ModelError
+from ..errors import ModelError, SolverError
 from ..files import atomic_file, write_text
 from .equilibrium import Equilibrium, equilibrium
 from .film import SolverOptions, _Evaluator, _lever_scale, dof_names
@@ -145,8 +145,25 @@ def _reduce(k: NDArray, c: NDArray, m: NDArray, whirl: float) -> tuple[NDArray, 
     if w == 0:
         w = 1e-9
     z = k + 1j * w * c - w**2 * m
-    zjj, zjp, zpj, zpp = z[:2, :2], z[:2, 2:], z[2:, :2], z[2:, 2:]
-    zr = zjj - zjp @ np.linalg.solve(zpp, zpj)
+    # an unloaded pad (its film fully cavitated) with no inertia has an all-zero row and column:
+    # it carries no force, its tilt is free and does not couple to the journal; condensing it
+    # would divide by zero, so it is left out (it contributes nothing to Z_r)
+    row = np.abs(z).sum(axis=1) + np.abs(z).sum(axis=0)
+    pads = np.arange(2, z.shape[0])
+    live = pads[row[2:] > 1e-12 * max(float(row[2:].max(initial=0.0)), 1e-300)]
+    zjj = z[:2, :2]
+    if len(live):
+        zjp, zpj, zpp = z[np.ix_([0, 1], live)], z[np.ix_(live, [0, 1])], z[np.ix_(live, live)]
+        try:
+            zr = zjj - zjp @ np.linalg.solve(zpp, zpj)
+        except np.linalg.LinAlgError:
+            raise SolverError(
+                "tilting-pad coefficients: the pad equations are singular at whirl "
+                f"{w:.6g} rad/s (a pad with neither film stiffness nor inertia that still "
+                "couples to the journal); give the pads an inertia"
+            ) from None
+    else:
+        zr = zjj
     return zr.real.copy(), zr.imag / w
 
 

@@ -47,7 +47,11 @@ def plot_pressure(eq: Equilibrium, bearing: Bearing, path: str | Path | None = N
     fig = _figure(figsize=(max(8.0, 2.6 * n), 6.4), layout="constrained")
     gs = fig.add_gridspec(2, n, height_ratios=[1.2, 1.0])
     pmax = max(float(f.pressure.max()) for f in films) / 1e6 or 1.0
-    levels = np.linspace(0.0, pmax, 21)
+    from matplotlib.ticker import MaxNLocator
+
+    # round contour levels (0.5, 1, 1.5 MPa ...), so the colour bar's ticks are round numbers,
+    # not pmax/20 steps like 0.457/0.914/1.372
+    levels = MaxNLocator(nbins=20).tick_values(0.0, pmax)
     im = None
     for k, film in enumerate(films):
         ax = fig.add_subplot(gs[0, k])

@@ -52,7 +52,11 @@ __all__ = ["app", "main"]
 
 app = typer.Typer(
     name="gearrotor",
-    help="Dynamics of geared rotor-bearing trains: modal, Campbell, unbalance response.",
+    help=(
+        "Dynamics of geared rotor-bearing trains: damped modes, Campbell diagrams, unbalance "
+        "response, fluid-film bearings, nonlinear transients, HTML reports, Floquet stability "
+        "and parametric studies."
+    ),
     epilog=EXIT_CODES_HELP,
     no_args_is_help=True,
     add_completion=False,
@@ -60,17 +64,34 @@ app = typer.Typer(
     cls=OneLineGroup,  # parser errors are one line, like every other error
 )
 
-app.command("modal", epilog=EXIT_CODES_HELP)(modal_command)
-app.command("campbell", epilog=EXIT_CODES_HELP)(campbell_command)
-app.command("unbalance", epilog=EXIT_CODES_HELP)(unbalance_command)
-app.command("static", epilog=EXIT_CODES_HELP)(static_command)
-app.command("bearing", epilog=EXIT_CODES_HELP)(bearing_cli)
-app.command("transient", epilog=EXIT_CODES_HELP)(transient_command)
-app.command("transient-plot", epilog=EXIT_CODES_HELP)(plot_command)
-app.command("report", epilog=EXIT_CODES_HELP)(report_command)
-app.command("floquet", epilog=EXIT_CODES_HELP)(floquet_command)
-app.command("ucs", epilog=EXIT_CODES_HELP)(ucs_command)
-app.command("stability", epilog=EXIT_CODES_HELP)(stability_command)
+
+
+def reflow(doc: str | None) -> str | None:
+    """A docstring as help text: each paragraph's source line breaks joined into one line (the
+    terminal wraps it), paragraphs kept apart."""
+    if not doc:
+        return doc
+    import inspect
+
+    paras = inspect.cleandoc(doc).split("\n\n")
+    return "\n\n".join(" ".join(p.split()) for p in paras)
+
+
+def _command(name: str, fn) -> None:
+    app.command(name, help=reflow(fn.__doc__), epilog=EXIT_CODES_HELP)(fn)
+
+
+_command("modal", modal_command)
+_command("campbell", campbell_command)
+_command("unbalance", unbalance_command)
+_command("static", static_command)
+_command("bearing", bearing_cli)
+_command("transient", transient_command)
+_command("transient-plot", plot_command)
+_command("report", report_command)
+_command("floquet", floquet_command)
+_command("ucs", ucs_command)
+_command("stability", stability_command)
 app.add_typer(study_app, name="study")
 app.add_typer(torsional_app, name="torsional")
 

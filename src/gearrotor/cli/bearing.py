@@ -20,7 +20,6 @@ import typer
 
 from ..errors import ModelError
 from ..files import check_output
-from ..units import to_si
 from .errors import cli_errors
 from .options import FormatOpt
 
@@ -68,6 +67,8 @@ def parse_load(text: str) -> tuple[float, float]:
             value=text,
             expected="FX,FY in N, e.g. 2,-826 or '2 kN,-3 kN'",
         )
+    from ..units import to_si  # pint: only when a command parses units
+
     try:
         return to_si(_num(parts[0]), "force"), to_si(_num(parts[1]), "force")
     except ValueError as exc:
@@ -88,6 +89,8 @@ def parse_speed(text: str) -> float:
                 "not a finite number", field="--speed", value=text, expected="a speed in rpm"
             )
         return value
+    from ..units import to_si
+
     try:
         return to_si(text, "angular_speed")
     except ValueError as exc:
@@ -144,7 +147,7 @@ def format_table(rows: list[dict], header: str = "") -> str:
     lines = [header] if header else []
     lines.append(
         f"{'case':>4} {'Fx N':>9} {'Fy N':>9} {'rpm':>7} {'ecc':>6} {'att deg':>8} "
-        f"{'hmin um':>8} {'pmax MPa':>8} {'P kW':>7} {'Q l/min':>8} {'S':>8} "
+        f"{'hmin µm':>8} {'pmax MPa':>8} {'P kW':>7} {'Q l/min':>8} {'S':>8} "
         f"{'whirl':>6} {'m_crit kg':>10}"
     )
     for r in rows:
@@ -164,6 +167,11 @@ def format_table(rows: list[dict], header: str = "") -> str:
     for r in rows:
         vals = [r[f"{n}_N_per_m"] for n in names[:4]] + [r[f"{n}_N_s_per_m"] for n in names[4:]]
         lines.append(f"{r['case']:>4} " + " ".join(f"{v:>11.4e}" for v in vals))
+    lines.append(
+        "ecc: eccentricity ratio; att: attitude angle; S: Sommerfeld number; whirl and m_crit: "
+        "Lund's rigid-rotor stability threshold (whirl frequency ratio, critical journal mass); "
+        "'-': no threshold, stable for any mass"
+    )
     return "\n".join(lines)
 
 
@@ -262,7 +270,7 @@ def bearing_command(
                 header=(
                     f"{b.name} ({path}): D = {b.diameter * 1e3:.2f} mm, "
                     f"L = {b.length * 1e3:.1f} mm, "
-                    f"c = {b.clearance * 1e6:.1f} um, mu = {b.viscosity:.4g} Pa*s, "
+                    f"c = {b.clearance * 1e6:.1f} µm, μ = {b.viscosity:.4g} Pa·s, "
                     f"{w * 30 / math.pi:.0f} rpm; grid {case.options.grid.n_theta}x"
                     f"{case.options.grid.n_z}/pad; {wall:.2f} s"
                 ),

@@ -73,7 +73,7 @@ def floquet_command(
     """Floquet exponents of the train under its periodic mesh stiffness (teeth in contact,
     constant speed): growth rate (1/s, positive = parametrically unstable), frequency and the
     modes involved, for each Ka/Kg and speed."""
-    from ..analyses.floquet import floquet
+    from ..analyses.floquet import check_ka_ratio, floquet
     from ..analyses.transient import build_system
     from ..io import load_model, parse_overrides
 
@@ -99,6 +99,8 @@ def floquet_command(
             sp = [abs(w_op) / RPM]
         train = model_at_operating_point(train, operating_point, [v * RPM for v in sp])[0]
     system = build_system(train)
+    for k in kas:  # every Ka must be able to act, before anything runs
+        check_ka_ratio(system, k)
     cases = []
     for s in sp:
         for k in kas:
@@ -129,16 +131,34 @@ def _print_table(res, n: int) -> None:
         f"{d['n_modes']} modes, {d['slices']} steps per period, "
         f"mesh {', '.join(dict.fromkeys(f'{f:,.0f}' for f in d['mesh_frequency_cpm']))} cpm)"
     )
+    for law in d["mesh_laws"]:
+        typer.echo(f"  mesh '{law['mesh']}': {_law_text(law)}")
     typer.echo(f"  {'growth 1/s':>11} {'cpm':>10} {'order':>7} {'log dec':>9}  modes (cpm)")
+    tol = d["neutral_tolerance_1_s"]
     for row in d["exponents"]:
         ld = row["log_dec"] if abs(row["log_dec"]) >= 5e-5 else 0.0
+        g = row["growth_1_s"] if abs(row["growth_1_s"]) > tol else 0.0  # neutral: no "-0.000"
         pair = f"{row['mode_cpm']:,.0f}"
         if row["partner_cpm"] is not None:
             pair += f" + {row['partner_cpm']:,.0f}"
         typer.echo(
-            f"  {row['growth_1_s']:11.3f} {row['frequency_cpm']:10,.0f} "
-            f"{row['order']:7.2f} {ld:9.4f}  {pair}"
+            f"  {g:11.3f} {row['frequency_cpm']:10,.0f} {row['order']:7.2f} {ld:9.4f}  {pair}"
         )
+
+
+def _law_text(law: dict) -> str:
+    """The stiffness law a mesh ran with, in words (the Ka/Kg, contact ratio and terms used)."""
+    if law["law"] == "table":
+        return "stiffness table (the model's)"
+    if law["law"] == "constant":
+        return (
+            f"constant stiffness Kg (Ka/Kg {law['ka_ratio']:g}, {law['terms']} Fourier terms): "
+            "no parametric excitation"
+        )
+    return (
+        f"Ka/Kg {law['ka_ratio']:g}, contact ratio {law['contact_ratio']:g}, "
+        f"{law['terms']} Fourier terms"
+    )
 
 
 def _plot(cases, n_speeds: int, kas: list[float | None], path: Path) -> None:
@@ -149,25 +169,37 @@ def _plot(cases, n_speeds: int, kas: list[float | None], path: Path) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
+    # growth within the convergence tolerance is neutral (the table says "stable"): drawn as
+    # 0 inside a grey band, so that round-off (1e-11 1/s) is not autoscaled into "unstable"
+    band = max(r.neutral_tolerance for r in cases)
+
+    def shown(r) -> float:
+        g = float(r.growth[0])
+        return 0.0 if abs(g) <= r.neutral_tolerance else g
+
     grid = [cases[i * len(kas) : (i + 1) * len(kas)] for i in range(n_speeds)]
     fig, ax = plt.subplots(figsize=(7, 4.2), constrained_layout=True)
     if n_speeds > 1:
         for j, k in enumerate(kas):
             ax.plot(
                 [row[j].speed / RPM for row in grid],
-                [row[j].growth[0] for row in grid],
+                [shown(row[j]) for row in grid],
                 "o-",
                 label="model Ka" if k is None else f"Ka/Kg = {k:g}",
             )
         ax.set_xlabel("reference shaft speed (rpm)")
-        ax.legend()
     else:
         labels = ["model" if k is None else f"{k:g}" for k in kas]
-        ax.plot(labels, [r.growth[0] for r in cases], "o-")
+        ax.plot(labels, [shown(r) for r in cases], "o-", label="largest growth rate")
         ax.set_xlabel("Ka/Kg")
+    ax.axhspan(-band, band, color="0.85", zorder=0, label=f"neutral (|growth| ≤ {band:.1e} 1/s)")
     ax.axhline(0.0, color="k", lw=0.8)
+    lo, hi = ax.get_ylim()
+    span = max(hi, -lo, 10 * band)
+    ax.set_ylim(min(lo, -0.1 * span), max(hi, 0.1 * span))
+    ax.legend(fontsize=8)
     ax.set_ylabel("largest Floquet growth rate (1/s)")
-    ax.set_title("Parametric stability (positive: unstable)")
+    ax.set_title("Parametric stability (above the neutral band: unstable)")
     ax.grid(alpha=0.3)
     path.parent.mkdir(parents=True, exist_ok=True)
     save_figure(fig, path, dpi=120)

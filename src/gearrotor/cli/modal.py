@@ -46,6 +46,13 @@ def modal_command(
         Path | None, typer.Option(help="write mode-shape plots to this directory")
     ] = None,
     shapes: Annotated[bool, typer.Option(help="include mode shapes in the JSON output")] = False,
+    orbit: Annotated[
+        bool,
+        typer.Option(
+            help="plot each shape's orbit size (semi-major axis, ≥ 0) instead of the signed "
+            "real part"
+        ),
+    ] = False,
     operating_point: OperatingPointOpt = None,
     set_: SetOpt = None,
 ) -> None:
@@ -80,6 +87,8 @@ def modal_command(
         plot.mkdir(parents=True, exist_ok=True)
         elastic = [i for i in range(len(res)) if not res.overdamped[i]]
         for k in range(0, min(len(elastic), 16), 8):
-            plot_mode_shapes(res, modes=elastic[k : k + 8], path=plot / f"modes_{k // 8 + 1}.png")
+            plot_mode_shapes(
+                res, modes=elastic[k : k + 8], path=plot / f"modes_{k // 8 + 1}.png", orbit=orbit
+            )
         write_json(plot / "modal.json", res.to_dict())
         typer.echo(f"plots written to {plot}/", err=format == "json")

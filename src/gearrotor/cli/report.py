@@ -49,7 +49,8 @@ def report_command(
         float | None,
         typer.Option(
             parser=rpm(0, strict=True),
-            help="highest damped frequency of modes and Campbell, cpm (default 5×speed)",
+            help="highest damped frequency of modes and Campbell, cpm (default 1.1 × the mesh "
+            "frequency; 5 × speed without gears)",
         ),
     ] = None,
     api: Annotated[

@@ -10,6 +10,7 @@ does not stop the study).
 from __future__ import annotations
 
 import sys
+import time
 from pathlib import Path
 from typing import Annotated
 
@@ -186,6 +187,12 @@ def report_command(
             value=per_figure,
             expected="an integer >= 1",
         )
+    t0 = time.perf_counter()
+
+    def progress(text: str) -> None:  # the report takes a minute: say what it does (stderr)
+        typer.echo(f"[{time.perf_counter() - t0:5.1f} s] {text}", err=True)
+
+    progress(f"collecting the results of {st.name!r}")
     collect(st)
     paths = report(
         st,
@@ -193,6 +200,7 @@ def report_command(
         cases=_parse_cases(cases),
         probes=None if probes is None else [p.strip() for p in probes.split(",")],
         per_figure=per_figure,
+        progress=progress,
     )
     for p in paths:
         typer.echo(str(p))

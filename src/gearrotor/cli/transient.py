@@ -34,7 +34,9 @@ __all__ = ["transient_command", "plot_command"]
 
 def transient_command(
     model: Annotated[Path, typer.Argument(help="model file (TOML)")],
-    t_end: Annotated[float, typer.Option("--t-end", parser=duration(), help="end time, s")] = 1.0,
+    t_end: Annotated[
+        float, typer.Option("--t-end", parser=duration(), help="end time, s (optional)")
+    ] = 1.0,
     dt: Annotated[
         float | None,
         typer.Option(
@@ -239,5 +241,5 @@ def plot_command(
             file=str(file),
             expected="a NetCDF file written by 'gearrotor transient --output'",
         ) from None
-    for p in standard_figures(ds, out, prefix=file.stem):
-        typer.echo(str(p))
+    typer.echo(f"writing the standard figures of {file} to {out}/ ...", err=True)
+    standard_figures(ds, out, prefix=file.stem, progress=lambda p: typer.echo(str(p)))

@@ -70,6 +70,11 @@ def unbalance_command(
     train = operating_range_from_options(train, operating_range, mcs)
     hi = max_speed if max_speed is not None else 1.5 * abs(train.speed) / RPM
     speeds = speed_grid(min_speed, hi, n_speeds, "--min-speed/--max-speed")
+    # the operating range's ends (the nominal speed without one) are sweep points: the orbits
+    # are drawn at the maximum continuous speed itself, not at the nearest grid speed (7211 rpm
+    # for a range to 7200)
+    op = model_operating_range(train) or (abs(train.speed), abs(train.speed))
+    speeds = np.union1d(speeds, [v for v in op if speeds[0] <= v <= speeds[-1]])
     asm = assemble(train)
     unb = list(train.unbalances)
     if api:

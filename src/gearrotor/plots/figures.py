@@ -8,7 +8,7 @@ import numpy as np
 
 from ..files import save_figure
 
-__all__ = ["plot_mode_shapes", "plot_campbell", "plot_bode", "plot_orbits"]
+__all__ = ["mode_shape_curves", "plot_mode_shapes", "plot_campbell", "plot_bode", "plot_orbits"]
 
 RPM = 30 / np.pi
 
@@ -30,9 +30,39 @@ def _save(fig, path):
     return fig
 
 
-def plot_mode_shapes(result, modes=None, path=None, max_modes: int = 8):
-    """Mode shapes along every shaft: lateral orbit semi-major axis (solid) and torsional
-    surface displacement θz·r (dashed), normalised as in the result (max physical = 1).
+def mode_shape_curves(result, m: int, shaft: int, orbit: bool = False) -> dict:
+    """The curves :func:`plot_mode_shapes` draws for mode ``m`` on shaft ``shaft``.
+
+    Signed (default): the complex shape, normalised with its largest physical component real
+    (the result's normalisation), taken by its real part: lateral in the direction (x or y)
+    holding the mode's largest lateral component, torsional θz·r, axial z. A second bending
+    mode is an S, not a V. ``orbit=True``: the orbit's semi-major axis (≥ 0) instead of the
+    signed lateral curve, and |θz|·r, |z|.
+    """
+    asm = result.assembly
+    sl = asm.train.layout().shafts[shaft]
+    phi = result.mode_shapes[m]
+    offs = asm.node_offset[shaft]
+    X, Y = phi[offs], phi[offs + 1]
+    if orbit:
+        lateral = 0.5 * (np.abs(X + 1j * Y) + np.abs(X - 1j * Y))
+        tors, axial = np.abs(phi[offs + 5]) * sl.outer_radius, np.abs(phi[offs + 2])
+        direction = "orbit"
+    else:
+        allx = np.concatenate([phi[o] for o in asm.node_offset])
+        ally = np.concatenate([phi[o + 1] for o in asm.node_offset])
+        use_y = np.max(np.abs(ally), initial=0.0) > np.max(np.abs(allx), initial=0.0)
+        lateral = (Y if use_y else X).real
+        tors, axial = phi[offs + 5].real * sl.outer_radius, phi[offs + 2].real
+        direction = "y" if use_y else "x"
+    return {"z": sl.z, "lateral": lateral, "torsional": tors, "axial": axial, "dir": direction}
+
+
+def plot_mode_shapes(result, modes=None, path=None, max_modes: int = 8, orbit: bool = False):
+    """Mode shapes along every shaft (:func:`mode_shape_curves`): lateral (solid), torsional
+    surface displacement θz·r (dashed), axial (dotted, when it shows), normalised as in the
+    result (largest physical displacement = 1). Signed real parts by default; ``orbit=True``
+    plots the orbit size (semi-major axis) instead.
 
     ``modes``: indices to plot (default: the first ``max_modes`` that are not over-damped).
     """
@@ -44,22 +74,23 @@ def plot_mode_shapes(result, modes=None, path=None, max_modes: int = 8):
     modes = list(modes)
     ns = len(layout.shafts)
     fig, axes = plt.subplots(
-        len(modes), ns, figsize=(4.2 * ns + 1, 2.1 * len(modes) + 0.6), squeeze=False, sharex="col"
+        len(modes),
+        ns,
+        figsize=(4.2 * ns + 1.4, 2.1 * len(modes) + 0.6),
+        squeeze=False,
+        sharex="col",
     )
     for row, m in enumerate(modes):
-        phi = result.mode_shapes[m]
         for col, sl in enumerate(layout.shafts):
             ax = axes[row, col]
             offs = asm.node_offset[col]
-            X, Y = phi[offs], phi[offs + 1]
-            major = 0.5 * (np.abs(X + 1j * Y) + np.abs(X - 1j * Y))
-            tors = np.abs(phi[offs + 5]) * sl.outer_radius
-            axial = np.abs(phi[offs + 2])
-            z = sl.z
-            ax.plot(z, major, "C0-", lw=1.8, label="lateral")
-            ax.plot(z, tors, "C3--", lw=1.5, label="torsional θz·r")
-            if np.max(axial) > 0.05:
-                ax.plot(z, axial, "C2:", lw=1.5, label="axial")
+            c = mode_shape_curves(result, m, col, orbit=orbit)
+            z = c["z"]
+            lat = "lateral orbit size" if orbit else "lateral"
+            ax.plot(z, c["lateral"], "C0-", lw=1.8, label=lat)
+            ax.plot(z, c["torsional"], "C3--", lw=1.5, label="torsional θz·r")
+            if np.max(np.abs(c["axial"])) > 0.05:
+                ax.plot(z, c["axial"], "C2:", lw=1.5, label="axial z")
             for b in asm.train.bearings:
                 if b.shaft == sl.name:
                     _, node = asm.train.node_index(b, "bearings")
@@ -69,22 +100,26 @@ def plot_mode_shapes(result, modes=None, path=None, max_modes: int = 8):
                     if mi.shafts[side] == col:
                         node = int(np.flatnonzero(offs == mi.dofs[6 * side])[0])
                         ax.axvline(z[node], color="0.6", lw=0.8)
-            ax.set_ylim(-0.05, 1.1)
+            ax.set_ylim(-0.05 if orbit else -1.1, 1.1)
+            ax.axhline(0.0, color="0.3", lw=0.6)
             ax.grid(alpha=0.3)
             if row == 0:
                 ax.set_title(sl.name)
             if col == 0:
                 ws = "/".join(result.whirl_per_shaft[m])
                 ax.set_ylabel(
-                    f"{result.frequency_rpm[m]:.0f} rpm\nδ={result.log_dec[m]:.3g} "
-                    f"{ws} {result.mode_type[m]}",
+                    f"mode {m}: {result.frequency_rpm[m]:.0f} rpm\nδ={result.log_dec[m]:.3g} "
+                    f"{ws} {result.mode_type[m]}\n"
+                    + ("orbit size (max 1)" if orbit else f"Re({c['dir']}), θz·r (max 1)"),
                     fontsize=8,
                 )
             if row == len(modes) - 1:
-                ax.set_xlabel("z (m)")
+                ax.set_xlabel("axial position z (m)")
     axes[0, -1].legend(loc="upper right", fontsize=7)
+    kind = "orbit size" if orbit else "signed real part, largest component real"
     fig.suptitle(
-        f"{asm.train.name}: mode shapes at {result.speed * RPM:.0f} rpm (▲ bearing, | gear)",
+        f"{asm.train.name}: mode shapes at {result.speed * RPM:.0f} rpm ({kind}; "
+        "▲ bearing, | gear)",
         fontsize=10,
         y=1.0,
     )
@@ -146,8 +181,9 @@ def plot_campbell(result, path=None, max_frequency=None):
 
 
 def plot_bode(result, path=None, probes=None):
-    """Bode plot (amplitude 0-pk in µm and phase lag) at every probe, with the critical speeds,
-    half-power bands and the operating range."""
+    """Bode plot (amplitude 0-pk in µm and phase lag) at every probe, with the critical speeds
+    (▼, their amplification factors in the legend), the API 617 limit (drawn at half its
+    peak-to-peak value, on the 0-pk axis) and the operating range."""
     plt = _plt()
     probes = result.probes if probes is None else probes
     fig, (a1, a2) = plt.subplots(
@@ -155,24 +191,31 @@ def plot_bode(result, path=None, probes=None):
     )
     s = result.speeds * RPM
     for k, p in enumerate(probes):
-        a1.plot(s, p.amplitude * 1e6, color=f"C{k}", label=p.name)
+        # the critical speeds' AF go into the legend: annotations of close peaks overlapped
+        crit = [
+            f"{c.speed * RPM:.0f} rpm AF {c.amplification_factor:.1f}"
+            for c in p.criticals
+            if c.amplification_factor is not None
+        ]
+        label = p.name + (f" (▼ {', '.join(crit)})" if crit else "")
+        a1.plot(s, p.amplitude * 1e6, color=f"C{k}", label=label)
         a2.plot(s, np.unwrap(np.deg2rad(p.phase)) * 180 / np.pi, color=f"C{k}")
         for c in p.criticals:
             a1.plot(c.speed * RPM, c.amplitude * 1e6, "v", color=f"C{k}")
-            if c.amplification_factor is not None:
-                a1.annotate(
-                    f"AF {c.amplification_factor:.1f}",
-                    (c.speed * RPM, c.amplitude * 1e6),
-                    fontsize=7,
-                    textcoords="offset points",
-                    xytext=(4, 4),
-                )
+    for lim in sorted({float(v) for v in np.atleast_1d(result.vibration_limit) if np.isfinite(v)}):
+        a1.axhline(
+            lim / 2 * 1e6,
+            color="k",
+            ls="--",
+            lw=0.8,
+            label=f"API 617 limit {lim * 1e6:.1f} µm pk-pk (½)",
+        )
     lo, hi = result.operating_range
     a1.axvspan(lo * RPM * 0.999, hi * RPM * 1.001, color="C2", alpha=0.2, label="operating")
     a1.set_ylabel("amplitude 0-pk (µm)")
     a1.set_yscale("log")
     a1.grid(alpha=0.3, which="both")
-    a1.legend(fontsize=8)
+    a1.legend(fontsize=7, loc="lower right")
     a2.set_ylabel("phase lag (deg)")
     a2.set_xlabel("reference shaft speed (rpm)")
     a2.grid(alpha=0.3)

@@ -274,20 +274,33 @@ class _Progress:
     """A text progress bar on ``stream`` (redrawn in place on a terminal, one line per case
     otherwise)."""
 
-    def __init__(self, total: int, *, enabled: bool, stream: TextIO | None = None) -> None:
+    def __init__(
+        self,
+        total: int,
+        *,
+        enabled: bool,
+        stream: TextIO | None = None,
+        total_weight: float | None = None,
+    ) -> None:
         self.total, self.enabled = total, enabled
         self.stream = stream or sys.stderr
         self.done = self.failed = 0
+        self.weight_total = float(total if total_weight is None else total_weight)
+        self.weight_done = 0.0
         self.t0 = time.perf_counter()
         self.tty = bool(getattr(self.stream, "isatty", lambda: False)())
 
-    def update(self, text: str, *, failed: bool = False) -> None:
+    def update(self, text: str, *, failed: bool = False, weight: float = 1.0) -> None:
         self.done += 1
         self.failed += failed
+        self.weight_done += weight
         if not self.enabled:
             return
         el = time.perf_counter() - self.t0
-        eta = el / self.done * (self.total - self.done)
+        # time per unit of estimated work so far × the work left (cases weigh unequally:
+        # see _case_weight), not time per case × cases left
+        left = max(self.weight_total - self.weight_done, 0.0)
+        eta = el / max(self.weight_done, 1e-9) * left
         n = 30
         fill = int(n * self.done / max(self.total, 1))
         bar = f"[{'#' * fill}{'.' * (n - fill)}] {self.done}/{self.total}"
@@ -315,6 +328,24 @@ def _thread_env() -> Iterator[None]:
                 os.environ.pop(k, None)
             else:
                 os.environ[k] = v
+
+
+BACKLASH_COST = 5.0  # a case with backlash (contact loss: small steps) runs ~5x longer (seed study)
+
+
+def _case_weight(p: PlannedCase) -> float:
+    """Relative run time of a case, known before it runs: 1, or ``BACKLASH_COST`` for a model
+    with a mesh backlash (the seed study's backlash rows took 5x as long as the others)."""
+    try:
+        model = json.loads(p.model_json or "{}")
+    except ValueError:
+        return 1.0
+    weight = 1.0
+    for m in model.get("meshes") or []:
+        b = (m or {}).get("backlash") or {}
+        if isinstance(b, dict) and float(b.get("value") or 0.0) > 0:
+            weight = BACKLASH_COST
+    return weight
 
 
 # ---- execution ---------------------------------------------------------------------------------
@@ -513,9 +544,14 @@ def run_study(
             f"{'ok' if ok else 'FAILED: ' + out['error'][:200]}"
             f" ({out.get('wall_time_s', 0.0):.1f} s)"
         )
-        bar.update(text, failed=not ok)
+        bar.update(text, failed=not ok, weight=weights.get(out["key"], 1.0))
 
-    payloads = [_payload(study, p) for p in todo.values()]
+    # the longest cases first (a worker does not idle at the end on one backlash case), and
+    # the remaining time estimated from their weights
+    order = sorted(todo.values(), key=_case_weight, reverse=True)
+    weights = {p.key: _case_weight(p) for p in order}
+    bar.weight_total = sum(weights.values())
+    payloads = [_payload(study, p) for p in order]
     n_workers = workers or os.cpu_count() or 1
     backend = "local"
     if payloads:

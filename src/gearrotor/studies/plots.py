@@ -218,13 +218,20 @@ def report(
     cases: Sequence[int] | None = None,
     probes: Sequence[str] | None = None,
     per_figure: int = 7,
+    progress=None,
 ) -> list[Path]:
     """Write the study's figures as PNG into ``output`` (default ``<study folder>/report``):
     ``trend_<parameter>.png`` for every parameter, and for transient studies
     ``spectra_<probe>_<first>-<last>.png`` and ``spectra_speed_<shaft>_<first>-<last>.png``
     overlaying at most ``per_figure`` finished cases (``cases``: only these; ``probes``: only
-    these probes). Returns the paths written."""
+    these probes). ``progress``: called with a line of text as each figure is written (the
+    command line prints it on stderr). Returns the paths written."""
     plt = _pyplot()
+
+    def note(text: str) -> None:
+        if progress is not None:
+            progress(text)
+
     out = Path(output) if output is not None else study.folder / "report"
     check_output(out, "directory", field="--output")
     out.mkdir(parents=True, exist_ok=True)
@@ -239,6 +246,7 @@ def report(
             save_figure(fig, path, dpi=110)
             plt.close(fig)
             written.append(path)
+            note(f"{path.name} written")
     if not isinstance(study.analysis, TransientSettings):
         return written
     status = study_status(study, planned)
@@ -251,6 +259,7 @@ def report(
         if planned[i].key not in seen_keys:
             seen_keys.add(planned[i].key)
             uniq.append(i)
+    note(f"spectra of {len(uniq)} cases, {per_figure} per figure")
     for start in range(0, len(uniq), per_figure):
         chunk = uniq[start : start + per_figure]
         data = {}
@@ -275,11 +284,13 @@ def report(
             save_figure(fig, path, dpi=110)
             plt.close(fig)
             written.append(path)
+            note(f"{path.name} written")
         for shaft in first["shaft"].values:
             fig = overlay_spectra(data, channel="speed", name=str(shaft), title=study.name)
             path = out / f"spectra_speed_{safe_name(shaft)}_{tag}.png"
             save_figure(fig, path, dpi=110)
             plt.close(fig)
             written.append(path)
+            note(f"{path.name} written")
     write_json(out / "figures.json", [p.name for p in written])
     return written

@@ -505,7 +505,8 @@ def _with_mesh_damping_ratios(tm: TorsionalModel) -> TorsionalModel:
         frac = np.where(elastic, tm.mesh_stiffness[k] * wphi**2 / np.where(elastic, w2, 1.0), 0.0)
         i = int(np.argmax(frac))
         c = 2.0 * s.damping_ratio * np.sqrt(w2[i]) / wphi[i] ** 2
+        dc = c - damping[k]  # C and C_full hold the assembly's (6-DOF model's) mesh damper
         damping[k] = c
-        C += c * np.outer(wr, wr)
-        Cf[np.ix_(tm.mesh_dofs[k], tm.mesh_dofs[k])] += c * np.outer(tm.mesh_w[k], tm.mesh_w[k])
+        C += dc * np.outer(wr, wr)
+        Cf[np.ix_(tm.mesh_dofs[k], tm.mesh_dofs[k])] += dc * np.outer(tm.mesh_w[k], tm.mesh_w[k])
     return replace(tm, C=C, C_full=Cf, mesh_damping=damping)

@@ -366,14 +366,8 @@ def build_system(
         constant_force=None if constant_force is None else constant_force[active],
         bearing_preload=None if bearing_preload is None else np.asarray(bearing_preload, float),
     )
-    if any(law.damping_ratio is not None for law in laws):
-        resolved = []
-        for k, law in enumerate(laws):
-            if law.damping_ratio is not None:
-                c, _ = mesh_damping_from_ratio(system, k, law.damping_ratio)
-                law = replace(law, damping=c)
-            resolved.append(law)
-        system = replace(system, meshes=tuple(resolved))
+    # a mesh damping_ratio is already resolved into MeshInfo.damping by the assembly (the same
+    # damper for every analysis)
     return system
 
 

@@ -177,7 +177,7 @@ def mesh_laws(
                 coef_a=a,
                 coef_b=b,
                 backlash=float(spec.backlash.half),
-                damping=float(spec.damping),
+                damping=float(m.damping),  # the assembly resolves damping_ratio
                 damping_ratio=spec.damping_ratio,
                 teeth=int(m.teeth[0]),
                 table_phi=phi_t,

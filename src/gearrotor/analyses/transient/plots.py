@@ -13,7 +13,7 @@ import numpy as np
 
 from ...files import save_figure
 from ...signals import spectrum
-from .results import RPM
+from .results import RPM, spectra_one_x_rpm
 
 __all__ = [
     "plot_time_histories",
@@ -70,8 +70,8 @@ def plot_spectra(result, *, segments: int = 4, window: str = "hann"):
     sl = _steady(ds)
     t = ds["time"].values[sl]
     dt = float(np.median(np.diff(t)))
-    speed = np.abs(ds["shaft_speed"].values[sl, 0])
-    run_cpm = float(speed.mean() * RPM)
+    # the same 1x as the summary table's "1x cpm" (one function, one window)
+    run_cpm = float(spectra_one_x_rpm(ds["time"].values, ds["shaft_speed"].values)[0])
     node0 = str(ds["node"].values[0])
     x = ds["x"].values[sl, 0]
     f, a = spectrum(x, dt, window=window, segments=segments)
@@ -202,8 +202,11 @@ def plot_whirl_power(result, *, smooth: float = 0.01):
     return fig
 
 
-def standard_figures(result, directory: str | Path, prefix: str = "transient") -> list[Path]:
-    """Write the standard PNG figures into ``directory``; returns the paths."""
+def standard_figures(
+    result, directory: str | Path, prefix: str = "transient", progress=None
+) -> list[Path]:
+    """Write the standard PNG figures into ``directory``; returns the paths. ``progress``:
+    called with each path as it is written (the command line prints it)."""
     directory = Path(directory)
     directory.mkdir(parents=True, exist_ok=True)
     ds = _ds(result)
@@ -222,4 +225,6 @@ def standard_figures(result, directory: str | Path, prefix: str = "transient") -
         path = directory / f"{prefix}_{name}.png"
         save_figure(fig, path, dpi=110)
         out.append(path)
+        if progress is not None:
+            progress(path)
     return out

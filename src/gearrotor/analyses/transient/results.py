@@ -58,6 +58,15 @@ class SolverStats:
     harmonic_error: float | None = None
 
 
+def spectra_one_x_rpm(time: NDArray, shaft_speed: NDArray) -> NDArray:
+    """(ns,) each shaft's 1x (rpm = cpm): its mean |speed| over the second half of the run, the
+    window of the standard spectra (:func:`.plots.plot_spectra`); the summary reports the same
+    number, so the table and the figure titles agree."""
+    t = np.asarray(time)
+    sl = t >= t[0] + 0.5 * (t[-1] - t[0])
+    return np.mean(np.abs(np.asarray(shaft_speed)[sl]), axis=0) * RPM
+
+
 @dataclass(frozen=True)
 class TransientResult:
     """Frozen result of :func:`~.driver.transient` (``status == "ok"`` when it finished).
@@ -181,14 +190,19 @@ class TransientResult:
                 else [],
             }
         fl = self.speed_fluctuation(window)
+        one_x = spectra_one_x_rpm(self.time, self.shaft_speed)
         for k, name in enumerate(self.shaft_names):
             rpm = self.shaft_speed_rpm[:, k]
             s["shafts"][name] = {
+                "speed_start_rpm": float(rpm[0]),
+                "speed_end_rpm": float(rpm[-1]),
                 "speed_min_rpm": float(rpm.min()),
                 "speed_max_rpm": float(rpm.max()),
                 "speed_mean_rpm": float(rpm.mean()),
+                "speed_1x_rpm": float(one_x[k]),
                 "speed_fluctuation_rpm": float(fl[k] * RPM),
             }
+        s["drive"] = self.drive()
         for k, name in enumerate(self.mesh_names):
             s["meshes"][name] = {
                 "force_min_N": float(self.mesh_force[:, k].min()),
@@ -196,6 +210,18 @@ class TransientResult:
                 "contact_loss_fraction": float(self.contact_loss_fraction[k]),
             }
         return s
+
+    def drive(self) -> str:
+        """What sets the speed: ``"held"`` (frozen speed), ``"torques"`` (the model's driving or
+        load torques), or ``"coast-down"`` (no torque: the train runs down freely, losing
+        speed to the bearings' and the material damping)."""
+        if self.frozen_speed:
+            return "held"
+        try:
+            torques = json.loads(self.model_json).get("torques") or []
+        except (TypeError, ValueError):
+            return "torques"
+        return "torques" if torques else "coast-down"
 
     def table(self) -> str:
         """Human-readable summary table."""
@@ -220,15 +246,25 @@ class TransientResult:
         for lab, a in s["nodes"].items():
             text = "; ".join(_line_text(ln, growing / window) for ln in a["x_lines"])
             lines.append(f"  {lab:<14}{text}")
-        lines.append(f"{'shaft':<16}{'min rpm':>12}{'max rpm':>12}{'mean rpm':>12}")
+        lines.append(
+            f"{'shaft':<16}{'start rpm':>12}{'end rpm':>12}{'mean rpm':>12}{'1x cpm':>12}"
+            "   (1x: mean speed over the second half, the spectra's window)"
+        )
         for name, a in s["shafts"].items():
             lines.append(
-                f"{name:<16}{a['speed_min_rpm']:>12.2f}{a['speed_max_rpm']:>12.2f}"
-                f"{a['speed_mean_rpm']:>12.2f}"
+                f"{name:<16}{a['speed_start_rpm']:>12.2f}{a['speed_end_rpm']:>12.2f}"
+                f"{a['speed_mean_rpm']:>12.2f}{a['speed_1x_rpm']:>12.2f}"
             )
+        if s["drive"] == "coast-down":
+            lines.append(
+                "no driving torque: coast-down (the model has no torques; the train runs down "
+                "freely; add [[torques]] to drive it)"
+            )
+        elif s["drive"] == "held":
+            lines.append("speed held constant (frozen speed)")
         for name, a in s["meshes"].items():
             lines.append(
-                f"mesh {name}: force {a['force_min_N']:.1f} .. {a['force_max_N']:.1f} "
+                f"mesh '{name}': force {a['force_min_N']:.1f} .. {a['force_max_N']:.1f} "
                 f"N, contact loss {100 * a['contact_loss_fraction']:.2f} %"
             )
         return "\n".join(lines)

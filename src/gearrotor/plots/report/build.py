@@ -71,6 +71,23 @@ def parse_analyses(text: str | tuple[str, ...] | list[str]) -> tuple[str, ...]:
     return tuple(out)
 
 
+def _default_max_frequency(asm, w: float, given: float | None) -> tuple[float, str]:
+    """(rad/s, why): the given value, or 1.1 × the highest mesh frequency at the operating
+    speed ``w`` (the mesh-frequency region and the coupled L-T modes below it), or 5 × speed
+    for a train without gears."""
+    if given is not None:
+        return float(given), "as given"
+    speeds = np.abs(asm.shaft_speeds(w))
+    mesh = [m.teeth[0] * speeds[m.shafts[0]] for m in asm.meshes]
+    if mesh and max(mesh) > 0:
+        f = max(mesh)
+        return (
+            1.1 * f,
+            f"default: 1.1 × the mesh frequency {f * RPM:,.0f} cpm at {w * RPM:,.0f} rpm",
+        )
+    return 5 * w, f"default: 5 × the operating speed {w * RPM:,.0f} rpm (no gear mesh)"
+
+
 def make_report(
     model,
     output: str | Path,
@@ -101,7 +118,9 @@ def make_report(
         range and maximum continuous speed when the model states them and no speed is given,
         else this speed
     max_frequency : rad/s, highest damped frequency of the modes and the Campbell diagram
-        (default: 5 × speed)
+        (default: 1.1 × the highest mesh frequency at the operating speed, so that the coupled
+        lateral-torsional modes a gear engineer looks for are in; 5 × speed without meshes);
+        the report states the range and why
     transient : path of a transient result (NetCDF written by ``TransientResult.save``)
     api : the unbalance section uses the API 617 unbalance, 4 × 6350 W/N g·mm per plane of the
         model's unbalances (W the plane's share of its shaft's mass, kg; N its shaft's speed at
@@ -179,7 +198,7 @@ def make_report(
             value=None if speed is None else f"{w * RPM:.6g} rpm",
             expected="a speed > 0 rpm (the direction of rotation follows the model)",
         )
-    fmax = 5 * w if max_frequency is None else float(max_frequency)
+    fmax, fmax_basis = _default_max_frequency(asm, w, max_frequency)
     if not (np.isfinite(fmax) and fmax > 0):
         raise ModelError(
             "the maximum frequency must be positive",
@@ -208,6 +227,10 @@ def make_report(
         operating_points=tuple(operating_points or ()),
         base_train=base_train,
     )
+    ctx.notes.append(
+        f"Modes and Campbell diagram up to {fmax * RPM:,.0f} cpm ({fmax_basis}; "
+        "--max-frequency sets another range)."
+    )
     if op_note:
         ctx.notes.append(op_note)
     requested = [s for s in SECTIONS if s.analysis in analyses]
@@ -234,6 +257,7 @@ def make_report(
             "speed_rpm": w * RPM,
             "operating_range_rpm": [v * RPM for v in ctx.api_range],
             "max_frequency_rpm": fmax * RPM,
+            "max_frequency_basis": fmax_basis,
             "transient": None if transient is None else str(transient),
             "unbalance": "api617" if api else "model",
             "operating_point": operating_point,

@@ -21,6 +21,10 @@ class CampbellSection(Section):
         from ....analyses import campbell
 
         speeds = ctx.sweep(0.0, 1.25 * ctx.speed, ctx.n_campbell, "Campbell sweep")
+        if speeds[0] <= ctx.speed <= speeds[-1]:
+            # the operating speed is a sweep point: the stability checks name a Campbell track
+            # by its row of the modal table there (one numbering)
+            speeds = np.union1d(speeds, [ctx.speed])
         try:
             ctx.results["campbell"] = campbell(
                 ctx.assembly, speeds=speeds, max_frequency=ctx.max_frequency

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ....analyses.modal import format_log_dec, format_zeta
 from ..base import Context, Part, Section
 from ..blocks import LOG_DEC_THRESHOLD, RPM, _color, _e, _figure_html, _go
 
@@ -295,13 +296,14 @@ def _markers(fig, x, y, z, text, name: str, **marker) -> int:
 
 
 def _mode_status(res, i: int) -> str:
-    if res.overdamped[i]:
-        return "over-damped"
-    if res.unstable[i]:
+    """The mode's class (as in the table and JSON of ``gearrotor modal``), with "low damping"
+    for a damped mode below the log dec threshold."""
+    cls = res.mode_class[i]
+    if cls == "unstable":
         return "UNSTABLE"
-    if res.log_dec[i] < LOG_DEC_THRESHOLD:
+    if cls == "damped" and res.log_dec[i] < LOG_DEC_THRESHOLD:
         return "low damping"
-    return "stable"
+    return "stable" if cls == "damped" else cls
 
 
 def _modes_table(res) -> str:
@@ -309,27 +311,26 @@ def _modes_table(res) -> str:
         "<table><tr><th>#</th><th>frequency (cpm)</th><th>frequency (Hz)</th>"
         "<th>log dec</th><th>damping ratio</th><th>whirl "
         + _e("/".join(res.shaft_names))
-        + "</th><th>type</th><th>energy L / T / A (%)</th><th class='l'>status</th></tr>"
+        + "</th><th>type</th><th>energy share L / T / A (%)</th><th class='l'>status</th></tr>"
     )
     rows = [head]
     for i in range(len(res)):
         st = _mode_status(res, i)
         cls = {"UNSTABLE": "bad", "low damping": "warn", "over-damped": "od"}.get(st, "")
-        fr = res.energy_fractions[i] * 100
+        fr = res.energy_shares[i] * 100
         rows.append(
             f"<tr class='{cls}'><td>{i}</td><td>{res.frequency_rpm[i]:.1f}</td>"
-            f"<td>{res.frequency_hz[i]:.3f}</td><td>{res.log_dec[i]:.4g}</td>"
-            f"<td>{res.damping_ratio[i]:.4f}</td><td>{_e('/'.join(res.whirl_per_shaft[i]))}</td>"
+            f"<td>{res.frequency_hz[i]:.3f}</td><td>{format_log_dec(res.log_dec[i])}</td>"
+            f"<td>{format_zeta(res.damping_ratio[i])}</td><td>{_e('/'.join(res.whirl_per_shaft[i]))}</td>"
             f"<td>{_e(res.mode_type[i])}</td><td>{fr[0]:.0f} / {fr[2]:.0f} / {fr[1]:.0f}</td>"
             f"<td class='l'>{_e(st)}</td></tr>"
         )
     rows.append("</table>")
-    nr = int(np.sum(res.rigid_body))
     extra = (
-        f"<p>{len(res)} damped modes up to the maximum frequency; "
-        f"{len(res.real_eigenvalues)} real eigenvalues ({nr} rigid-body, "
-        f"{len(res.real_eigenvalues) - nr} over-damped) are not listed. Whirl per shaft "
+        f"<p>{_e(res.counts_line())} (real eigenvalues are not listed). Whirl per shaft "
         "relative to that shaft's spin (F forward, B backward, – no lateral motion); type "
-        "from kinetic-energy fractions (L lateral, T torsional, A axial).</p>"
+        "from energy shares (L lateral, T torsional, A axial: the larger of a group's kinetic "
+        "and strain energy fractions, the mesh spring's energy shared by the groups that deflect "
+        "it; a group with 5 % or more names the mode). Undamped: log dec zero to round-off.</p>"
     )
     return "\n".join(rows) + extra

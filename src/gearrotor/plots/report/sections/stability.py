@@ -25,10 +25,16 @@ class StabilitySection(Section):
         return [("stability", "Stability margins", _stability_html(stab))]
 
 
+def _lateral(mode_type: str) -> bool:
+    """The API 617 log dec criterion judges modes with lateral motion (type with ``L``)."""
+    return "L" in str(mode_type)
+
+
 def _stability(res, camp) -> dict:
     out: dict = {"threshold_log_dec": LOG_DEC_THRESHOLD}
     if res is not None:
         el = [i for i in range(len(res)) if not res.overdamped[i]]
+        lat = [i for i in el if _lateral(res.mode_type[i])]
         d = {
             "speed_rpm": float(res.speed * RPM),
             "stable": bool(res.stable),
@@ -38,12 +44,15 @@ def _stability(res, camp) -> dict:
             "divergent_eigenvalues": int(np.sum(res.real_eigenvalues[~res.rigid_body] > 0)),
             "low_damping_modes": [
                 int(i)
-                for i in el
+                for i in lat
                 if 0 <= res.log_dec[i] < LOG_DEC_THRESHOLD and not res.unstable[i]
             ],
+            "undamped_non_lateral_modes": [
+                int(i) for i in el if i not in lat and res.mode_class[i] == "undamped"
+            ],
         }
-        if el:
-            k = min(el, key=lambda i: res.log_dec[i])
+        if lat:
+            k = min(lat, key=lambda i: res.log_dec[i])
             d["lowest_log_dec"] = {
                 "mode": int(k),
                 "frequency_rpm": float(res.frequency_rpm[k]),
@@ -55,18 +64,22 @@ def _stability(res, camp) -> dict:
         out["modal"] = d
     if camp is not None:
         ld = np.where(camp.overdamped, np.inf, camp.log_dec)
+        names = _modal_rows(res, camp)
         per_mode = []
         for j in range(ld.shape[1]):
             k = int(np.argmin(ld[:, j]))
             per_mode.append(
                 {
-                    "mode": j,
+                    "mode": names[j],
+                    "track": j,
+                    "lateral": bool(any(_lateral(t) for t in camp.mode_type[:, j])),
                     "min_log_dec": float(camp.log_dec[k, j]),
                     "at_speed_rpm": float(camp.speeds[k] * RPM),
                     "frequency_rpm": float(camp.damped_frequency[k, j] * RPM),
                 }
             )
-        lowest = min(per_mode, key=lambda d: d["min_log_dec"]) if per_mode else None
+        judged = [d for d in per_mode if d["lateral"]]
+        lowest = min(judged, key=lambda d: d["min_log_dec"]) if judged else None
         out["campbell"] = {
             "speed_range_rpm": [float(camp.speeds[0] * RPM), float(camp.speeds[-1] * RPM)],
             "modes": per_mode,
@@ -76,11 +89,45 @@ def _stability(res, camp) -> dict:
     return out
 
 
+def _modal_rows(res, camp) -> list[int | None]:
+    """Per Campbell track, the row of the modal table (at the operating speed) it is, so that
+    every check names a mode by one numbering: a one-to-one assignment by frequency at the
+    operating speed (a sweep point); None for a track without a row within 1 %."""
+    from scipy.optimize import linear_sum_assignment
+
+    n = camp.damped_frequency.shape[1]
+    if res is None:
+        return [None] * n
+    k = int(np.argmin(np.abs(camp.speeds - res.speed)))
+    rows = [i for i in range(len(res)) if not res.overdamped[i]]
+    if not rows or abs(camp.speeds[k] - res.speed) > 1e-6 * max(abs(res.speed), 1.0):
+        return [None] * n
+    f = camp.damped_frequency[k]
+    fr = res.damped_frequency[rows]
+    cost = np.abs(f[:, None] - fr[None, :]) / np.maximum(np.abs(f[:, None]), 1e-9)
+    cost = np.where(np.isfinite(cost), cost, 1e9)
+    out: list[int | None] = [None] * n
+    for j, c in zip(*linear_sum_assignment(cost), strict=True):
+        if cost[j, c] <= 0.01:
+            out[j] = int(rows[c])
+    return out
+
+
+def _list(v: list) -> str:
+    return ", ".join(str(x) for x in v) if v else "–"
+
+
+def _mode_name(d: dict) -> str:
+    """'mode 7' (the modal table's numbering) or 'track 3' when the track has no row there."""
+    return f"mode {d['mode']}" if d.get("mode") is not None else f"Campbell track {d['track']}"
+
+
 def _stability_html(stab: dict) -> str:
     parts = [
-        f"<p>Acceptance threshold: log dec ≥ {LOG_DEC_THRESHOLD} for every mode that is not "
-        "over-damped (API 617 Level II criterion); a negative log dec is an unstable "
-        "mode.</p>"
+        f"<p>Acceptance threshold: log dec ≥ {LOG_DEC_THRESHOLD} for every mode with lateral "
+        "motion (type with L) that is not over-damped (API 617 Level II criterion); a negative "
+        "log dec is an unstable mode. Modes are numbered as in the modal table at the "
+        "operating speed.</p>"
     ]
     m = stab.get("modal")
     if m is not None:
@@ -99,9 +146,12 @@ def _stability_html(stab: dict) -> str:
                 f"<td>{low['log_dec'] - LOG_DEC_THRESHOLD:+.4g}</td></tr>"
             )
         parts.append(
-            f"<tr><td class='l'>unstable modes</td><td>{m['unstable_modes'] or '–'}"
+            f"<tr><td class='l'>unstable modes</td><td>{_list(m['unstable_modes'])}"
             f"</td></tr><tr><td class='l'>low-damping modes</td>"
-            f"<td>{m['low_damping_modes'] or '–'}</td></tr></table>"
+            f"<td>{_list(m['low_damping_modes'])}</td></tr>"
+            "<tr><td class='l'>undamped modes without lateral motion (not judged: the model "
+            f"has no damping on them)</td><td>{_list(m['undamped_non_lateral_modes'])}</td></tr>"
+            "</table>"
         )
     c = stab.get("campbell")
     if c is not None:
@@ -118,7 +168,7 @@ def _stability_html(stab: dict) -> str:
                 else ("warn" if d["min_log_dec"] < LOG_DEC_THRESHOLD else "")
             )
             parts.append(
-                f"<tr class='{cls}'><td>{d['mode']}</td><td>{d['min_log_dec']:.4g}</td>"
+                f"<tr class='{cls}'><td>{_mode_name(d)}</td><td>{d['min_log_dec']:.4g}</td>"
                 f"<td>{d['at_speed_rpm']:.0f}</td><td>{d['frequency_rpm']:.0f}</td>"
                 f"<td>{_badge(d['min_log_dec'] >= LOG_DEC_THRESHOLD)}</td></tr>"
             )
@@ -165,7 +215,7 @@ def _verdicts(stab: dict) -> list[dict]:
             {
                 "check": "stability over the Campbell speed range",
                 "ok": c["ok"],
-                "detail": f"lowest log dec {lo['min_log_dec']:.3g} (mode {lo['mode']} at "
+                "detail": f"lowest log dec {lo['min_log_dec']:.3g} ({_mode_name(lo)} at "
                 f"{lo['at_speed_rpm']:.0f} rpm)",
             }
         )

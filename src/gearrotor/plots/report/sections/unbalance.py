@@ -40,6 +40,9 @@ class UnbalanceSection(Section):
 
         top = max(ctx.speed, ctx.api_range[1])
         speeds = ctx.sweep(0.02 * top, 1.5 * top, ctx.n_unbalance, "unbalance sweep")
+        # the orbits at the operating range's top (the maximum continuous speed) itself
+        ends = [v for v in ctx.api_range if speeds[0] <= v <= speeds[-1]]
+        speeds = np.union1d(speeds, ends)
         ctx.results["unbalance"] = unbalance_response(
             ctx.assembly,
             speeds=speeds,
