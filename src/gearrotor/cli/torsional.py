@@ -406,7 +406,7 @@ def transient_command(
     ] = None,
     initial_speed: Annotated[
         float,
-        typer.Option("--initial-speed", parser=rpm(), help="rpm of the reference shaft at t = 0"),
+        typer.Option("--initial-speed", parser=rpm(0), help="rpm of the reference shaft at t = 0"),
     ] = 0.0,
     mesh: MeshOpt = "flexible",
     sn_m: Annotated[
