@@ -169,6 +169,8 @@ def test_floquet_and_campbell_at_operating_point(examples):
             "load": {"shaft": "g", "node": 8},
         },
     ]
+    # a varying mesh stiffness (Ka/Kg acts only on a Fourier law with terms)
+    data["meshes"][0]["variation"] = {"contact_ratio": 1.6, "terms": 5}
     t = gr.Train.model_validate(data)
     a = floquet(t, operating_point="P", ka_ratio=0.1)
     b = floquet(at_operating_point(t, "P"), speed=t.speed, ka_ratio=0.1)
