@@ -65,7 +65,6 @@ app = typer.Typer(
 )
 
 
-
 def reflow(doc: str | None) -> str | None:
     """A docstring as help text: each paragraph's source line breaks joined into one line (the
     terminal wraps it), paragraphs kept apart."""
