@@ -101,3 +101,40 @@ def geared_train(
         **extra,
     }
     return model_from_dict(data)
+
+
+def driven_gear_pair():
+    """A gear (2e5 N·m/rad shaft, 3.0 + 0.6 kg·m²) driving a pinion (50:20) at 1500 rpm with a
+    30 kW torque drive on the gear and a quadratic load on the pinion: the small train the
+    torsional figure and report tests share (a start-up to ~1500 rpm in a few seconds)."""
+    return geared_train(
+        [
+            shaft("g", 2e5, [disk(0, 3.0), disk(1, 0.6)]),
+            shaft("p", 5e4, [disk(0, 0.2), disk(1, 0.4)], start=0.5),
+        ],
+        [
+            {
+                "gear": ("g", 1, 50, 0.25),
+                "mate": ("p", 0, 20, 0.1),
+                "k": 1e9,
+                "driver": "gear",
+                "damping_ratio": 0.02,
+            }
+        ],
+        speed="1500 rpm",
+        torsional={
+            "drives": [
+                {
+                    "type": "torque",
+                    "shaft": "g",
+                    "node": 0,
+                    "rated_power": "30 kW",
+                    "rated_speed": "1500 rpm",
+                    "value": 250.0,
+                }
+            ],
+            "loads": [
+                {"type": "quadratic", "shaft": "p", "node": 1, "torque": 60.0, "speed": "3750 rpm"}
+            ],
+        },
+    )

@@ -20,47 +20,13 @@ from gearrotor.plots.torsional import (
     plot_torsional_response,
     plot_torsional_transient,
 )
-from torsional_helpers import disk, geared_train, shaft
+from torsional_helpers import driven_gear_pair
 
 pytest.importorskip("matplotlib")
 
 
-def _train():
-    return geared_train(
-        [
-            shaft("g", 2e5, [disk(0, 3.0), disk(1, 0.6)]),
-            shaft("p", 5e4, [disk(0, 0.2), disk(1, 0.4)], start=0.5),
-        ],
-        [
-            {
-                "gear": ("g", 1, 50, 0.25),
-                "mate": ("p", 0, 20, 0.1),
-                "k": 1e9,
-                "driver": "gear",
-                "damping_ratio": 0.02,
-            }
-        ],
-        speed="1500 rpm",
-        torsional={
-            "drives": [
-                {
-                    "type": "torque",
-                    "shaft": "g",
-                    "node": 0,
-                    "rated_power": "30 kW",
-                    "rated_speed": "1500 rpm",
-                    "value": 250.0,
-                }
-            ],
-            "loads": [
-                {"type": "quadratic", "shaft": "p", "node": 1, "torque": 60.0, "speed": "3750 rpm"}
-            ],
-        },
-    )
-
-
 def test_figures(tmp_path):
-    t = _train()
+    t = driven_gear_pair()
     modes = torsional_modes(t)
     fig = plot_torsional_modes(modes, path=tmp_path / "modes.png")
     assert f"{modes.frequency_hz[1]:.2f} Hz" in fig.axes[0].get_ylabel()

@@ -19,45 +19,9 @@ from gearrotor.analyses.torsional import (  # noqa: E402
 )
 from gearrotor.plots.report import ANALYSES, make_report  # noqa: E402
 from gearrotor.plots.report.sections.torsional import transient_duration  # noqa: E402
-from torsional_helpers import disk, geared_train, shaft  # noqa: E402
+from torsional_helpers import driven_gear_pair  # noqa: E402
 
 RPM = np.pi / 30
-
-
-def _train():
-    """Two shafts through a 50:20 mesh, a constant-torque drive and a quadratic load (the
-    figure tests' train): a start-up to ~1500 rpm in a few seconds."""
-    return geared_train(
-        [
-            shaft("g", 2e5, [disk(0, 3.0), disk(1, 0.6)]),
-            shaft("p", 5e4, [disk(0, 0.2), disk(1, 0.4)], start=0.5),
-        ],
-        [
-            {
-                "gear": ("g", 1, 50, 0.25),
-                "mate": ("p", 0, 20, 0.1),
-                "k": 1e9,
-                "driver": "gear",
-                "damping_ratio": 0.02,
-            }
-        ],
-        speed="1500 rpm",
-        torsional={
-            "drives": [
-                {
-                    "type": "torque",
-                    "shaft": "g",
-                    "node": 0,
-                    "rated_power": "30 kW",
-                    "rated_speed": "1500 rpm",
-                    "value": 250.0,
-                }
-            ],
-            "loads": [
-                {"type": "quadratic", "shaft": "p", "node": 1, "torque": 60.0, "speed": "3750 rpm"}
-            ],
-        },
-    )
 
 
 @pytest.fixture(scope="module")
@@ -66,7 +30,7 @@ def report(tmp_path_factory):
 
     plt.close("all")  # figures other tests of this worker left open count towards pyplot's 20
     out = tmp_path_factory.mktemp("rep") / "tors"
-    return make_report(_train(), out, analyses="torsional")
+    return make_report(driven_gear_pair(), out, analyses="torsional")
 
 
 def test_not_run_by_default():
@@ -74,7 +38,7 @@ def test_not_run_by_default():
 
 
 def test_numbers_are_the_analyses_numbers(report):
-    train = _train()
+    train = driven_gear_pair()
     data = json.loads(report.json.read_text())
     tors = data["torsional"]
     modes = torsional_modes(train)
@@ -125,4 +89,4 @@ def test_transient_duration_covers_the_model_events(examples):
 
     train = load_model(examples / "motor_gearbox_compressor.toml")
     assert transient_duration(train) == pytest.approx(24.0)  # load step at 22 s, + 2 s
-    assert transient_duration(_train()) == pytest.approx(20.0)
+    assert transient_duration(driven_gear_pair()) == pytest.approx(20.0)
