@@ -250,9 +250,7 @@ def modes_command(
     if plot is not None:
         from ..plots.torsional import plot_torsional_modes
 
-        p = plot_torsional_modes(res, path=plot / "torsional_modes.png")
-        _close(p)
-        typer.echo(f"plot written to {plot / 'torsional_modes.png'}", err=format == "json")
+        _plot(plot_torsional_modes, res, plot / "torsional_modes.png", format)
 
 
 @torsional_app.command("campbell", epilog=EXIT_CODES_HELP)
@@ -339,8 +337,7 @@ def campbell_command(
     if plot is not None:
         from ..plots.torsional import plot_interference
 
-        _close(plot_interference(res, path=plot / "torsional_interference.png"))
-        typer.echo(f"plot written to {plot / 'torsional_interference.png'}", err=format == "json")
+        _plot(plot_interference, res, plot / "torsional_interference.png", format)
 
 
 @torsional_app.command("response", epilog=EXIT_CODES_HELP)
@@ -391,8 +388,7 @@ def response_command(
     if plot is not None:
         from ..plots.torsional import plot_torsional_response
 
-        _close(plot_torsional_response(res, path=plot / "torsional_response.png"))
-        typer.echo(f"plot written to {plot / 'torsional_response.png'}", err=format == "json")
+        _plot(plot_torsional_response, res, plot / "torsional_response.png", format)
 
 
 @torsional_app.command("transient", epilog=EXIT_CODES_HELP)
@@ -492,3 +488,10 @@ def _close(fig) -> None:
     import matplotlib.pyplot as plt
 
     plt.close(fig)
+
+
+def _plot(figure, result, path: Path, format: str) -> None:
+    """``figure(result, path=path)`` (a :mod:`gearrotor.plots.torsional` function), its figure
+    closed, and the path reported (on stderr when stdout carries JSON)."""
+    _close(figure(result, path=path))
+    typer.echo(f"plot written to {path}", err=format == "json")
