@@ -72,25 +72,6 @@ PlotOpt = Annotated[Path | None, typer.Option("--plot", help="directory for PNG 
 HZ = 2 * math.pi
 
 
-def _finite(text: str) -> float:
-    """Parser of a plain finite number."""
-    try:
-        value = float(text)
-    except ValueError:
-        value = float("nan")
-    if not math.isfinite(value):
-        raise typer.BadParameter(f"not a finite number (got {text!r}); expected e.g. 8")
-    return value
-
-
-def _hz(text: str) -> float:
-    """Parser of a frequency option in Hz: finite and positive."""
-    value = _finite(text)
-    if not value > 0:
-        raise typer.BadParameter(f"out of range (got {text!r}); expected a frequency > 0 Hz")
-    return value
-
-
 def _check_mesh(mesh: str) -> None:
     if mesh not in ("flexible", "rigid"):
         raise ModelError(
