@@ -49,6 +49,7 @@ alike (:attr:`ModalResult.mode_class`, :attr:`ModalResult.real_class`,
 
 from __future__ import annotations
 
+import weakref
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -358,6 +359,84 @@ def _solve_sparse(M, Cg, K, asm, max_frequency, n_modes, k0=None) -> tuple[NDArr
         k = min(2 * k, 2 * n - 2)
 
 
+@dataclass(frozen=True)
+class _KindData:
+    """What the classification needs of an Assembly that does not change with speed: the DOF
+    kinds, the kinetic energy's kind-diagonal blocks, the meshes' DOFs per kind, the shape
+    scale. Built once per Assembly (:func:`_kind_data`)."""
+
+    kind: NDArray  # (n,) int: 0 L, 1 A, 2 T (Assembly.dof_kind)
+    indicator: NDArray  # (3, n) float: row k is 1 on the DOFs of kind k
+    M_bd: sp.csr_array  # M with the entries between DOFs of different kinds removed
+    meshes: tuple[tuple[float, tuple[tuple[NDArray, NDArray], ...]], ...]  # (k, per kind (dofs, w))
+    scale: NDArray  # _scale_vector
+    # (shaft DOF x offsets, y offsets) per shaft, for the whirl
+    xy: tuple[tuple[NDArray, NDArray], ...]
+
+
+_KIND_CACHE: dict[int, tuple[weakref.ref, _KindData]] = {}
+
+
+def _kind_data(asm: Assembly) -> _KindData:
+    """The :class:`_KindData` of ``asm``, cached while ``asm`` lives (keyed by identity: an
+    Assembly holds arrays, so it has no value hash)."""
+    hit = _KIND_CACHE.get(id(asm))
+    if hit is not None and hit[0]() is asm:
+        return hit[1]
+    kind = asm.dof_kind()
+    indicator = np.zeros((3, asm.n_dof))
+    indicator[kind, np.arange(asm.n_dof)] = 1.0
+    meshes = []
+    for m in asm.meshes:
+        sel = kind[m.dofs]
+        meshes.append(
+            (float(m.stiffness), tuple((m.dofs[sel == k], m.w[sel == k]) for k in range(3)))
+        )
+    data = _KindData(
+        kind=kind,
+        indicator=indicator,
+        M_bd=_kind_diagonal(asm.M, kind),
+        meshes=tuple(meshes),
+        scale=_scale_vector(asm),
+        xy=tuple((offs, offs + 1) for offs in asm.node_offset),
+    )
+    key = id(asm)
+    _KIND_CACHE[key] = (weakref.ref(asm, lambda _, key=key: _KIND_CACHE.pop(key, None)), data)
+    return data
+
+
+def _kind_diagonal(A, kind: NDArray) -> sp.csr_array:
+    """A with the entries that couple DOFs of different kinds removed (a block-diagonal matrix
+    in the kind ordering)."""
+    A = sp.coo_array(A)
+    keep = kind[A.row] == kind[A.col]
+    return sp.csr_array((A.data[keep], (A.row[keep], A.col[keep])), shape=A.shape)
+
+
+def _split(X: NDArray) -> tuple[NDArray, NDArray]:
+    """Contiguous real and imaginary parts of X: a sparse matrix times a real C-ordered array
+    is several times faster than times a strided complex one."""
+    return np.ascontiguousarray(X.real), np.ascontiguousarray(X.imag)
+
+
+def _quadratic(A, a: NDArray, b: NDArray) -> NDArray:
+    """xᴴ A x (complex) for each column x = a + ib of X (n, m), A real (sparse), a and b as
+    :func:`_split` gives them."""
+    Aa, Ab = A @ a, A @ b
+    return (
+        np.einsum("ij,ij->j", a, Aa)
+        + np.einsum("ij,ij->j", b, Ab)
+        + 1j * (np.einsum("ij,ij->j", a, Ab) - np.einsum("ij,ij->j", b, Aa))
+    )
+
+
+def _by_kind(data: _KindData, A, X: NDArray) -> NDArray:
+    """(m, 3): Re Σ_{i∈k} conj(x_i) (A_kk x_k)_i for each column x of X (n, m) and kind k, with
+    A real and kind-diagonal (the kind blocks' quadratic forms Re x_kᴴ A_kk x_k)."""
+    a, b = _split(X)
+    return (data.indicator @ (a * (A @ a) + b * (A @ b))).T
+
+
 def _scale_vector(asm: Assembly) -> NDArray:
     """Per DOF: 1 for translations, the node radius for rotations (m)."""
     s = np.ones(asm.n_dof)
@@ -375,37 +454,35 @@ def _scale_vector(asm: Assembly) -> NDArray:
     return s
 
 
-def _energy_shares(phi: NDArray, asm: Assembly, K) -> NDArray:
+def _energy_shares(phi: NDArray, asm: Assembly, K, kin: NDArray | None = None) -> NDArray:
     """(m, 4) shares of lateral, axial and torsional energy, and the meshes' strain-energy
-    fraction (see the module docstring)."""
-    kind = asm.dof_kind()
-    Ks = 0.5 * (K + K.T)
-    for m in asm.meshes:
-        rows, cols = np.repeat(m.dofs, 12), np.tile(m.dofs, 12)
-        vals = m.stiffness * np.outer(m.w, m.w).ravel()
-        Ks = Ks - sp.coo_array((vals, (rows, cols)), shape=K.shape)
-    Ks = sp.csr_array(Ks)
-    n_m = len(phi)
-    kin = np.zeros((n_m, 3))
-    strain = np.zeros((n_m, 3))
-    for k in range(3):
-        mask = (kind == k).astype(float)
-        Mk = asm.M.multiply(mask[:, None]).multiply(mask[None, :]).tocsr()
-        Kk = Ks.multiply(mask[:, None]).multiply(mask[None, :]).tocsr()
-        kin[:, k] = np.real(np.einsum("mi,mi->m", phi.conj(), (Mk @ phi.T).T))
-        strain[:, k] = np.real(np.einsum("mi,mi->m", phi.conj(), (Kk @ phi.T).T))
+    fraction (see the module docstring). ``kin``: the (m, 3) kinetic energies by kind, when
+    the caller has them.
+
+    The strain energy of kind k is U_k = x_kᴴ K_s,kk x_k − Σ_meshes kg |w_k·x_k|² (K_s the
+    symmetric part of K, x_k the mode's kind-k part, w_k the mesh vector's): x_kᴴ K_s,kk x_k =
+    Re x_kᴴ K_kk x_k for a real K, and the kind-k block of a mesh spring kg w wᵀ gives
+    kg |w_k·x_k|²."""
+    data = _kind_data(asm)
+    X = phi.T
+    if kin is None:
+        kin = _by_kind(data, data.M_bd, X)
     kin = np.maximum(kin, 0.0)
+    n_m = len(phi)
+    strain = _by_kind(data, _kind_diagonal(K, data.kind), X)
+    parts = np.zeros((len(data.meshes), n_m, 3), complex)
+    for j, (_, groups) in enumerate(data.meshes):
+        for k, (dofs, w) in enumerate(groups):
+            parts[j, :, k] = phi[:, dofs] @ w
+    stiff = np.array([kg for kg, _ in data.meshes])
+    p2 = np.abs(parts) ** 2  # (meshes, m, 3)
+    strain -= np.einsum("j,jmk->mk", stiff, p2)
     strain = np.maximum(strain, 0.0)
     mesh = np.zeros(n_m)
-    for m in asm.meshes:
+    for j, kg in enumerate(stiff):
         # the mesh deflection δ = Σ_g δ_g: its energy goes to each group by |δ_g|² / Σ|δ_h|²
-        parts = np.zeros((n_m, 3), complex)
-        for k in range(3):
-            sel = kind[m.dofs] == k
-            parts[:, k] = phi[:, m.dofs[sel]] @ m.w[sel]
-        e = m.stiffness * np.abs(parts.sum(axis=1)) ** 2
-        p2 = np.abs(parts) ** 2
-        strain += e[:, None] * p2 / np.maximum(p2.sum(axis=1, keepdims=True), 1e-300)
+        e = kg * np.abs(parts[j].sum(axis=1)) ** 2
+        strain += e[:, None] * p2[j] / np.maximum(p2[j].sum(axis=1, keepdims=True), 1e-300)
         mesh += e
     kin_frac = kin / np.maximum(kin.sum(axis=1, keepdims=True), 1e-300)
     total = strain.sum(axis=1)
@@ -430,9 +507,9 @@ def shares_to_types(shares: NDArray, threshold: float = TYPE_THRESHOLD) -> tuple
 def _classify(lam, V, asm, speeds, K, *, rigid_tol, overdamped_zeta, type_threshold, max_frequency):
     lam = np.asarray(lam)
     mag = np.abs(lam)
-    KV = K @ V
-    strain = np.abs(np.einsum("ij,ij->j", V.conj(), KV))
-    kinetic = np.real(np.einsum("ij,ij->j", V.conj(), asm.M @ V))
+    Vr, Vi = _split(V)
+    strain = np.abs(_quadratic(K, Vr, Vi))
+    kinetic = np.einsum("ij,ij->j", Vr, asm.M @ Vr) + np.einsum("ij,ij->j", Vi, asm.M @ Vi)
     # strain-free and not growing faster than rigid_tol: a positive real eigenvalue beyond the
     # tolerance is an instability, never a rigid-body mode
     rigid = (np.sqrt(strain / np.maximum(kinetic, 1e-300)) < rigid_tol) & (lam.real < rigid_tol)
@@ -455,43 +532,32 @@ def _classify(lam, V, asm, speeds, K, *, rigid_tol, overdamped_zeta, type_thresh
     lam_m, phi = lam[idx], V[:, idx].T  # (m,), (m, n_dof)
 
     # normalise: largest physical displacement = 1 at zero phase
-    scale = _scale_vector(asm)
+    data = _kind_data(asm)
+    scale = data.scale
     phys = np.abs(phi) * scale
     kmax = np.argmax(phys, axis=1)
     ref = phi[np.arange(len(idx)), kmax] * scale[kmax]
     phi = phi / ref[:, None]
 
     # kinetic-energy fractions by DOF kind (reported), and the energy shares that name the type
-    Md = asm.M
-    kind = asm.dof_kind()
-    frac = np.zeros((len(idx), 3))
-    for k in range(3):
-        mask = (kind == k).astype(float)
-        Mk = Md.multiply(mask[:, None]).multiply(mask[None, :]).tocsr()
-        frac[:, k] = np.real(np.einsum("mi,mi->m", phi.conj(), (Mk @ phi.T).T))
-    frac = np.maximum(frac, 0.0)
-    frac /= np.maximum(frac.sum(axis=1, keepdims=True), 1e-300)
-    shares = _energy_shares(phi, asm, K)
+    kin = np.maximum(_by_kind(data, data.M_bd, phi.T), 0.0)
+    frac = kin / np.maximum(kin.sum(axis=1, keepdims=True), 1e-300)
+    shares = _energy_shares(phi, asm, K, kin)
     types = shares_to_types(shares, type_threshold)
 
-    # whirl per shaft
-    whirl_ps = []
-    whirl = []
+    # whirl per shaft: the sense of the orbits weighted by amplitude, relative to the spin
     nominal = asm.speed_ratio
-    for p in phi:
-        per_shaft, lat_amp = [], []
-        for si, offs in enumerate(asm.node_offset):
-            X, Y = p[offs], p[offs + 1]
-            amp = np.sum(np.abs(X) ** 2 + np.abs(Y) ** 2)
-            lat_amp.append(amp)
-            ccw = np.sum(np.imag(X * np.conj(Y)))
-            spin = np.sign(speeds[si]) if speeds[si] != 0 else np.sign(nominal[si]) or 1.0
-            if amp < 1e-12:
-                per_shaft.append("-")
-            else:
-                per_shaft.append("F" if ccw * spin > 0 else "B")
-        whirl_ps.append(tuple(per_shaft))
-        whirl.append(per_shaft[int(np.argmax(lat_amp))])
+    amp = np.zeros((len(idx), len(data.xy)))
+    sense = np.zeros((len(idx), len(data.xy)))
+    for si, (ix, iy) in enumerate(data.xy):
+        X, Y = phi[:, ix], phi[:, iy]
+        amp[:, si] = np.sum(np.abs(X) ** 2 + np.abs(Y) ** 2, axis=1)
+        ccw = np.sum(np.imag(X * np.conj(Y)), axis=1)
+        spin = np.sign(speeds[si]) if speeds[si] != 0 else np.sign(nominal[si]) or 1.0
+        sense[:, si] = ccw * spin
+    letters = np.where(amp < 1e-12, "-", np.where(sense > 0, "F", "B"))
+    whirl_ps = [tuple(str(c) for c in row) for row in letters]
+    whirl = [row[int(j)] for row, j in zip(whirl_ps, np.argmax(amp, axis=1), strict=True)]
 
     zeta = -lam_m.real / np.abs(lam_m)
     mode_class = []
