@@ -95,13 +95,23 @@ def models():
     return dict(_models())
 
 
+@pytest.fixture(scope="module")
+def dense_pairs(models):
+    """Every eigenpair of each model at its nominal speed (one dense solve per model)."""
+    out = {}
+    for name, asm in models.items():
+        M, C, G, K = asm.matrices(asm.train.speed)
+        out[name] = mm._solve_dense(M.toarray(), (C + G).toarray(), K.toarray(), asm)
+    return out
+
+
 @pytest.mark.parametrize("name", ["unity_gearbox", "compressor"])
 @pytest.mark.parametrize("fmax_rpm", [None, 80000.0])
-def test_classification_matches_reference(models, name, fmax_rpm):
+def test_classification_matches_reference(models, dense_pairs, name, fmax_rpm):
     asm = models[name]
     w = asm.train.speed
     M, C, G, K = asm.matrices(w)
-    lam, V = mm._solve_dense(M.toarray(), (C + G).toarray(), K.toarray(), asm)
+    lam, V = dense_pairs[name]
     fmax = None if fmax_rpm is None else fmax_rpm * RPM
     speeds = asm.shaft_speeds(w)
     res = mm._classify(
@@ -128,8 +138,86 @@ def test_classification_matches_reference(models, name, fmax_rpm):
     strain = np.abs(np.einsum("ij,ij->j", V.conj(), K @ V))
     kinetic = np.real(np.einsum("ij,ij->j", V.conj(), asm.M @ V))
     a, b = mm._split(V)
-    np.testing.assert_allclose(np.abs(mm._quadratic(K, a, b)), strain, rtol=1e-12)
+    # a rigid-body vector's strain energy is a cancellation (~1e-12 of the largest): its
+    # summation-order differences are relative to the largest, not to itself
+    np.testing.assert_allclose(
+        np.abs(mm._quadratic(K, a, b)), strain, rtol=1e-12, atol=1e-12 * strain.max()
+    )
     fast_kin = np.real(mm._quadratic(asm.M, a, b))
     np.testing.assert_allclose(fast_kin, kinetic, rtol=1e-12)
     # and the shares computed without the caller's kinetic energies are the same
     np.testing.assert_allclose(mm._energy_shares(phi, asm, K), shares, rtol=0, atol=1e-12)
+
+
+# --- the sparse eigensolver's accuracy --------------------------------------------------------
+# Oracle: the dense QR solve of the same model (every eigenvalue, residuals 1e-12 to 1e-10 on
+# these models). Before issue 16 the sparse pairs had residuals ~1e-6 and the compressor's log
+# decs differed from dense by up to 8.6e-5 relative; refined, they agree to the dense solve's own
+# accuracy: 1e-8 relative on frequency and log dec (the dense solve's residual 1e-10 bounds its
+# eigenvalues' error at ~1e-10·cond; measured deviations 1e-12 to 7e-10), residuals ≤ 1e-10.
+
+
+def _match(sparse, dense):
+    """The dense mode (index) of each sparse mode: one-to-one, nearest in total (repeated
+    eigenvalues have more than one nearest)."""
+    from scipy.optimize import linear_sum_assignment
+
+    d = np.abs(sparse.eigenvalues[:, None] - dense.eigenvalues[None, :])
+    rows, cols = linear_sum_assignment(d)
+    return cols[np.argsort(rows)]
+
+
+@pytest.mark.parametrize("name", ["unity_gearbox", "compressor"])
+def test_sparse_matches_dense(models, name):
+    from gearrotor.analyses import modal
+
+    asm = models[name]
+    fmax = 80000 * RPM
+    rd = modal(asm, method="dense", max_frequency=fmax)
+    rs = modal(asm, method="sparse", max_frequency=fmax)
+    assert len(rs) == len(rd) > 5
+    j = _match(rs, rd)
+    assert len(set(j)) == len(j)
+    np.testing.assert_allclose(rs.damped_frequency, rd.damped_frequency[j], rtol=1e-8)
+    ld_s, ld_d = rs.log_dec, rd.log_dec[j]
+    # undamped modes (log dec round-off, ~1e-12) by an absolute bound
+    np.testing.assert_allclose(ld_s, ld_d, rtol=1e-8, atol=1e-9)
+    if name == "compressor":  # no repeated eigenvalues: the shapes, hence types, are unique
+        assert rs.mode_type == tuple(rd.mode_type[i] for i in j)
+    M, C, G, K = asm.matrices(asm.train.speed)
+    r = mm._residuals(M, C + G, K, rs.eigenvalues, rs.mode_shapes.T)
+    assert np.max(r) <= mm.REFINE_TOL
+
+
+def test_refinement_of_repeated_eigenvalues(models):
+    """SPEC 6.1's two identical shafts give pairs of equal eigenvalues: the refinement keeps
+    two independent vectors for each (their MAC stays below 1) and brings both to the
+    tolerance, from ARPACK's ~1e-6."""
+    asm = models["unity_gearbox"]
+    M, C, G, K = asm.matrices(asm.train.speed)
+    fmax = 80000 * RPM
+    seen = {}
+    orig = mm._refine
+
+    def spy(*args):
+        out = orig(*args)
+        seen["info"] = out[2]
+        seen["pairs"] = out[:2]
+        return out
+
+    mm._refine = spy
+    try:
+        mm._solve_sparse(M.tocsc(), (C + G).tocsc(), K.tocsc(), asm, fmax, None)
+    finally:
+        mm._refine = orig
+    info = seen["info"]
+    lam, X = seen["pairs"]
+    J = info["refined"]
+    assert np.max(info["before"][J]) > 1e-7  # ARPACK's pairs needed it
+    assert np.max(info["after"][J]) <= mm.REFINE_TOL
+    clusters = [c for c in mm._clusters(lam, J, 1e-4) if len(c) > 1]
+    assert clusters  # the identical shafts' repeated eigenvalues
+    for c in clusters:
+        G_ = X[:, c].conj().T @ X[:, c]
+        mac = np.abs(G_) ** 2 / np.outer(np.diag(G_).real, np.diag(G_).real)
+        assert np.max(mac - np.eye(len(c))) < 0.99

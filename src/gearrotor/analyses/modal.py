@@ -57,6 +57,7 @@ import scipy.linalg as la
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from numpy.typing import NDArray
+from scipy.optimize import linear_sum_assignment
 
 from ..assembly import Assembly, assemble
 from ..errors import ModelError, SolverError
@@ -334,11 +335,18 @@ def _solve_dense(M, Cg, K, asm) -> tuple[NDArray, NDArray]:
 
 
 def _solve_sparse(M, Cg, K, asm, max_frequency, n_modes, k0=None) -> tuple[NDArray, NDArray]:
+    """Shift-invert Arnoldi on the first-order form, then a Newton refinement of each wanted
+    eigenpair on the quadratic problem (:func:`_refine`).
+
+    The state is z = [q, q̇/s] with s = ``max_frequency`` (rad/s): its two halves then have
+    the same size for the wanted modes, where [q, q̇] would differ by |λ| (up to 10⁴), and
+    ARPACK's Ritz vectors' residuals on the quadratic problem fall from ~1e-6 to ~1e-10 on
+    the compressor example (measured, benchmarks/modal.py)."""
     n = M.shape[0]
     I = sp.identity(n, format="csc")
-    A = sp.block_array([[None, I], [-K, -Cg]], format="csc")
-    B = sp.block_array([[I, None], [None, M]], format="csc")
     scale = max_frequency if max_frequency else 1.0
+    A = sp.block_array([[None, scale * I], [-K / scale, -Cg]], format="csc")
+    B = sp.block_array([[I, None], [None, M]], format="csc")
     sigma = -1e-3 * scale
     k = min(k0 or max(n_modes or 20, 10), 2 * n - 2)
     # a fixed start vector: ARPACK's default is random, which made repeated calls (and the
@@ -352,11 +360,112 @@ def _solve_sparse(M, Cg, K, asm, max_frequency, n_modes, k0=None) -> tuple[NDArr
             raise SolverError(f"sparse eigensolver did not converge for {k} modes: {exc}") from None
         except RuntimeError:  # SuperLU could not factor the shifted matrix: M is singular
             raise _singular_mass(asm) from None
-        if max_frequency is None or k >= 2 * n - 2:
-            return lam, V[:n]
-        if np.max(np.abs(lam - sigma)) > max_frequency + abs(sigma):
-            return lam, V[:n]
+        if (
+            max_frequency is None
+            or k >= 2 * n - 2
+            or np.max(np.abs(lam - sigma)) > max_frequency + abs(sigma)
+        ):
+            X = V[:n]
+            lam, X, _ = _refine(M, Cg, K, lam, X, max_frequency)
+            return lam, X
         k = min(2 * k, 2 * n - 2)
+
+
+# relative residual (:func:`_residuals`) below which an eigenpair counts as converged: the dense
+# QR solve's pairs reach 1e-12 to 1e-10 on the examples (M⁻¹K's rounding); refined sparse
+# pairs 1e-13 to 1e-11
+REFINE_TOL = 1e-10
+_REFINE_STEPS = 3
+
+
+def _residuals(M, Cg, K, lam: NDArray, X: NDArray) -> NDArray:
+    """Relative residual of each eigenpair (λ_j, x_j = X[:, j]) of the quadratic problem:
+    ‖P(λ)x‖ / (|λ|²‖Mx‖ + |λ|‖(C+G)x‖ + ‖Kx‖), P(λ) = λ²M + λ(C+G) + K."""
+    MX, CX, KX = M @ X, Cg @ X, K @ X
+    R = MX * lam**2 + CX * lam + KX
+    a = np.abs(lam)
+    den = (
+        a**2 * np.linalg.norm(MX, axis=0)
+        + a * np.linalg.norm(CX, axis=0)
+        + np.linalg.norm(KX, axis=0)
+    )
+    return np.linalg.norm(R, axis=0) / np.maximum(den, 1e-300)
+
+
+def _clusters(lam: NDArray, idx: NDArray, rel: float) -> list[NDArray]:
+    """The indices ``idx`` grouped into clusters of eigenvalues closer than ``rel``·|λ| to a
+    member (chains joined): identical shafts give repeated eigenvalues."""
+    order = idx[np.argsort(lam[idx].imag, kind="stable")]
+    groups: list[list[int]] = []
+    for j in order:
+        for g in groups:
+            if np.min(np.abs(lam[g] - lam[j])) <= rel * abs(lam[j]):
+                g.append(int(j))
+                break
+        else:
+            groups.append([int(j)])
+    return [np.array(g) for g in groups]
+
+
+def _refine(M, Cg, K, lam, X, max_frequency) -> tuple[NDArray, NDArray, dict]:
+    """Refine the eigenpairs the result keeps (0 ≤ Im λ ≤ ``max_frequency``; not |λ| below
+    1e-6·``max_frequency``, the rigid-body eigenvalues at ~0 where P(λ) ≈ K is singular) whose
+    residual (:func:`_residuals`) exceeds ``REFINE_TOL``, by inverse iteration on the quadratic
+    problem with a Rayleigh–Ritz projection, per cluster of close eigenvalues (J, at mean σ):
+
+        Y = P(σ)⁻¹ P'(σ) X_J,  Q = orth(Y),  (λ²QᴴMQ + λQᴴ(C+G)Q + QᴴKQ) y = 0,  x = Qy,
+
+    keeping the |J| Ritz values nearest the old ones. For a single eigenvalue this is Newton's
+    method (quadratic convergence: ARPACK's ~1e-6 becomes ~1e-12 in one step, one sparse LU of
+    P(σ) per step and cluster); a cluster (identical shafts give repeated eigenvalues) keeps its
+    |J| independent vectors, where one vector at a time would fall onto the same eigenvector.
+    A new pair is kept only if its residual is lower and λ moved by less than 1e-3·|λ|. Up to
+    ``_REFINE_STEPS`` steps. Returns the eigenpairs and ``{"before", "after"}`` residuals and
+    ``"refined"``, the indices considered."""
+    lam = np.array(lam, complex)
+    X = np.array(X, complex)
+    res0 = _residuals(M, Cg, K, lam, X)
+    res = res0.copy()
+    small = 1e-6 * (max_frequency or np.max(np.abs(lam), initial=1.0))
+    want = (lam.imag >= -ROUNDOFF * np.abs(lam)) & (np.abs(lam) >= small)
+    if max_frequency is not None:
+        want &= lam.imag <= max_frequency
+    idx = np.flatnonzero(want & (res > REFINE_TOL))
+    Cg, M, K = sp.csc_array(Cg), sp.csc_array(M), sp.csc_array(K)
+    for J in _clusters(lam, idx, 1e-4):
+        for _ in range(_REFINE_STEPS):
+            sigma = complex(np.mean(lam[J]))
+            try:
+                lu = spla.splu(sp.csc_array(sigma * sigma * M + sigma * Cg + K))
+            except RuntimeError:  # P(σ) exactly singular: σ is an eigenvalue to working precision
+                break
+            Y = lu.solve((2 * sigma * M + Cg) @ X[:, J])
+            if not np.all(np.isfinite(Y)):
+                break
+            Q = la.qr(Y, mode="economic")[0]
+            Mr, Cr, Kr = (Q.conj().T @ (A @ Q) for A in (M, Cg, K))
+            c = len(J)
+            mu, W = la.eig(
+                np.block([[np.zeros((c, c)), np.eye(c)], [-Kr, -Cr]]),
+                np.block([[np.eye(c), np.zeros((c, c))], [np.zeros((c, c)), Mr]]),
+            )
+            ok = np.isfinite(mu)
+            mu, W = mu[ok], W[:c, ok]
+            if len(mu) < c:
+                break
+            rows, cols = linear_sum_assignment(np.abs(lam[J][:, None] - mu[None, :]))
+            new_l = mu[cols[np.argsort(rows)]]
+            new_x = Q @ W[:, cols[np.argsort(rows)]]
+            new_x /= np.linalg.norm(new_x, axis=0)
+            new_r = _residuals(M, Cg, K, new_l, new_x)
+            better = (new_r < res[J]) & (np.abs(new_l - lam[J]) < 1e-3 * np.abs(lam[J]))
+            if not better.any():
+                break
+            jj = J[better]
+            lam[jj], X[:, jj], res[jj] = new_l[better], new_x[:, better], new_r[better]
+            if np.max(res[J]) <= REFINE_TOL:
+                break
+    return lam, X, {"before": res0, "after": res, "refined": idx}
 
 
 @dataclass(frozen=True)
