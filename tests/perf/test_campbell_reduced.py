@@ -26,7 +26,7 @@ RADIUS = 1.5 * FMAX
 def _assert_same_modes(reduced, full):
     """Every tracked mode of ``reduced`` at every speed equals the nearest eigenvalue of the
     full solve there (the reduced speeds' results hold only the tracked modes), and the two
-    diagrams track the same modes in the same columns."""
+    diagrams track the same modes."""
     assert len(reduced.modal_results) == len(full.modal_results)
     for k, rb in enumerate(full.modal_results):
         keep = ~rb.overdamped & (np.abs(rb.eigenvalues) <= RADIUS)
@@ -35,8 +35,22 @@ def _assert_same_modes(reduced, full):
             j = int(np.argmin(np.abs(lb.imag - f)))
             assert abs(f / lb[j].imag - 1) <= 1e-6, (rb.speed / RPM, f / RPM)
             assert abs(ld - ldb[j]) <= 1e-6 * abs(ldb[j]) + 1e-9, (rb.speed / RPM, ld, ldb[j])
-    np.testing.assert_allclose(reduced.damped_frequency, full.damped_frequency, rtol=1e-6)
-    np.testing.assert_allclose(reduced.log_dec, full.log_dec, rtol=1e-6, atol=1e-9)
+    # the same set of modes tracked at every speed (sorted by frequency: where modes coincide
+    # at the first speed, e.g. SPEC 6.1's x/y pairs of its two identical shafts at 0 rpm, which
+    # column continues which is arbitrary and the two solvers' round-off may choose differently)
+    order_r = np.argsort(reduced.damped_frequency, axis=1)
+    order_f = np.argsort(full.damped_frequency, axis=1)
+    np.testing.assert_allclose(
+        np.take_along_axis(reduced.damped_frequency, order_r, 1),
+        np.take_along_axis(full.damped_frequency, order_f, 1),
+        rtol=1e-6,
+    )
+    np.testing.assert_allclose(
+        np.take_along_axis(reduced.log_dec, order_r, 1),
+        np.take_along_axis(full.log_dec, order_f, 1),
+        rtol=1e-6,
+        atol=1e-9,
+    )
 
 
 @pytest.fixture(scope="module")

@@ -336,7 +336,16 @@ class _Subspace:
         self.ready = False
 
     def add(self, phi: NDArray) -> None:
-        self.shapes = [*self.shapes, phi][-_N_KEEP:]
+        # the latest sets whose real and imaginary parts fit in half the model's DOFs: beyond
+        # that the reduced eigenproblem (twice the subspace's dimension) costs as much as the
+        # full dense one (e.g. 70 tracked modes of a 222-DOF model: every speed full)
+        shapes = [*self.shapes, phi][-_N_KEEP:]
+        while shapes and 2 * sum(len(x) for x in shapes) > self.asm.n_dof // 2:
+            shapes = shapes[1:]
+        self.shapes = shapes
+        if not shapes:
+            self.ready = False
+            return
         Z = np.vstack(self.shapes).T
         Z = np.hstack([Z.real, Z.imag])
         Q, s, _ = la.svd(Z, full_matrices=False, check_finite=False)
@@ -391,7 +400,10 @@ class _Subspace:
         if not np.isfinite(A).all():
             return None
         lam, Y = la.eig(A, overwrite_a=True, check_finite=False)
-        sel = np.flatnonzero((lam.imag > 0) & (np.abs(lam) <= radius))
+        sel = (lam.imag > 0) & (np.abs(lam) <= radius)
+        if not include_overdamped:  # as _candidates: ζ < 0.999 (spurious near-real Ritz pairs)
+            sel &= -lam.real < 0.999 * np.abs(lam)
+        sel = np.flatnonzero(sel)
         if len(sel) < n_track:
             return None
         lam, Y = lam[sel], Y[:m, sel]
