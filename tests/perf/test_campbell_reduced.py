@@ -72,7 +72,7 @@ def test_flagship_campbell_reduced_matches_full(flagship):
     assert full.full_solves == 60
     assert red.residual.shape == red.damped_frequency.shape
     is_red = np.array(red.solver) == "reduced"
-    assert np.all(red.residual[is_red] <= 1e-4)
+    assert np.all(red.residual[is_red] <= 3e-4)  # the default residual_tol
     # ARPACK's converged Ritz pairs (shift-invert, default tolerance): residuals ~1e-6
     assert np.all(full.residual < 1e-5)
     _assert_same_modes(red, full)
@@ -102,3 +102,24 @@ def test_failed_residual_check_falls_back_to_full_solve(flagship):
     assert red.solver == ("full",) * 4
     np.testing.assert_array_equal(red.damped_frequency, full.damped_frequency)
     np.testing.assert_array_equal(red.log_dec, full.log_dec)
+
+
+def test_left_eigenvectors_annihilate_the_pencil(examples):
+    """The test space of the two-sided Ritz step: yᴴP(λ) = 0 for the steam turbine's tracked
+    modes (fluid-film cross-coupling: K and C far from symmetric, so y differs from φ); relative
+    to ‖P(λ)‖·‖y‖ near round-off (one inverse-iteration step from a 1e-9 relative shift)."""
+    from gearrotor.analyses import modal
+    from gearrotor.analyses.campbell import _left_vectors
+
+    asm = assemble(load_model(examples / "steam_turbine_gearbox.toml"))
+    w = 11340 * RPM
+    r = modal(asm, speed=w, method="dense", max_frequency=FMAX)
+    lam = r.eigenvalues[:8]
+    Y = _left_vectors(asm, w, lam)
+    M, C, G, K = asm.matrices(w)
+    for x, y, phi in zip(lam, Y, r.mode_shapes[:8], strict=True):
+        P = (x * x * M + x * (C + G) + K).toarray()
+        scale = np.linalg.norm(P, 2) * np.linalg.norm(y)
+        assert np.linalg.norm(y.conj() @ P) <= 1e-10 * scale  # measured ≤ 3.5e-13
+        # not the right eigenvector: the model is not symmetric
+        assert 1 - abs(y.conj() @ phi) / (np.linalg.norm(phi)) > 1e-3
