@@ -38,6 +38,7 @@ from pathlib import Path  # noqa: E402
 import numpy as np  # noqa: E402
 
 from gearrotor.analyses import campbell, modal  # noqa: E402
+from gearrotor.analyses.modal import SPARSE_FROM, auto_method  # noqa: E402
 from gearrotor.analyses.transient import ModalRK4, transient  # noqa: E402
 from gearrotor.analyses.unbalance import unbalance_response  # noqa: E402
 from gearrotor.assembly import assemble  # noqa: E402
@@ -152,8 +153,9 @@ def main() -> None:
     args = ap.parse_args()
     shafts = (2, 4, 8) if args.quick else (2, 4, 8, 16)
     elements = (20, 40) if args.quick else (20, 40, 80, 160)
-    # DOF above which an analysis is skipped (dense eigen is O(n³) in memory-bound LAPACK;
-    # the modal transient does a dense generalised eigen solve of the whole model in setup)
+    # DOF above which an analysis is skipped (dense eigen is O(n³) in memory-bound LAPACK:
+    # 58 s at 1968 DOF, over a minute above 2000; the modal transient does a dense generalised
+    # eigen solve of the whole model in setup)
     cap = {
         "modal dense": 1000 if args.quick else 2000,
         "modal sparse": 20000,
@@ -169,7 +171,16 @@ def main() -> None:
     # compile the transient kernels outside the timings
     transient(model_from_dict(chain(2, 4)), t_end=1e-3, integrator=ModalRK4())
     rows = []
-    head = f"{'shafts':>6} {'elem':>5} {'DOF':>6}" + "".join(f"{t:>14}" for t in TASKS)
+    print(
+        "skipped above: "
+        + ", ".join(f"{t} {c} DOF" for t, c in cap.items())
+        + " (the dense eigen solve takes over a minute above 2000 DOF)"
+    )
+    head = (
+        f"{'shafts':>6} {'elem':>5} {'DOF':>6}"
+        + "".join(f"{t:>14}" for t in TASKS)
+        + f"{'auto':>8}{'load':>6}"
+    )
     print(head)
     print("-" * len(head))
     for ns in shafts:
@@ -196,7 +207,8 @@ def main() -> None:
                 + "".join(
                     f"{row[t]:>14.3f}" if np.isfinite(row[t]) else f"{'(skipped)':>14}"
                     for t in TASKS
-                ),
+                )
+                + f"{auto_method(n, FMAX):>8}{os.getloadavg()[0]:>6.1f}",
                 flush=True,
             )
     print()
@@ -217,10 +229,13 @@ def main() -> None:
     print(
         "dense/sparse crossover: "
         + (
-            f"sparse faster above ~{x:.0f} DOF"
-            if x
-            else "sparse not faster within the measured range"
+            "sparse not faster within the measured range"
+            if x is None
+            else f"sparse faster from the smallest model on ({x:.0f} DOF)"
+            if x == min(r["dof"] for r in rows)
+            else f"sparse faster above ~{x:.0f} DOF"
         )
+        + f"; modal(method='auto', max_frequency=...) goes sparse from {SPARSE_FROM} DOF"
     )
     if args.json:
         args.json.write_text(

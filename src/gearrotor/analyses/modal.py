@@ -4,11 +4,26 @@ State-space form with z = [q, q̇]:
 
     A z = λ B z,   A = [[0, I], [−K, −(C + G)]],   B = [[I, 0], [0, M]].
 
-Eigensolver: for models up to ``DENSE_LIMIT`` DOFs the dense QR algorithm (LAPACK ``geev``) on
-``B⁻¹A`` (M is factored once by Cholesky) gives every eigenvalue; larger models use sparse
-shift-invert Arnoldi (ARPACK) about a small negative real shift, increasing the number of
-requested modes until every mode below ``max_frequency`` is enclosed. Dense is chosen for small
-models because it is exact (no missed modes) and fast: 504 states take ~0.1 s.
+Eigensolver (``method="auto"``, measured by ``benchmarks/scaling.py``):
+
+* **every eigenvalue wanted** (no ``max_frequency``): the dense QR algorithm (LAPACK ``geev``)
+  on ``B⁻¹A`` (M factored once by Cholesky) up to ``DENSE_LIMIT`` = 2000 DOFs; above, where a
+  dense solve takes minutes, the sparse solver's ``n_modes`` (default 20) lowest modes;
+* **the modes below max_frequency wanted**: dense below ``SPARSE_FROM`` = 400 DOFs, sparse
+  shift-invert Arnoldi (ARPACK) from there on. The measured crossover is ~200 DOFs (sparse is
+  1.7× faster at 252, 2.5–7× at 500, 4–30× at 1000, 34× at 1464: dense grows as DOF³, sparse
+  with the number of wanted modes); below 400 DOFs a dense solve costs under ~0.5 s and it
+  returns every eigenvalue, which the sparse solve does not (next point). If the sparse solve
+  would have to find more than ``SPARSE_FRACTION`` (1/6) of the 2n eigenvalues to enclose
+  max_frequency, it is no cheaper than dense and "auto" solves densely instead
+  (``ModalResult.method`` says which solver ran).
+
+The sparse solver finds the eigenvalues within a circle about a small negative real shift,
+doubling the number requested until every eigenvalue with ``|λ| ≤ max_frequency`` is
+enclosed; the result then holds every mode with |λ| ≤ max_frequency but may miss a heavily
+damped pair with Im λ ≤ max_frequency < |λ| and real eigenvalues beyond max_frequency (which
+the dense result lists). Its eigenpairs are refined on the quadratic problem to the dense
+solve's accuracy (relative residual ≤ ``REFINE_TOL`` = 1e-10, :func:`_refine`).
 
 Classification, one per eigenvalue, used by the table, the JSON, the footer and the report
 alike (:attr:`ModalResult.mode_class`, :attr:`ModalResult.real_class`,
@@ -67,15 +82,19 @@ __all__ = [
     "ModalResult",
     "modal",
     "DENSE_LIMIT",
+    "SPARSE_FROM",
     "MODE_CLASSES",
     "REAL_CLASSES",
+    "auto_method",
     "format_log_dec",
     "format_zeta",
     "shares_to_types",
     "state_matrices",
 ]
 
-DENSE_LIMIT = 2000
+DENSE_LIMIT = 2000  # DOFs up to which "auto" solves densely when every eigenvalue is wanted
+SPARSE_FROM = 400  # DOFs from which "auto" solves sparsely when max_frequency is given
+SPARSE_FRACTION = 1 / 6  # share of the 2n eigenvalues beyond which sparse costs as dense
 KIND_NAMES = ("L", "A", "T")  # index = Assembly.dof_kind() code
 # |Re λ| / |λ| at or below which a pair's damping is round-off: conservative modes come out of
 # the dense solver at ~1e-15 and out of ARPACK (sparse, a Campbell sweep) at up to ~1e-8
@@ -334,9 +353,21 @@ def _solve_dense(M, Cg, K, asm) -> tuple[NDArray, NDArray]:
     return lam, V[:n]
 
 
-def _solve_sparse(M, Cg, K, asm, max_frequency, n_modes, k0=None) -> tuple[NDArray, NDArray]:
+def auto_method(n_dof: int, max_frequency: float | None) -> str:
+    """The solver ``method="auto"`` starts with (module docstring): ``"sparse"`` from
+    ``SPARSE_FROM`` DOFs when ``max_frequency`` is given, else ``"dense"`` up to
+    ``DENSE_LIMIT`` DOFs."""
+    if max_frequency is not None:
+        return "sparse" if n_dof >= SPARSE_FROM else "dense"
+    return "dense" if n_dof <= DENSE_LIMIT else "sparse"
+
+
+def _solve_sparse(
+    M, Cg, K, asm, max_frequency, n_modes, k0=None, k_max=None
+) -> tuple[NDArray, NDArray] | None:
     """Shift-invert Arnoldi on the first-order form, then a Newton refinement of each wanted
-    eigenpair on the quadratic problem (:func:`_refine`).
+    eigenpair on the quadratic problem (:func:`_refine`). None when enclosing
+    ``max_frequency`` would take more than ``k_max`` eigenvalues (given by "auto" only).
 
     The state is z = [q, q̇/s] with s = ``max_frequency`` (rad/s): its two halves then have
     the same size for the wanted modes, where [q, q̇] would differ by |λ| (up to 10⁴), and
@@ -368,6 +399,8 @@ def _solve_sparse(M, Cg, K, asm, max_frequency, n_modes, k0=None) -> tuple[NDArr
             X = V[:n]
             lam, X, _ = _refine(M, Cg, K, lam, X, max_frequency)
             return lam, X
+        if k_max is not None and 2 * k > k_max:
+            return None
         k = min(2 * k, 2 * n - 2)
 
 
@@ -718,7 +751,9 @@ def modal(
     speed : rad/s, speed of the reference shaft (default: the model's nominal speed)
     max_frequency : rad/s, keep modes with damped frequency up to this value
     n_modes : keep at most this many (lowest) modes
-    method : ``"auto"``, ``"dense"`` or ``"sparse"``
+    method : ``"auto"`` (the rule in the module docstring, :func:`auto_method`), ``"dense"``
+        (every eigenvalue) or ``"sparse"`` (the modes within |λ| ≤ max_frequency, else the
+        ``n_modes`` lowest)
     rigid_tol : rad/s, strain-energy frequency below which a mode is a rigid-body mode
         (default 1e-2 rad/s, 0.1 rpm: far below any bearing or elastic mode, far above the
         round-off of a free mode, ~1e-5 rad/s)
@@ -741,16 +776,22 @@ def modal(
     w = asm.train.speed if speed is None else float(speed)
     M, C, G, K = asm.matrices(w)
     Cg = C + G
+    if method not in ("auto", "dense", "sparse"):
+        raise ValueError(f"unknown method {method!r}; expected 'auto', 'dense' or 'sparse'")
+    k_max = None
     if method == "auto":
-        method = "dense" if asm.n_dof <= DENSE_LIMIT else "sparse"
+        method = auto_method(asm.n_dof, max_frequency)
+        k_max = SPARSE_FRACTION * 2 * asm.n_dof if asm.n_dof <= DENSE_LIMIT else None
+    if method == "sparse":
+        out = _solve_sparse(
+            M.tocsc(), Cg.tocsc(), K.tocsc(), asm, max_frequency, n_modes, sparse_k, k_max
+        )
+        if out is None:  # "auto": enclosing max_frequency needs too many eigenvalues
+            method = "dense"
+        else:
+            lam, V = out
     if method == "dense":
         lam, V = _solve_dense(M.toarray(), Cg.toarray(), K.toarray(), asm)
-    elif method == "sparse":
-        lam, V = _solve_sparse(
-            M.tocsc(), Cg.tocsc(), K.tocsc(), asm, max_frequency, n_modes, sparse_k
-        )
-    else:
-        raise ValueError(f"unknown method {method!r}; expected 'auto', 'dense' or 'sparse'")
     if not np.all(np.isfinite(lam)):
         raise SolverError("the eigensolver returned non-finite eigenvalues")
     if rigid_tol is None:
