@@ -19,6 +19,7 @@ from numpy.typing import NDArray
 from scipy.optimize import linear_sum_assignment
 
 from ..assembly import Assembly, assemble
+from ..errors import ModelError
 from ..model import Train
 from .modal import SPARSE_FRACTION, ModalResult, _classify, modal
 
@@ -185,23 +186,25 @@ def campbell(
 
     ``reduced=True`` (default) solves the first speed on the full model and every later one
     by a two-sided Rayleigh–Ritz step (:class:`_Subspace`): trial space the real and imaginary
-    parts of the tracked modes' right eigenvectors at the last two speeds solved on the full
-    model, test space those of their left eigenvectors (one inverse-iteration step each at the
-    full solve). The Ritz pairs that continue the tracked modes (the same MAC assignment as
-    for the full solve) are checked a posteriori on the full model by their relative residual
+    parts of the tracked modes' right eigenvectors and of their first derivatives in speed at
+    the last speed solved on the full model, test space those of their left eigenvectors and
+    derivatives (:func:`_speed_vectors`: one sparse LU per mode at the full solve). The Ritz
+    pairs that continue the tracked modes (the same MAC assignment as for the full solve) are
+    checked a posteriori on the full model by their relative residual
     ``‖P(λ)φ‖ / (|λ|²‖Mφ‖ + |λ|‖(C+G)φ‖ + ‖Kφ‖)``, ``P(λ) = λ²M + λ(C+G) + K``; when one
-    exceeds ``residual_tol`` that speed is solved on the full model instead and its shapes
-    replace the oldest in the subspaces. With the left eigenvectors in the test space a Ritz
-    value's error is second order in the residual (with the right ones alone it was first
-    order where fluid-film cross-coupling makes the model far from symmetric: the steam
-    turbine's log decs erred 0.024 × the residual). The default tolerance 3e-4 keeps the
-    frequencies and log decrements within 1e-6 (relative) of the full solve (tests/perf;
-    measured within 1.1e-8 and 1.8e-7 on the three example machines). The reduced speeds'
-    ``modal_results`` hold the tracked modes only; the residuals and the solver used at each
-    speed are in the result (``residual``, ``solver``, ``full_solves``). Cost per reduced
-    speed: one dense eigenproblem of twice the subspace's dimension (≤ 104 states for the
-    flagship's 13 tracked modes) and O(n·m) work; the subspace is kept below half the model's
-    DOFs (else every speed is solved on the full model).
+    exceeds ``residual_tol`` that speed is solved on the full model instead and its vectors
+    replace the subspaces. The residual is second order in the speed change (the derivatives),
+    and with the left eigenvectors in the test space a Ritz value's error is second order in
+    the residual (with the right ones alone it was first order where fluid-film cross-coupling
+    makes the model far from symmetric: the steam turbine's log decs erred 0.024 × the
+    residual). The default tolerance 3e-4 keeps the frequencies and log decrements within
+    1e-6 (relative) of the full solve (tests/perf; measured within 1.5e-8 and 8e-8 on the
+    three example machines with 1–3 full solves). The reduced speeds' ``modal_results`` hold
+    the tracked modes only; the residuals and the solver used at each speed are in the result
+    (``residual``, ``solver``, ``full_solves``). Cost per reduced speed: one dense
+    eigenproblem of twice the subspace's dimension (104 states for the flagship's 13 tracked
+    modes) and O(n·m) work; subspaces beyond half the model's DOFs are not used (every speed
+    is then solved on the full model).
 
     ``method`` is the full solver: ``"sparse"`` finds only the eigenvalues within the circle of
     radius 1.5×max_frequency about a small negative shift by shift-invert Arnoldi, ``"dense"``
@@ -269,9 +272,9 @@ def campbell(
                 chosen = idx[assign(r.mode_shapes[idx], r.damped_frequency[idx])]
             res = _residuals(asm, w, r.eigenvalues[chosen], r.mode_shapes[chosen])
             solver.append("full")
-            if space is not None and space.fits(len(chosen)):
+            if space is not None and space.fits(2 * len(chosen)):
                 lam_c = r.eigenvalues[chosen]
-                space.add(r.mode_shapes[chosen], _left_vectors(asm, w, lam_c))
+                space.add(*_speed_vectors(asm, w, lam_c, r.mode_shapes[chosen]))
         prev_phi = r.mode_shapes[chosen]
         prev_f = r.damped_frequency[chosen]
         cols["f"].append(prev_f)
@@ -304,7 +307,7 @@ def campbell(
     return _with_crossings(res)
 
 
-_N_KEEP = 2
+_N_KEEP = 1  # full-solve speeds whose vectors span the subspaces
 _TRUNC = 1e-10
 
 
@@ -336,25 +339,72 @@ def _relative_residual(lam: NDArray, MX: NDArray, CX: NDArray, KX: NDArray) -> N
     return np.linalg.norm(R, axis=0) / np.maximum(den, 1e-300)
 
 
-def _left_vectors(asm: Assembly, speed: float, lam: NDArray) -> NDArray:
-    """Left eigenvectors y_j (rows), y_jᴴP(λ_j) = 0, of the eigenvalues ``lam`` at ``speed``:
-    one step of inverse iteration on P(λ_j)ᴴ from a fixed generic vector (λ_j being accurate,
-    the step amplifies the null direction by ~1/round-off; for a k-fold eigenvalue the k
-    tracked copies' different start vectors span its left eigenspace)."""
+def _speed_vectors(
+    asm: Assembly, speed: float, lam: NDArray, phi: NDArray
+) -> tuple[NDArray, NDArray]:
+    """For the eigenpairs (λ_j, φ_j = phi[j]) at ``speed``: the trial vectors [φ_j, ∂φ_j/∂Ω]
+    and the test vectors [y_j, ∂y_j/∂Ω] (rows), y_j the left eigenvector (y_jᴴP(λ_j) = 0).
+
+    One sparse LU of P(λ_j) per mode, just off the eigenvalue (P(λ_j) is singular), serves
+    all three solves: y_j by one inverse-iteration step from a fixed generic vector (the step
+    amplifies the null direction by ~1/round-off; the k copies of a k-fold eigenvalue get
+    different start vectors and span its left eigenspace), and the first-order changes with
+    the speed Ω from P(λ)∂φ = −(∂λ P'(λ) + ∂P/∂Ω)φ, P'(λ) = 2λM + C + G, ∂P/∂Ω = λ Σ r_s G_s
+    + Σ r_s Kc_s (r_s the shafts' speed ratios; with bearings whose coefficients change with
+    speed, their one-sided difference over 1e-4 of the speed), the right-hand side made
+    orthogonal to the left eigenvectors of λ_j's cluster (|λ_k − λ_j| ≤ 1e-6|λ_j|) so that the
+    near-singular solve does not amplify it; its component along the cluster's shapes is
+    arbitrary and
+    already in the subspace. ``_Subspace`` spans both, so a Ritz step from one full solve is
+    accurate to second order in the speed change."""
     M, C, G, K = asm.matrices(speed)
     CG = C + G
+    ratio = asm.shaft_speeds(1.0)
+    zero = sp.csr_array(M.shape)
+    dG = sum((r * g for r, g in zip(ratio, asm.G_shaft, strict=True) if g.nnz), zero)
+    dK = sum((r * k for r, k in zip(ratio, asm.Kc_shaft, strict=True) if k.nnz), zero)
+    if asm.speed_dependent:  # bearing coefficients: a one-sided difference inside the table
+        h = 1e-4 * max(abs(float(speed)), 1.0)
+        for step in (h, -h):
+            try:
+                _, C1, _, K1 = asm.matrices(speed + step)
+            except ModelError:
+                continue
+            dG = dG + (C1 - C) / step
+            dK = dK + (K1 - K - asm.circulatory(asm.shaft_speeds(step))) / step
+            break
     rng = np.random.default_rng(20261126)
-    out = np.empty((len(lam), asm.n_dof), complex)
+    n, m = asm.n_dof, len(lam)
+    lus, left = [], np.empty((m, n), complex)
     for j, x in enumerate(lam):
         x = x + 1e-9 * abs(x) * (1 + 1j)  # off the eigenvalue: P(λ) exactly singular
         P = sp.csc_array((x * x) * M + x * CG + K)
-        b = rng.standard_normal(asm.n_dof) + 1j * rng.standard_normal(asm.n_dof)
         try:
-            y = spla.splu(P).solve(b, trans="H")
+            lu = spla.splu(P)
         except RuntimeError:  # exactly singular: the eigenvalue is exact to round-off
-            y = spla.splu(sp.csc_array(P + 1e-12 * abs(x) ** 2 * M)).solve(b, trans="H")
-        out[j] = y / np.linalg.norm(y)
-    return out
+            lu = spla.splu(sp.csc_array(P + 1e-12 * abs(x) ** 2 * M))
+        b = rng.standard_normal(n) + 1j * rng.standard_normal(n)
+        y = lu.solve(b, trans="H")
+        left[j] = y / np.linalg.norm(y)
+        lus.append(lu)
+    X = phi.T
+    dright, dleft = np.empty((m, n), complex), np.empty((m, n), complex)
+    for j, x in enumerate(lam):
+        c = np.flatnonzero(np.abs(lam - x) <= 1e-6 * abs(x))
+        Pd = 2 * x * M + CG  # P'(λ)
+        D = x * dG + dK  # ∂P/∂Ω
+        Phc, Yc = X[:, c], left[c].T
+        B = Pd @ Phc
+        rhs = -(D @ X[:, j])
+        rhs -= B @ np.linalg.lstsq(Yc.conj().T @ B, Yc.conj().T @ rhs, rcond=None)[0]
+        v = lus[j].solve(rhs)
+        dright[j] = v / max(np.linalg.norm(v), 1e-300)
+        Bl = Pd.conj().T @ Yc
+        rhs = -(D.conj().T @ left[j])
+        rhs -= Bl @ np.linalg.lstsq(Phc.conj().T @ Bl, Phc.conj().T @ rhs, rcond=None)[0]
+        v = lus[j].solve(rhs, trans="H")
+        dleft[j] = v / max(np.linalg.norm(v), 1e-300)
+    return np.vstack([phi, dright]), np.vstack([left, dleft])
 
 
 def _real_span(sets: list[NDArray]) -> NDArray:
@@ -366,14 +416,15 @@ def _real_span(sets: list[NDArray]) -> NDArray:
 
 class _Subspace:
     """Trial and test subspaces for a two-sided Rayleigh–Ritz step: the real span of the
-    tracked modes' right eigenvectors (real and imaginary parts) at the speeds solved on the
-    full model, and that of their left eigenvectors. With the left eigenvectors in the test
-    space a Ritz value's error is second order in the residual also where the model is far
-    from symmetric (fluid-film cross-coupling; with the right vectors alone the steam turbine's
-    log decs erred 0.024 × the residual, first order). The model's speed-independent matrices
-    and per-shaft gyroscopic and circulatory matrices are applied to the subspaces once; at a
-    speed the reduced matrices are sums of m×m blocks (the bearings whose coefficients change
-    with speed are applied again)."""
+    tracked modes' right eigenvectors and their speed derivatives (real and imaginary parts)
+    at the last speed solved on the full model, and that of their left eigenvectors and
+    theirs. With the left eigenvectors in the test space a Ritz value's error is second order
+    in the residual also where the model is far from symmetric (fluid-film cross-coupling;
+    with the right vectors alone the steam turbine's log decs erred 0.024 × the residual,
+    first order). The model's speed-independent matrices and per-shaft gyroscopic and
+    circulatory matrices are applied to the subspaces once; at a speed the reduced matrices
+    are sums of m×m blocks (the bearings whose coefficients change with speed are applied
+    again)."""
 
     def __init__(self, asm: Assembly):
         self.asm = asm
