@@ -202,6 +202,9 @@ def _study(tmp_path, examples, *, folder="faults.study", rows=(360, 720), t_end=
 
 def test_study_outputs_checked_before_anything_runs(examples, tmp_path, monkeypatch):
     monkeypatch.setattr("gearrotor.studies.execute.plan", _must_not_run)
+    # both names of collect (studies.plots binds it when imported: importing it here, under the
+    # patch, left the patched one in it for every later test of the process)
+    monkeypatch.setattr("gearrotor.studies.plots.collect", _must_not_run)  # imports it first
     monkeypatch.setattr("gearrotor.studies.collection.collect", _must_not_run)
     (tmp_path / "afile").write_text("")
     bad = _study(tmp_path, examples, folder=(tmp_path / "afile").as_posix())
@@ -394,6 +397,119 @@ def test_interrupted_study_run_is_one_line(examples, tmp_path, sig, code, how):
         time.sleep(0.05)
     assert not [w for w in workers if _alive(w)], "workers outlived their parent"
     assert _leftovers(tmp_path / "faults.study") == []
+
+
+# ---- a signal at any moment of `study run`, also after its cases have finished ----------------
+#: Runs the ``gearrotor`` program after arranging for the process to send itself ``SIG`` at
+#: ``POINT``: reading the study file (before the study is known), writing ``results.nc`` (inside
+#: the atomic writer, the temporary half written), printing the summary, or exiting (an atexit
+#: callback, after the command has returned). A real signal, delivered where a user's Ctrl-C or
+#: a scheduler's SIGTERM can land; only the moment is chosen.
+_SIGNAL_AT = """
+import atexit, os, signal, sys
+point, sig = sys.argv[1], signal.Signals[sys.argv[2]]
+del sys.argv[1:3]
+
+def deliver():
+    os.kill(os.getpid(), sig)
+
+if point == "reading":
+    from gearrotor.studies import spec
+    read = spec.load_study
+    def load_study(*a, **k):
+        deliver()
+        return read(*a, **k)
+    spec.load_study = load_study
+elif point == "writing":
+    from gearrotor import files
+    fsync = files.os.fsync
+    def in_results(fd):
+        if os.readlink(f"/proc/self/fd/{fd}").split("/")[-1].startswith("results.nc.tmp-"):
+            deliver()
+        fsync(fd)
+    files.os.fsync = in_results
+elif point == "printing":
+    import typer
+    echo = typer.echo
+    def summary(message=None, *a, **k):
+        if str(message).startswith("results:"):
+            deliver()
+        echo(message, *a, **k)
+    typer.echo = summary
+
+from gearrotor.cli import main
+if point == "exiting":
+    atexit.register(deliver)
+main()
+"""
+
+MODAL_STUDY = """
+name = "signals"
+model = "{model}"
+output = "signals.study"
+[parameters]
+k = {{ paths = ["bearings[0].k", "bearings[1].k"], unit = "N/m" }}
+[cases]
+columns = ["k"]
+rows = [[1e7], [2e7]]
+[analysis]
+type = "modal"
+n_modes = 4
+"""
+
+
+@pytest.fixture(scope="module")
+def finished_study(examples, tmp_path_factory) -> Path:
+    """A small modal study whose cases have all finished (the signals come after them)."""
+    folder = tmp_path_factory.mktemp("signals")
+    study = folder / "study.toml"
+    study.write_text(MODAL_STUDY.format(model=(examples / SINGLE).as_posix()))
+    r = invoke("study", "run", study, "--workers", "1", "--no-progress")
+    assert r.exit_code == 0, (r.output, r.exception)
+    return folder
+
+
+@pytest.mark.slow
+@skip_without_proc
+@pytest.mark.parametrize("point", ["reading", "writing", "printing", "exiting"])
+@pytest.mark.parametrize(
+    ("sig", "code", "how"), [("SIGINT", 130, "Ctrl-C"), ("SIGTERM", 143, "SIGTERM")]
+)
+def test_signal_at_any_moment_of_study_run_is_one_line(
+    finished_study, tmp_path, point, sig, code, how
+):
+    """Before, a signal outside the cases' execution got Python's default: no message (exit 130
+    through Typer, or a silent SIGTERM death) or, while the process exited, "Exception ignored in
+    atexit callback" with a traceback and exit status 0."""
+    import shutil
+
+    import xarray as xr
+
+    shutil.copytree(finished_study, tmp_path, dirs_exist_ok=True)
+    folder = tmp_path / "signals.study"
+    (folder / "results.nc").unlink()
+    src = Path(__file__).resolve().parents[1] / "src"
+    r = subprocess.run(
+        [sys.executable, "-c", _SIGNAL_AT, point, sig, "study", "run", str(tmp_path / "study.toml")]
+        + ["--workers", "1", "--no-progress"],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        env={**os.environ, "PYTHONPATH": str(src)},
+    )
+    assert r.returncode == code, (r.returncode, r.stderr)
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith(f"interrupted ({how})"), r.stderr
+    if point == "reading":
+        assert "nothing was run" in lines[0] and r.stdout == ""
+    else:
+        assert f"stored in {folder}; run the same command again to resume" in lines[0]
+    assert _leftovers(tmp_path) == []  # the half-written results.nc was removed
+    results = folder / "results.nc"
+    assert results.exists() == (point in ("printing", "exiting")), r.stdout
+    if results.exists():  # complete
+        with xr.open_dataset(results, engine="h5netcdf") as ds:
+            assert ds.sizes["case"] == 2 and list(ds["status"].values) == ["done", "done"]
 
 
 # ---- numba's cache ----------------------------------------------------------------------------
