@@ -38,6 +38,7 @@ from .cases import (
     CaseStatus,
     PlannedCase,
     _canonical,
+    case_error,
     case_path,
     plan,
     study_status,
@@ -529,7 +530,7 @@ def run_study(
             and ep.exists()
             and not case_path(study, p.key).exists()
         ):
-            failed[p.case.index] = json.loads(ep.read_text())["error"]
+            failed[p.case.index] = case_error(ep)
     bar = _Progress(len(todo), enabled=progress, stream=stream)
 
     def on_done(out: dict) -> None:

@@ -16,8 +16,8 @@ import xarray as xr
 from ..errors import ModelError
 from ..files import check_output, safe_name, save_figure, write_json
 from ..signals import padded_spectrum
-from .cases import case_path, plan, study_status
-from .collection import collect
+from .cases import plan, study_status
+from .collection import collect, read_case
 from .spec import Study, TransientSettings
 
 __all__ = ["overlay_spectra", "padded_spectrum", "report", "trend_figure", "trend_groups"]
@@ -264,8 +264,7 @@ def report(
         chunk = uniq[start : start + per_figure]
         data = {}
         for i in chunk:
-            with xr.open_dataset(case_path(study, planned[i].key), engine="h5netcdf") as d:
-                data[f"{i}: {planned[i].case.label}"] = d.load()
+            data[f"{i}: {planned[i].case.label}"] = read_case(study, planned[i])
         first = next(iter(data.values()))
         if first.sizes.get("time", 0) < 16:
             break
