@@ -512,6 +512,53 @@ def test_signal_at_any_moment_of_study_run_is_one_line(
             assert ds.sizes["case"] == 2 and list(ds["status"].values) == ["done", "done"]
 
 
+# ---- the report's temporary folder ------------------------------------------------------------
+#: ``gearrotor report`` that stops, its temporary folder complete, just before it is published,
+#: and prints the folder's path: the moment a SIGKILL leaves the most behind
+_PAUSED_REPORT = """
+import time
+from gearrotor.plots.report import build
+
+def publish(tmp, output):
+    print(tmp, flush=True)
+    time.sleep(600)
+
+build._publish = publish
+from gearrotor.cli import main
+main()
+"""
+
+
+@pytest.mark.slow
+def test_report_killed_leaves_nothing_after_the_next_run(examples, tmp_path):
+    """The report is built in a temporary folder next to the output; SIGKILL (or a power cut)
+    leaves it. Its name carries the pid (it was a random ``mkdtemp`` name, never removed), and
+    the next report into the same output removes those of dead processes, not a live one's."""
+    out = tmp_path / "rep"
+    args = ["report", str(examples / SINGLE), "--output", str(out), "--analyses", "modal"]
+    src = Path(__file__).resolve().parents[1] / "src"
+    proc = subprocess.Popen(
+        [sys.executable, "-c", _PAUSED_REPORT, *args],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env={**os.environ, "PYTHONPATH": str(src)},
+    )
+    try:
+        tmp = Path(proc.stdout.readline().strip())
+    finally:
+        proc.kill()
+        _, err = proc.communicate(timeout=30)
+    assert tmp.parent == tmp_path and tmp.name.startswith(".rep.tmp-"), err
+    assert (tmp / "report.html").exists()  # killed with the whole report in it
+    live = tmp_path / f".rep.tmp-{os.getpid()}-abcdef"  # a report being built right now
+    live.mkdir()
+    r = invoke("report", examples / SINGLE, "--output", out, "--analyses", "modal")
+    assert r.exit_code == 0, (r.output, r.exception)
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(["rep", live.name])
+    assert (out / "report.html").exists()
+
+
 # ---- numba's cache ----------------------------------------------------------------------------
 _WHERE = (
     "import numba\n"

@@ -14,7 +14,13 @@ import numpy as np
 import xarray as xr
 
 from ..errors import ModelError
-from ..files import check_output, safe_name, save_figure, write_json
+from ..files import (
+    check_output,
+    remove_stale_temporaries,
+    safe_name,
+    save_figure,
+    write_json,
+)
 from ..signals import padded_spectrum
 from .cases import plan, study_status
 from .collection import collect, read_case
@@ -235,6 +241,7 @@ def report(
     out = Path(output) if output is not None else study.folder / "report"
     check_output(out, "directory", field="--output")
     out.mkdir(parents=True, exist_ok=True)
+    remove_stale_temporaries(out)  # of figures whose writer was killed
     planned = plan(study)
     ds = collect(study, planned=planned, write=False)
     params = list(study.parameters)
