@@ -320,9 +320,10 @@ def _alive(pid: int) -> bool:
     return state != "Z"
 
 
-def _start_study(study: Path, *extra: str) -> subprocess.Popen:
+def _start_study(study: Path, *extra: str, settle: float = 4.0) -> subprocess.Popen:
     """``python -m gearrotor study run`` in its own session (a terminal's Ctrl-C goes to the
-    whole group: ``os.killpg``), waiting until two workers are computing."""
+    whole group: ``os.killpg``), waiting until two workers are computing (``settle`` s after
+    they appear; 0: while they are still starting, importing gearrotor)."""
     proc = subprocess.Popen(
         [sys.executable, "-m", "gearrotor", "study", "run", str(study), "--workers", "2", *extra],
         start_new_session=True,
@@ -336,7 +337,7 @@ def _start_study(study: Path, *extra: str) -> subprocess.Popen:
         assert proc.poll() is None, proc.communicate()
         # the resource tracker and two workers; the workers have been running a moment
         if len([c for c in _children(proc.pid) if _alive(c)]) >= 3:
-            time.sleep(4.0)
+            time.sleep(settle)
             return proc
         time.sleep(0.1)
     proc.kill()
@@ -396,6 +397,39 @@ def test_interrupted_study_run_is_one_line(examples, tmp_path, sig, code, how):
     while any(_alive(w) for w in workers) and time.time() < deadline:
         time.sleep(0.05)
     assert not [w for w in workers if _alive(w)], "workers outlived their parent"
+    assert _leftovers(tmp_path / "faults.study") == []
+
+
+@pytest.mark.slow
+@skip_without_proc
+@pytest.mark.parametrize(
+    ("backend", "settle"),
+    [("dask", 4.0), ("dask", 0.0), ("local", 0.0)],
+    ids=["dask-computing", "dask-starting", "local-starting"],
+)
+def test_ctrl_c_of_study_run_with_its_workers_starting_or_computing(
+    examples, tmp_path, backend, settle
+):
+    """Ctrl-C to ``study run --scheduler local`` (a Dask LocalCluster), and to the local pool
+    while its workers start: one line, exit 130, no process left, no temporary. Before: the
+    Dask nanny logged "Worker process still alive after 4.0 seconds, killing" for each busy
+    worker (and took those 4 s); workers still importing printed a KeyboardInterrupt traceback
+    each, and an interrupted cluster start an "Exception ignored in atexit callback"."""
+    if backend == "dask":
+        pytest.importorskip("distributed", reason="the Dask backend is the [dask] extra")
+    study = _study(tmp_path, examples, rows=(360, 720, 1080, 1440), t_end=30.0)
+    extra = ("--scheduler", "local") if backend == "dask" else ()
+    proc = _start_study(study, "--no-progress", *extra, settle=settle)
+    processes = _children(proc.pid)
+    os.killpg(proc.pid, signal.SIGINT)  # a terminal's Ctrl-C: the whole foreground group
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == 130, err
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("interrupted (Ctrl-C)"), err
+    deadline = time.time() + 10
+    while any(_alive(w) for w in processes) and time.time() < deadline:
+        time.sleep(0.05)
+    assert not [w for w in processes if _alive(w)], "processes outlived the study"
     assert _leftovers(tmp_path / "faults.study") == []
 
 

@@ -5,11 +5,14 @@
   ``study run`` killed with SIGKILL or by the OOM killer leaves no worker computing for minutes.
   Elsewhere (macOS, Windows) the request is skipped: the pool's own shutdown still ends the
   workers on an ordinary exit or Ctrl-C.
-* A worker ignores SIGINT: Ctrl-C at a terminal goes to the whole process group, and only the
-  parent should answer it (it stops the pool, :func:`stop_pool`), not every worker with a
-  traceback. The workers are started with SIGINT ignored (:func:`sigint_ignored` around the
-  submissions, which start them; an ignored signal stays ignored through ``exec``), so that
-  a Ctrl-C while a worker is still importing gearrotor does not print a traceback either.
+* A worker never sees SIGINT: Ctrl-C at a terminal goes to the whole process group, and only
+  the parent should answer it (it stops the pool, :func:`stop_pool`, or the Dask cluster,
+  :func:`stop_local_cluster`), not every worker with a traceback. The workers are started with
+  SIGINT blocked (:func:`children_without_sigint` around what starts them; a blocked signal
+  stays blocked through ``fork`` and ``exec``), so that a Ctrl-C while a worker is still
+  importing gearrotor does not print a traceback either; local workers also ignore it
+  (:func:`init_worker`). A Dask ``LocalCluster`` starts with the parent's signals held back
+  (:func:`signals_deferred`): interrupted half started, it cannot be closed cleanly.
 * The parent's SIGINT and SIGTERM are answered over the whole life of the command that runs the
   study (:class:`StopSignals`, installed when ``study run`` starts): the first one raises
   ``KeyboardInterrupt`` or :class:`Terminated` in the main thread, so the run unwinds (the pool
@@ -24,15 +27,25 @@ from __future__ import annotations
 import contextlib
 import ctypes
 import ctypes.util
+import logging
 import os
 import signal
 import sys
 import threading
 from collections.abc import Callable, Iterator
 
-__all__ = ["StopSignals", "Terminated", "init_worker", "sigint_ignored", "stop_pool"]
+__all__ = [
+    "StopSignals",
+    "Terminated",
+    "children_without_sigint",
+    "init_worker",
+    "signals_deferred",
+    "stop_local_cluster",
+    "stop_pool",
+]
 
 _PR_SET_PDEATHSIG = 1  # <linux/prctl.h>
+_STOP = (signal.SIGINT, signal.SIGTERM)  # the signals that stop a study
 
 
 class Terminated(BaseException):
@@ -62,19 +75,55 @@ def init_worker(parent: int) -> None:
 
 
 @contextlib.contextmanager
-def sigint_ignored() -> Iterator[None]:
-    """Ignore SIGINT within the block (main thread only; elsewhere the block runs unchanged).
-    A Ctrl-C within it (the few milliseconds in which the workers are spawned) is dropped:
-    blocking it instead would not hold it back, since the kernel hands a process-directed
-    signal to any thread that does not block it (numpy's BLAS threads), which drops it too."""
-    if threading.current_thread() is not threading.main_thread():
+def children_without_sigint() -> Iterator[None]:
+    """The processes (and threads) started within the block never see SIGINT: it is blocked in
+    the calling thread meanwhile, and a blocked signal stays blocked in the threads it starts
+    and through ``fork`` and ``exec`` in the processes. Ctrl-C at a terminal goes to the whole
+    process group; a worker that is still importing would answer it with a traceback.
+
+    The caller keeps its own handler: a SIGINT is still delivered to one of its other threads
+    (numpy's BLAS threads, for instance) and answered by the main thread, or stays pending
+    until the block ends. (Ignoring SIGINT in the caller, which the children would inherit as
+    well, drops a Ctrl-C that comes meanwhile.) Where threads cannot block signals (outside
+    POSIX), or outside the main thread, the block runs unchanged."""
+    if threading.current_thread() is not threading.main_thread() or not hasattr(
+        signal, "pthread_sigmask"
+    ):
         yield
         return
-    old = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    # multiprocessing's resource tracker, when it starts, unblocks SIGINT in the thread that
+    # starts it (SIG_UNBLOCK, not the previous mask): start it first, or the first queue a
+    # thread started here creates (Dask's event loop does) would undo the block
+    from multiprocessing import resource_tracker
+
+    resource_tracker.ensure_running()
+    mask = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
     try:
         yield
     finally:
-        signal.signal(signal.SIGINT, old)
+        signal.pthread_sigmask(signal.SIG_SETMASK, mask)
+
+
+@contextlib.contextmanager
+def signals_deferred() -> Iterator[None]:
+    """SIGINT and SIGTERM are held back within the block and answered at its end: the
+    previous handlers are put back and the first signal that came is raised again
+    (``signal.raise_signal``), so it is answered as it would have been, once the block is done.
+    For a step that cannot be cut short cleanly: a Dask ``LocalCluster`` interrupted while it
+    starts leaves workers half started, which its ``atexit`` callback then fails to close with a
+    traceback. Main thread only (elsewhere the block runs unchanged)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    came: list[int] = []
+    old = {sig: signal.signal(sig, lambda signum, frame: came.append(signum)) for sig in _STOP}
+    try:
+        yield
+    finally:
+        for sig, handler in old.items():
+            signal.signal(sig, signal.SIG_DFL if handler is None else handler)
+        if came:
+            signal.raise_signal(came[0])
 
 
 class StopSignals:
@@ -106,7 +155,7 @@ class StopSignals:
     Outside the main thread (where Python cannot set handlers) nothing is installed.
     """
 
-    SIGNALS = (signal.SIGINT, signal.SIGTERM)
+    SIGNALS = (signal.SIGINT, signal.SIGTERM)  # == _STOP
 
     def __init__(self, line: Callable[[int], str]) -> None:
         self.line = line
@@ -153,3 +202,26 @@ def stop_pool(pool) -> None:
         with contextlib.suppress(OSError, ValueError, AttributeError):
             p.kill()
     pool.shutdown(wait=True, cancel_futures=True)
+
+
+def stop_local_cluster(cluster, close: Callable[[], None]) -> None:
+    """Stop a Dask ``LocalCluster`` of ours now (the study was interrupted), then ``close()``
+    it (the client and the cluster).
+
+    Its worker processes are killed, as :func:`stop_pool` kills the local ones: asked to close,
+    a worker inside a compiled kernel does not answer, and after 4 s the nanny logs "Worker
+    process still alive after 4.0 seconds, killing" (once per worker) and kills it anyway.
+    Each nanny is first told the stop is deliberate (``close_gracefully``), so that it does not
+    restart the worker it loses; the cluster's own log lines about workers it loses are
+    silenced while it closes (they are ours, not news to the user)."""
+    from distributed.utils import silence_logging_cmgr
+
+    with silence_logging_cmgr(logging.CRITICAL):
+        for nanny in list(getattr(cluster, "workers", {}).values()):
+            with contextlib.suppress(Exception):
+                nanny.close_gracefully(reason="gearrotor study interrupted")
+            pid = getattr(nanny, "pid", None)
+            if pid:
+                with contextlib.suppress(OSError):
+                    os.kill(pid, signal.SIGKILL)
+        close()
