@@ -202,6 +202,9 @@ def _study(tmp_path, examples, *, folder="faults.study", rows=(360, 720), t_end=
 
 def test_study_outputs_checked_before_anything_runs(examples, tmp_path, monkeypatch):
     monkeypatch.setattr("gearrotor.studies.execute.plan", _must_not_run)
+    # both names of collect (studies.plots binds it when imported: importing it here, under the
+    # patch, left the patched one in it for every later test of the process)
+    monkeypatch.setattr("gearrotor.studies.plots.collect", _must_not_run)  # imports it first
     monkeypatch.setattr("gearrotor.studies.collection.collect", _must_not_run)
     (tmp_path / "afile").write_text("")
     bad = _study(tmp_path, examples, folder=(tmp_path / "afile").as_posix())
@@ -317,9 +320,10 @@ def _alive(pid: int) -> bool:
     return state != "Z"
 
 
-def _start_study(study: Path, *extra: str) -> subprocess.Popen:
+def _start_study(study: Path, *extra: str, settle: float = 4.0) -> subprocess.Popen:
     """``python -m gearrotor study run`` in its own session (a terminal's Ctrl-C goes to the
-    whole group: ``os.killpg``), waiting until two workers are computing."""
+    whole group: ``os.killpg``), waiting until two workers are computing (``settle`` s after
+    they appear; 0: while they are still starting, importing gearrotor)."""
     proc = subprocess.Popen(
         [sys.executable, "-m", "gearrotor", "study", "run", str(study), "--workers", "2", *extra],
         start_new_session=True,
@@ -333,7 +337,7 @@ def _start_study(study: Path, *extra: str) -> subprocess.Popen:
         assert proc.poll() is None, proc.communicate()
         # the resource tracker and two workers; the workers have been running a moment
         if len([c for c in _children(proc.pid) if _alive(c)]) >= 3:
-            time.sleep(4.0)
+            time.sleep(settle)
             return proc
         time.sleep(0.1)
     proc.kill()
@@ -394,6 +398,199 @@ def test_interrupted_study_run_is_one_line(examples, tmp_path, sig, code, how):
         time.sleep(0.05)
     assert not [w for w in workers if _alive(w)], "workers outlived their parent"
     assert _leftovers(tmp_path / "faults.study") == []
+
+
+@pytest.mark.slow
+@skip_without_proc
+@pytest.mark.parametrize(
+    ("backend", "settle"),
+    [("dask", 4.0), ("dask", 0.0), ("local", 0.0)],
+    ids=["dask-computing", "dask-starting", "local-starting"],
+)
+def test_ctrl_c_of_study_run_with_its_workers_starting_or_computing(
+    examples, tmp_path, backend, settle
+):
+    """Ctrl-C to ``study run --scheduler local`` (a Dask LocalCluster), and to the local pool
+    while its workers start: one line, exit 130, no process left, no temporary. Before: the
+    Dask nanny logged "Worker process still alive after 4.0 seconds, killing" for each busy
+    worker (and took those 4 s); workers still importing printed a KeyboardInterrupt traceback
+    each, and an interrupted cluster start an "Exception ignored in atexit callback"."""
+    if backend == "dask":
+        pytest.importorskip("distributed", reason="the Dask backend is the [dask] extra")
+    study = _study(tmp_path, examples, rows=(360, 720, 1080, 1440), t_end=30.0)
+    extra = ("--scheduler", "local") if backend == "dask" else ()
+    proc = _start_study(study, "--no-progress", *extra, settle=settle)
+    processes = _children(proc.pid)
+    os.killpg(proc.pid, signal.SIGINT)  # a terminal's Ctrl-C: the whole foreground group
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == 130, err
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("interrupted (Ctrl-C)"), err
+    deadline = time.time() + 10
+    while any(_alive(w) for w in processes) and time.time() < deadline:
+        time.sleep(0.05)
+    assert not [w for w in processes if _alive(w)], "processes outlived the study"
+    assert _leftovers(tmp_path / "faults.study") == []
+
+
+# ---- a signal at any moment of `study run`, also after its cases have finished ----------------
+#: Runs the ``gearrotor`` program after arranging for the process to send itself ``SIG`` at
+#: ``POINT``: reading the study file (before the study is known), writing ``results.nc`` (inside
+#: the atomic writer, the temporary half written), printing the summary, or exiting (an atexit
+#: callback, after the command has returned). A real signal, delivered where a user's Ctrl-C or
+#: a scheduler's SIGTERM can land; only the moment is chosen.
+_SIGNAL_AT = """
+import atexit, os, signal, sys
+point, sig = sys.argv[1], signal.Signals[sys.argv[2]]
+del sys.argv[1:3]
+
+def deliver():
+    os.kill(os.getpid(), sig)
+
+if point == "reading":
+    from gearrotor.studies import spec
+    read = spec.load_study
+    def load_study(*a, **k):
+        deliver()
+        return read(*a, **k)
+    spec.load_study = load_study
+elif point == "writing":
+    from gearrotor import files
+    fsync = files.os.fsync
+    def in_results(fd):
+        if os.readlink(f"/proc/self/fd/{fd}").split("/")[-1].startswith("results.nc.tmp-"):
+            deliver()
+        fsync(fd)
+    files.os.fsync = in_results
+elif point == "printing":
+    import typer
+    echo = typer.echo
+    def summary(message=None, *a, **k):
+        if str(message).startswith("results:"):
+            deliver()
+        echo(message, *a, **k)
+    typer.echo = summary
+
+from gearrotor.cli import main
+if point == "exiting":
+    atexit.register(deliver)
+main()
+"""
+
+MODAL_STUDY = """
+name = "signals"
+model = "{model}"
+output = "signals.study"
+[parameters]
+k = {{ paths = ["bearings[0].k", "bearings[1].k"], unit = "N/m" }}
+[cases]
+columns = ["k"]
+rows = [[1e7], [2e7]]
+[analysis]
+type = "modal"
+n_modes = 4
+"""
+
+
+@pytest.fixture(scope="module")
+def finished_study(examples, tmp_path_factory) -> Path:
+    """A small modal study whose cases have all finished (the signals come after them)."""
+    folder = tmp_path_factory.mktemp("signals")
+    study = folder / "study.toml"
+    study.write_text(MODAL_STUDY.format(model=(examples / SINGLE).as_posix()))
+    r = invoke("study", "run", study, "--workers", "1", "--no-progress")
+    assert r.exit_code == 0, (r.output, r.exception)
+    return folder
+
+
+@pytest.mark.slow
+@skip_without_proc
+@pytest.mark.parametrize("point", ["reading", "writing", "printing", "exiting"])
+@pytest.mark.parametrize(
+    ("sig", "code", "how"), [("SIGINT", 130, "Ctrl-C"), ("SIGTERM", 143, "SIGTERM")]
+)
+def test_signal_at_any_moment_of_study_run_is_one_line(
+    finished_study, tmp_path, point, sig, code, how
+):
+    """Before, a signal outside the cases' execution got Python's default: no message (exit 130
+    through Typer, or a silent SIGTERM death) or, while the process exited, "Exception ignored in
+    atexit callback" with a traceback and exit status 0."""
+    import shutil
+
+    import xarray as xr
+
+    shutil.copytree(finished_study, tmp_path, dirs_exist_ok=True)
+    folder = tmp_path / "signals.study"
+    (folder / "results.nc").unlink()
+    src = Path(__file__).resolve().parents[1] / "src"
+    r = subprocess.run(
+        [sys.executable, "-c", _SIGNAL_AT, point, sig, "study", "run", str(tmp_path / "study.toml")]
+        + ["--workers", "1", "--no-progress"],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        env={**os.environ, "PYTHONPATH": str(src)},
+    )
+    assert r.returncode == code, (r.returncode, r.stderr)
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith(f"interrupted ({how})"), r.stderr
+    if point == "reading":
+        assert "nothing was run" in lines[0] and r.stdout == ""
+    else:
+        assert f"stored in {folder}; run the same command again to resume" in lines[0]
+    assert _leftovers(tmp_path) == []  # the half-written results.nc was removed
+    results = folder / "results.nc"
+    assert results.exists() == (point in ("printing", "exiting")), r.stdout
+    if results.exists():  # complete
+        with xr.open_dataset(results, engine="h5netcdf") as ds:
+            assert ds.sizes["case"] == 2 and list(ds["status"].values) == ["done", "done"]
+
+
+# ---- the report's temporary folder ------------------------------------------------------------
+#: ``gearrotor report`` that stops, its temporary folder complete, just before it is published,
+#: and prints the folder's path: the moment a SIGKILL leaves the most behind
+_PAUSED_REPORT = """
+import time
+from gearrotor.plots.report import build
+
+def publish(tmp, output):
+    print(tmp, flush=True)
+    time.sleep(600)
+
+build._publish = publish
+from gearrotor.cli import main
+main()
+"""
+
+
+@pytest.mark.slow
+def test_report_killed_leaves_nothing_after_the_next_run(examples, tmp_path):
+    """The report is built in a temporary folder next to the output; SIGKILL (or a power cut)
+    leaves it. Its name carries the pid (it was a random ``mkdtemp`` name, never removed), and
+    the next report into the same output removes those of dead processes, not a live one's."""
+    out = tmp_path / "rep"
+    args = ["report", str(examples / SINGLE), "--output", str(out), "--analyses", "modal"]
+    src = Path(__file__).resolve().parents[1] / "src"
+    proc = subprocess.Popen(
+        [sys.executable, "-c", _PAUSED_REPORT, *args],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env={**os.environ, "PYTHONPATH": str(src)},
+    )
+    try:
+        tmp = Path(proc.stdout.readline().strip())
+    finally:
+        proc.kill()
+        _, err = proc.communicate(timeout=30)
+    assert tmp.parent == tmp_path and tmp.name.startswith(".rep.tmp-"), err
+    assert (tmp / "report.html").exists()  # killed with the whole report in it
+    live = tmp_path / f".rep.tmp-{os.getpid()}-abcdef"  # a report being built right now
+    live.mkdir()
+    r = invoke("report", examples / SINGLE, "--output", out, "--analyses", "modal")
+    assert r.exit_code == 0, (r.output, r.exception)
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(["rep", live.name])
+    assert (out / "report.html").exists()
 
 
 # ---- numba's cache ----------------------------------------------------------------------------

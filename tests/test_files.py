@@ -196,6 +196,25 @@ def test_stale_temporaries_of_dead_processes_are_removed(tmp_path):
     assert mine.exists() and keep.exists()
 
 
+def test_temporary_folders_of_dead_processes_are_removed(tmp_path):
+    """An output folder built as a whole (the report) is built in ``.NAME.tmp-PID-TOKEN``; the
+    folders of dead processes go with their content, only when folders are asked for."""
+    dead = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"], **_out())
+    stale = tmp_path / f".rep.tmp-{int(dead.stdout)}-a1b2c3"
+    (stale / "sub").mkdir(parents=True)
+    (stale / "sub" / "report.html").write_text("partial")
+    made = files.make_temporary_directory(tmp_path / "rep")
+    prefix = files.temporary_directory_prefix(tmp_path / "rep")
+    assert prefix == ".rep.tmp-" and made.parent == tmp_path
+    assert made.name.startswith(f"{prefix}{os.getpid()}-")
+    umask = os.umask(0)
+    os.umask(umask)
+    assert made.stat().st_mode & 0o777 == 0o777 & ~umask  # an ordinary folder, not mkdtemp's
+    assert files.remove_stale_temporaries(tmp_path, prefix) == []
+    assert files.remove_stale_temporaries(tmp_path, prefix, directories=True) == [stale]
+    assert sorted(tmp_path.iterdir()) == [made]
+
+
 def _out():
     return {"capture_output": True, "text": True, "check": True}
 

@@ -17,7 +17,10 @@ file or folder in the directory that will receive the output (``os.access`` says
 useful for root, on read-only mounts or in ``/proc``).
 
 Temporaries of a process that was killed (SIGKILL, power cut) stay behind; their names carry
-the pid, and :func:`remove_stale_temporaries` removes those whose process is gone.
+the pid, and :func:`remove_stale_temporaries` removes those whose process is gone. An output
+folder built as a whole (the HTML report) is built in a temporary folder named the same way
+(:func:`make_temporary_directory`, ``.NAME.tmp-PID-TOKEN`` next to it), and its writer removes
+the temporary folders of dead processes at its next run.
 """
 
 from __future__ import annotations
@@ -29,6 +32,7 @@ import json
 import os
 import re
 import secrets
+import shutil
 import sys
 import tempfile
 from collections.abc import Iterator
@@ -41,9 +45,11 @@ __all__ = [
     "atomic_file",
     "check_output",
     "make_directory",
+    "make_temporary_directory",
     "remove_stale_temporaries",
     "safe_name",
     "save_figure",
+    "temporary_directory_prefix",
     "write_bytes",
     "write_json",
     "write_netcdf",
@@ -254,6 +260,31 @@ def make_directory(path: str | os.PathLike, *, field: str | None = None) -> Path
     return path
 
 
+def temporary_directory_prefix(path: str | os.PathLike) -> str:
+    """The name prefix of :func:`make_temporary_directory`'s folders for ``path``."""
+    path = Path(path)
+    return f".{path.name or path.resolve().name}.tmp-"  # "." is named after the folder it is
+
+
+def make_temporary_directory(path: str | os.PathLike, *, field: str | None = None) -> Path:
+    """Create an empty folder next to ``path`` in which the output folder ``path`` is built
+    before it is moved into place: ``.NAME.tmp-PID-TOKEN`` (hidden; the pid lets the next run
+    remove it when this process is killed: ``remove_stale_temporaries(path.parent,
+    temporary_directory_prefix(path), directories=True)``), with the permissions of an ordinary
+    folder (umask), not the private ones of ``tempfile.mkdtemp``."""
+    path = Path(path)
+    tmp = path.parent / f"{temporary_directory_prefix(path)}{os.getpid()}-{secrets.token_hex(3)}"
+    try:
+        tmp.mkdir()
+    except OSError as exc:
+        raise ModelError(
+            f"cannot create a folder next to the output: {_reason(exc)}",
+            field=field,
+            value=str(path),
+        ) from None
+    return tmp
+
+
 _UNSAFE = re.compile(r"[^A-Za-z0-9._+-]+")
 
 
@@ -277,16 +308,25 @@ def _pid_alive(pid: int) -> bool:
     return True
 
 
-def remove_stale_temporaries(directory: str | os.PathLike, prefix: str = "") -> list[Path]:
+def remove_stale_temporaries(
+    directory: str | os.PathLike, prefix: str = "", *, directories: bool = False
+) -> list[Path]:
     """Remove the temporaries (``PREFIX*.tmp-PID[-TOKEN]``) of processes that no longer run from
-    ``directory`` (not recursive). Returns the files removed."""
+    ``directory`` (not recursive): files, and with ``directories`` also folders (with their
+    content: :func:`make_temporary_directory`). Returns the paths removed."""
     directory = Path(directory)
     removed: list[Path] = []
     if not directory.is_dir():
         return removed
     for p in directory.iterdir():
         m = _TMP.search(p.name)
-        if m and p.name.startswith(prefix) and p.is_file() and not _pid_alive(int(m.group(1))):
+        if not (m and p.name.startswith(prefix)) or _pid_alive(int(m.group(1))):
+            continue
+        if p.is_file():
             _discard(p)
-            removed.append(p)
+        elif directories and p.is_dir() and not p.is_symlink():
+            shutil.rmtree(p, ignore_errors=True)
+        else:
+            continue
+        removed.append(p)
     return removed

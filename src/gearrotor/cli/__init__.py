@@ -96,7 +96,11 @@ app.add_typer(torsional_app, name="torsional")
 
 
 def main() -> None:
-    """Entry point of the ``gearrotor`` command."""
+    """Entry point of the ``gearrotor`` command (the program itself, not a call inside
+    another program: ``study run`` then answers signals until the process exits)."""
+    from . import study
+
+    study.as_program = True
     app(prog_name="gearrotor")
 
 

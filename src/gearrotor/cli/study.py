@@ -9,6 +9,7 @@ does not stop the study).
 
 from __future__ import annotations
 
+import signal
 import sys
 import time
 from pathlib import Path
@@ -26,6 +27,11 @@ __all__ = ["EXIT_INTERRUPTED", "EXIT_TERMINATED", "study_app"]
 #: convention; the finished cases are stored and the next run resumes.
 EXIT_INTERRUPTED = 130
 EXIT_TERMINATED = 143
+
+#: Set by :func:`gearrotor.cli.main` (the ``gearrotor`` program): ``study run`` then answers
+#: SIGINT and SIGTERM until the process exits (:class:`~gearrotor.studies.workers.StopSignals`);
+#: called inside another program (a test runner's ``CliRunner``) it puts the handlers back.
+as_program = False
 
 study_app = typer.Typer(
     help="Parametric studies: a matrix of cases run in parallel (local processes or Dask).",
@@ -90,33 +96,55 @@ def run_command(
     progress: Annotated[bool, typer.Option(help="progress bar on stderr")] = True,
 ) -> None:
     """Run the cases of a study that have not finished (resumes an interrupted study).
-    Ctrl-C or SIGTERM stops it with one line (exit status 130 or 143); its workers stop with
-    it, also when it is killed; the finished cases are kept."""
-    from ..studies.execute import run_study
-    from ..studies.spec import check_cases, load_study
-    from ..studies.workers import Terminated, sigterm_raises
+    Ctrl-C or SIGTERM stops it with one line (exit status 130 or 143), whenever it comes; its
+    workers stop with it, also when it is killed; the finished cases are kept."""
+    from ..studies.workers import StopSignals, Terminated
 
-    st = load_study(study)
-    check_cases(st)  # every row's model is valid before anything runs (exit 2)
+    folder: list[Path] = []  # the study's folder, once the study file is read
+
+    def line(signum: int) -> str:
+        how = "SIGTERM" if signum == signal.SIGTERM else "Ctrl-C"
+        if not folder:
+            return f"interrupted ({how}) while reading the study: nothing was run"
+        return (
+            f"interrupted ({how}): the finished cases are stored in {folder[0]}; run the same "
+            "command again to resume"
+        )
+
+    stop = StopSignals(line).install()  # before anything else: the command's whole life
     try:
-        with sigterm_raises():
-            summary = run_study(
-                st,
-                scheduler=scheduler,
-                workers=workers,
-                cases=_parse_cases(cases),
-                retry_failed=retry_failed,
-                progress=progress,
-            )
-    except (KeyboardInterrupt, Terminated) as exc:
-        term = isinstance(exc, Terminated)
+        _run(study, folder, scheduler, workers, cases, retry_failed, progress)
+    except (KeyboardInterrupt, Terminated):
+        signum = stop.received or signal.SIGINT  # KeyboardInterrupt raised by someone else
         typer.echo(
-            ("\n" if sys.stderr.isatty() else "")  # end the progress bar's line
-            + f"interrupted ({'SIGTERM' if term else 'Ctrl-C'}): the finished cases are stored "
-            f"in {st.folder}; run the same command again to resume",
+            ("\n" if sys.stderr.isatty() else "") + line(signum),  # end the progress bar's line
             err=True,
         )
-        raise typer.Exit(EXIT_TERMINATED if term else EXIT_INTERRUPTED) from None
+        raise typer.Exit(
+            EXIT_TERMINATED if signum == signal.SIGTERM else EXIT_INTERRUPTED
+        ) from None
+    finally:
+        if as_program:  # keep answering until the process has exited
+            stop.finish()
+        else:
+            stop.restore()
+
+
+def _run(study, folder, scheduler, workers, cases, retry_failed, progress) -> None:
+    from ..studies.execute import run_study
+    from ..studies.spec import check_cases, load_study
+
+    st = load_study(study)
+    folder.append(st.folder)
+    check_cases(st)  # every row's model is valid before anything runs (exit 2)
+    summary = run_study(
+        st,
+        scheduler=scheduler,
+        workers=workers,
+        cases=_parse_cases(cases),
+        retry_failed=retry_failed,
+        progress=progress,
+    )
     typer.echo(
         f"study {st.name}: {summary.n_cases} cases, {summary.n_runs} distinct runs, "
         f"{summary.executed} executed, {summary.skipped} already finished, "
@@ -127,7 +155,8 @@ def run_command(
     if summary.failed:
         for i, err in summary.failed.items():
             typer.echo(f"case {i} failed: {err}", err=True)
-        sys.stdout.flush()
+    sys.stdout.flush()  # here, where a signal is still answered by unwinding
+    if summary.failed:
         raise typer.Exit(EXIT_CASES_FAILED)
 
 

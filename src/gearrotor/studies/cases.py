@@ -16,9 +16,10 @@ from typing import Any
 from ..errors import ModelError
 from .spec import Case, Study
 
-__all__ = ["CaseStatus", "PlannedCase", "case_path", "plan", "study_status"]
+__all__ = ["CaseStatus", "PlannedCase", "case_path", "case_error", "plan", "study_status"]
 
 FORMAT_VERSION = 1
+_MAX_ERROR_FILE = 4 * 1024 * 1024  # bytes read of a failed case's file (a longer one is damaged)
 
 
 @dataclass(frozen=True)
@@ -81,6 +82,26 @@ def case_path(study: Study, key: str, *, error: bool = False) -> Path:
     return study.folder / "cases" / (f"{key}.error.json" if error else f"{key}.nc")
 
 
+def case_error(path: Path) -> str:
+    """The error text of a failed case's file (``<key>.error.json``); :class:`ModelError`
+    naming the file when it is not one (damaged, truncated, foreign)."""
+    expected = "a failed case's file written by 'gearrotor study run' (delete it to run again)"
+    try:
+        with open(path, "rb") as fh:  # an error text with its traceback: kilobytes
+            doc = json.loads(fh.read(_MAX_ERROR_FILE).decode("utf-8"))
+    except (OSError, ValueError, RecursionError) as exc:
+        raise ModelError(
+            f"cannot read the file as JSON ({type(exc).__name__})",
+            file=str(path),
+            expected=expected,
+        ) from None
+    if not isinstance(doc, dict) or not isinstance(doc.get("error"), str):
+        raise ModelError(
+            "no error text in the file", field="error", file=str(path), expected=expected
+        )
+    return doc["error"]
+
+
 def study_status(
     study: Study, planned: tuple[PlannedCase, ...] | None = None
 ) -> tuple[CaseStatus, ...]:
@@ -95,6 +116,6 @@ def study_status(
             state = "done"
         elif case_path(study, p.key, error=True).exists():
             state = "failed"
-            err = json.loads(case_path(study, p.key, error=True).read_text())["error"]
+            err = case_error(case_path(study, p.key, error=True))
         out.append(CaseStatus(p.case.index, p.key, p.case.label, state, err))
     return tuple(out)

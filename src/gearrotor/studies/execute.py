@@ -38,12 +38,19 @@ from .cases import (
     CaseStatus,
     PlannedCase,
     _canonical,
+    case_error,
     case_path,
     plan,
     study_status,
 )
 from .spec import Study
-from .workers import init_worker, sigint_ignored, stop_pool
+from .workers import (
+    children_without_sigint,
+    init_worker,
+    signals_deferred,
+    stop_local_cluster,
+    stop_pool,
+)
 
 __all__ = [
     "THREAD_ENV",
@@ -359,9 +366,11 @@ def _execute_local(payloads: list[dict], workers: int, on_done: Callable[[dict],
             initargs=(os.getpid(),),
         ) as pool,
     ):
-        with sigint_ignored():  # submitting starts the workers: they inherit SIG_IGN
-            futs = {pool.submit(run_case, p): p for p in payloads}
+        futs = {}
         try:
+            with children_without_sigint():  # submitting starts the workers
+                for p in payloads:
+                    futs[pool.submit(run_case, p)] = p
             pending = set(futs)
             while pending:
                 done, pending = wait(pending, return_when=FIRST_COMPLETED)
@@ -395,18 +404,22 @@ def _execute_dask(
             expected="pip install 'gearrotor[dask]'",
         ) from None
     with contextlib.ExitStack() as stack:
+        cluster = None
         if scheduler == "local":
             n = workers or os.cpu_count() or 1
-            cluster = stack.enter_context(
-                LocalCluster(
-                    n_workers=n,
-                    threads_per_worker=1,
-                    processes=True,
-                    dashboard_address=None,
-                    env=dict(THREAD_ENV),
+            # started whole (a Ctrl-C meanwhile is answered once it is up), its workers
+            # without SIGINT (the parent answers it)
+            with signals_deferred(), children_without_sigint():
+                cluster = stack.enter_context(
+                    LocalCluster(
+                        n_workers=n,
+                        threads_per_worker=1,
+                        processes=True,
+                        dashboard_address=None,
+                        env=dict(THREAD_ENV),
+                    )
                 )
-            )
-            client = stack.enter_context(Client(cluster))
+                client = stack.enter_context(Client(cluster))
         else:
             try:
                 client = stack.enter_context(Client(scheduler, timeout="30s"))
@@ -418,11 +431,10 @@ def _execute_dask(
                     expected="an address such as tcp://host:8786, or 'local'",
                 ) from None
             n = len(client.scheduler_info().get("workers", {}))
-        futs = {
-            client.submit(run_case, p, key=f"gearrotor-case-{p['key']}", pure=False): p
-            for p in payloads
-        }
+        futs = {}
         try:
+            for p in payloads:
+                futs[client.submit(run_case, p, key=f"gearrotor-case-{p['key']}", pure=False)] = p
             for f in as_completed(list(futs)):
                 p = futs[f]
                 try:
@@ -435,8 +447,10 @@ def _execute_dask(
                         "error": f"worker failed: {type(exc).__name__}: {exc}",
                     }
                 on_done(out)
-        except BaseException:
+        except BaseException:  # interrupted
             client.cancel(list(futs))
+            if cluster is not None:  # ours: stop it now, quietly
+                stop_local_cluster(cluster, stack.close)
             raise
     return n
 
@@ -529,7 +543,7 @@ def run_study(
             and ep.exists()
             and not case_path(study, p.key).exists()
         ):
-            failed[p.case.index] = json.loads(ep.read_text())["error"]
+            failed[p.case.index] = case_error(ep)
     bar = _Progress(len(todo), enabled=progress, stream=stream)
 
     def on_done(out: dict) -> None:

@@ -14,10 +14,16 @@ import numpy as np
 import xarray as xr
 
 from ..errors import ModelError
-from ..files import check_output, safe_name, save_figure, write_json
+from ..files import (
+    check_output,
+    remove_stale_temporaries,
+    safe_name,
+    save_figure,
+    write_json,
+)
 from ..signals import padded_spectrum
-from .cases import case_path, plan, study_status
-from .collection import collect
+from .cases import plan, study_status
+from .collection import collect, read_case
 from .spec import Study, TransientSettings
 
 __all__ = ["overlay_spectra", "padded_spectrum", "report", "trend_figure", "trend_groups"]
@@ -235,6 +241,7 @@ def report(
     out = Path(output) if output is not None else study.folder / "report"
     check_output(out, "directory", field="--output")
     out.mkdir(parents=True, exist_ok=True)
+    remove_stale_temporaries(out)  # of figures whose writer was killed
     planned = plan(study)
     ds = collect(study, planned=planned, write=False)
     params = list(study.parameters)
@@ -264,8 +271,7 @@ def report(
         chunk = uniq[start : start + per_figure]
         data = {}
         for i in chunk:
-            with xr.open_dataset(case_path(study, planned[i].key), engine="h5netcdf") as d:
-                data[f"{i}: {planned[i].case.label}"] = d.load()
+            data[f"{i}: {planned[i].case.label}"] = read_case(study, planned[i])
         first = next(iter(data.values()))
         if first.sizes.get("time", 0) < 16:
             break

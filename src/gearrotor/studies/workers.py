@@ -5,13 +5,21 @@
   ``study run`` killed with SIGKILL or by the OOM killer leaves no worker computing for minutes.
   Elsewhere (macOS, Windows) the request is skipped: the pool's own shutdown still ends the
   workers on an ordinary exit or Ctrl-C.
-* A worker ignores SIGINT: Ctrl-C at a terminal goes to the whole process group, and only the
-  parent should answer it (it stops the pool, :func:`stop_pool`), not every worker with a
-  traceback. The workers are started with SIGINT ignored (:func:`sigint_ignored` around the
-  submissions, which start them; an ignored signal stays ignored through ``exec``), so that
-  a Ctrl-C while a worker is still importing gearrotor does not print a traceback either.
-* SIGTERM of the parent becomes :class:`Terminated` (:func:`sigterm_raises`), so it unwinds like
-  Ctrl-C: the pool is stopped, what finished is stored, the temporaries are removed.
+* A worker never sees SIGINT: Ctrl-C at a terminal goes to the whole process group, and only
+  the parent should answer it (it stops the pool, :func:`stop_pool`, or the Dask cluster,
+  :func:`stop_local_cluster`), not every worker with a traceback. The workers are started with
+  SIGINT blocked (:func:`children_without_sigint` around what starts them; a blocked signal
+  stays blocked through ``fork`` and ``exec``), so that a Ctrl-C while a worker is still
+  importing gearrotor does not print a traceback either; local workers also ignore it
+  (:func:`init_worker`). A Dask ``LocalCluster`` starts with the parent's signals held back
+  (:func:`signals_deferred`): interrupted half started, it cannot be closed cleanly.
+* The parent's SIGINT and SIGTERM are answered over the whole life of the command that runs the
+  study (:class:`StopSignals`, installed when ``study run`` starts): the first one raises
+  ``KeyboardInterrupt`` or :class:`Terminated` in the main thread, so the run unwinds (the pool
+  is stopped, what finished is stored, the temporaries are removed) and the command says so in
+  one line; later ones do not interrupt that stop. Once the command has done its work, a signal
+  that still comes (while the process exits) prints the same line and ends the process with
+  128 + the signal number at once.
 """
 
 from __future__ import annotations
@@ -19,19 +27,29 @@ from __future__ import annotations
 import contextlib
 import ctypes
 import ctypes.util
+import logging
 import os
 import signal
 import sys
 import threading
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 
-__all__ = ["Terminated", "init_worker", "sigint_ignored", "sigterm_raises", "stop_pool"]
+__all__ = [
+    "StopSignals",
+    "Terminated",
+    "children_without_sigint",
+    "init_worker",
+    "signals_deferred",
+    "stop_local_cluster",
+    "stop_pool",
+]
 
 _PR_SET_PDEATHSIG = 1  # <linux/prctl.h>
+_STOP = (signal.SIGINT, signal.SIGTERM)  # the signals that stop a study
 
 
 class Terminated(BaseException):
-    """The process received SIGTERM (raised in the main thread by :func:`sigterm_raises`)."""
+    """The process received SIGTERM (raised in the main thread by :class:`StopSignals`)."""
 
 
 def _die_with_parent(parent: int) -> bool:
@@ -57,34 +75,123 @@ def init_worker(parent: int) -> None:
 
 
 @contextlib.contextmanager
-def sigint_ignored() -> Iterator[None]:
-    """Ignore SIGINT within the block (main thread only; elsewhere the block runs unchanged)."""
-    if threading.current_thread() is not threading.main_thread():
+def children_without_sigint() -> Iterator[None]:
+    """The processes (and threads) started within the block never see SIGINT: it is blocked in
+    the calling thread meanwhile, and a blocked signal stays blocked in the threads it starts
+    and through ``fork`` and ``exec`` in the processes. Ctrl-C at a terminal goes to the whole
+    process group; a worker that is still importing would answer it with a traceback.
+
+    The caller keeps its own handler: a SIGINT is still delivered to one of its other threads
+    (numpy's BLAS threads, for instance) and answered by the main thread, or stays pending
+    until the block ends. (Ignoring SIGINT in the caller, which the children would inherit as
+    well, drops a Ctrl-C that comes meanwhile.) Where threads cannot block signals (outside
+    POSIX), or outside the main thread, the block runs unchanged."""
+    if threading.current_thread() is not threading.main_thread() or not hasattr(
+        signal, "pthread_sigmask"
+    ):
         yield
         return
-    old = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    # multiprocessing's resource tracker, when it starts, unblocks SIGINT in the thread that
+    # starts it (SIG_UNBLOCK, not the previous mask): start it first, or the first queue a
+    # thread started here creates (Dask's event loop does) would undo the block
+    from multiprocessing import resource_tracker
+
+    resource_tracker.ensure_running()
+    mask = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
     try:
         yield
     finally:
-        signal.signal(signal.SIGINT, old)
+        signal.pthread_sigmask(signal.SIG_SETMASK, mask)
 
 
 @contextlib.contextmanager
-def sigterm_raises() -> Iterator[None]:
-    """Within the block, SIGTERM raises :class:`Terminated` in the main thread (outside the main
-    thread, or where signals cannot be set, the block runs unchanged)."""
+def signals_deferred() -> Iterator[None]:
+    """SIGINT and SIGTERM are held back within the block and answered at its end: the
+    previous handlers are put back and the first signal that came is raised again
+    (``signal.raise_signal``), so it is answered as it would have been, once the block is done.
+    For a step that cannot be cut short cleanly: a Dask ``LocalCluster`` interrupted while it
+    starts leaves workers half started, which its ``atexit`` callback then fails to close with a
+    traceback. Main thread only (elsewhere the block runs unchanged)."""
     if threading.current_thread() is not threading.main_thread():
         yield
         return
-
-    def handler(signum, frame):
-        raise Terminated(signum)
-
-    old = signal.signal(signal.SIGTERM, handler)
+    came: list[int] = []
+    old = {sig: signal.signal(sig, lambda signum, frame: came.append(signum)) for sig in _STOP}
     try:
         yield
     finally:
-        signal.signal(signal.SIGTERM, old)
+        for sig, handler in old.items():
+            signal.signal(sig, signal.SIG_DFL if handler is None else handler)
+        if came:
+            signal.raise_signal(came[0])
+
+
+class StopSignals:
+    """SIGINT and SIGTERM of a command that runs a study, from its start to the process's exit.
+
+    ``line(signum)`` is the one line the command prints when a signal stops it. Use::
+
+        stop = StopSignals(line).install()
+        try:
+            ...  # the whole command; KeyboardInterrupt / Terminated: print line(), exit 128 + sig
+        finally:
+            stop.finish()  # as a program, until the process exits; else stop.restore()
+
+    While the command works (after :meth:`install`), the first signal raises
+    ``KeyboardInterrupt`` (SIGINT) or :class:`Terminated` (SIGTERM) in the main thread; the
+    command unwinds and prints ``line``. Later signals are ignored: the stop the first one
+    started (killing workers, removing temporaries, closing a Dask cluster) is not itself cut
+    short, which is what leaves a temporary or a traceback behind.
+
+    After :meth:`finish` the work is done and its output printed; a signal that comes while the
+    process exits (an ``atexit`` callback, a library's finaliser) cannot unwind anything, and
+    Python would print "Exception ignored" with a traceback (SIGINT) or die silently (SIGTERM):
+    it prints ``line`` and ends the process with status 128 + the signal number at once
+    (``os._exit``, after flushing stdout), unless the command already stopped on a signal.
+    Only a process that is the ``gearrotor`` program should call :meth:`finish`; a command run
+    inside another program (a test runner) calls :meth:`restore`, which puts the previous
+    handlers back.
+
+    Outside the main thread (where Python cannot set handlers) nothing is installed.
+    """
+
+    SIGNALS = (signal.SIGINT, signal.SIGTERM)  # == _STOP
+
+    def __init__(self, line: Callable[[int], str]) -> None:
+        self.line = line
+        self.received: int | None = None  #: the first signal received, if any
+        self.finished = False
+        self._old: dict[int, object] = {}
+
+    def install(self) -> StopSignals:
+        if threading.current_thread() is threading.main_thread():
+            for sig in self.SIGNALS:
+                self._old[sig] = signal.signal(sig, self._handle)
+        return self
+
+    def finish(self) -> None:
+        """The command's work is done: a signal from now on ends the process at once."""
+        self.finished = True
+
+    def restore(self) -> None:
+        """Put back the handlers :meth:`install` replaced."""
+        for sig, old in self._old.items():
+            signal.signal(sig, signal.SIG_DFL if old is None else old)
+        self._old.clear()
+
+    def _handle(self, signum: int, frame) -> None:
+        if self.received is not None:  # already stopping on an earlier signal
+            return
+        self.received = signum
+        if not self.finished:
+            if signum == signal.SIGINT:
+                raise KeyboardInterrupt
+            raise Terminated(signum)
+        with contextlib.suppress(Exception):  # the main thread may be inside a write to stdout
+            sys.stdout.flush()
+        with contextlib.suppress(Exception):
+            os.write(2, (self.line(signum) + "\n").encode())
+        os._exit(128 + signum)
 
 
 def stop_pool(pool) -> None:
@@ -95,3 +202,26 @@ def stop_pool(pool) -> None:
         with contextlib.suppress(OSError, ValueError, AttributeError):
             p.kill()
     pool.shutdown(wait=True, cancel_futures=True)
+
+
+def stop_local_cluster(cluster, close: Callable[[], None]) -> None:
+    """Stop a Dask ``LocalCluster`` of ours now (the study was interrupted), then ``close()``
+    it (the client and the cluster).
+
+    Its worker processes are killed, as :func:`stop_pool` kills the local ones: asked to close,
+    a worker inside a compiled kernel does not answer, and after 4 s the nanny logs "Worker
+    process still alive after 4.0 seconds, killing" (once per worker) and kills it anyway.
+    Each nanny is first told the stop is deliberate (``close_gracefully``), so that it does not
+    restart the worker it loses; the cluster's own log lines about workers it loses are
+    silenced while it closes (they are ours, not news to the user)."""
+    from distributed.utils import silence_logging_cmgr
+
+    with silence_logging_cmgr(logging.CRITICAL):
+        for nanny in list(getattr(cluster, "workers", {}).values()):
+            with contextlib.suppress(Exception):
+                nanny.close_gracefully(reason="gearrotor study interrupted")
+            pid = getattr(nanny, "pid", None)
+            if pid:
+                with contextlib.suppress(OSError):
+                    os.kill(pid, signal.SIGKILL)
+        close()

@@ -6,14 +6,20 @@ from __future__ import annotations
 import math
 import os
 import shutil
-import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
 from ...errors import ModelError
-from ...files import check_output, write_json, write_text
+from ...files import (
+    check_output,
+    make_temporary_directory,
+    remove_stale_temporaries,
+    temporary_directory_prefix,
+    write_json,
+    write_text,
+)
 from .base import Context
 from .blocks import RPM
 from .page import _page
@@ -156,6 +162,8 @@ def make_report(
     if transient is not None and "transient" not in analyses:
         analyses = (*analyses, "transient")
     output = check_output(output, "directory", field="--output")
+    # the temporary folders of a report whose process was killed (SIGKILL, power cut)
+    remove_stale_temporaries(output.parent, temporary_directory_prefix(output), directories=True)
     base_train = model.train if isinstance(model, Assembly) else model
     if operating_points:
         operating_points = tuple(operating_points)
@@ -240,10 +248,7 @@ def make_report(
         section.run(ctx)
 
     output.parent.mkdir(parents=True, exist_ok=True)
-    tmp = Path(tempfile.mkdtemp(prefix=f".{output.name}.tmp-", dir=output.parent))
-    umask = os.umask(0)
-    os.umask(umask)
-    os.chmod(tmp, 0o777 & ~umask)  # mkdtemp makes it private; the report is an ordinary folder
+    tmp = make_temporary_directory(output, field="--output")  # .NAME.tmp-PID-TOKEN
     try:
         ctx.directory = tmp
         summary = ctx.summary
