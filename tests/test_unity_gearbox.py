@@ -78,9 +78,12 @@ def test_dense_and_sparse_eigensolvers_agree(examples):
     fmax = 80000 * RPM
     d = modal(train, max_frequency=fmax, method="dense")
     s = modal(train, max_frequency=fmax, method="sparse")
-    assert len(d) == len(s)
-    # near-critically damped pairs are ill-conditioned (ζ ≈ 0.99998): 1e-6
-    np.testing.assert_allclose(s.eigenvalues, d.eigenvalues, rtol=1e-6)
+    # the sparse result holds the modes with |λ| ≤ max_frequency; the dense one also the
+    # near-critically damped pairs with Im λ ≤ max_frequency < |λ| (ζ ≈ 0.99998, |λ| ≈ 14,500)
+    inside = np.abs(d.eigenvalues) <= fmax
+    assert len(s) == np.sum(inside) == len(d) - 4
+    # the sparse pairs are refined to the dense solve's accuracy (issue 16): 1e-8
+    np.testing.assert_allclose(s.eigenvalues, d.eigenvalues[inside], rtol=1e-8)
     assert s.n_rigid_body == d.n_rigid_body == 6
 
 

@@ -175,7 +175,10 @@ def test_sparse_matches_dense(models, name):
     fmax = 80000 * RPM
     rd = modal(asm, method="dense", max_frequency=fmax)
     rs = modal(asm, method="sparse", max_frequency=fmax)
-    assert len(rs) == len(rd) > 5
+    # the sparse result: exactly the modes with |λ| ≤ max_frequency (the dense one also lists
+    # heavily damped pairs with Im λ ≤ max_frequency < |λ|)
+    assert np.all(np.abs(rs.eigenvalues) <= fmax)
+    assert len(rs) == np.sum(np.abs(rd.eigenvalues) <= fmax) > 5
     j = _match(rs, rd)
     assert len(set(j)) == len(j)
     np.testing.assert_allclose(rs.damped_frequency, rd.damped_frequency[j], rtol=1e-8)
@@ -254,9 +257,20 @@ def test_auto_sparse_above_crossover(make_gearbox):
     for x in rd.eigenvalues[inside]:
         assert np.min(np.abs(lam_a - x)) <= 1e-8 * abs(x)
     # a max_frequency whose circle encloses more than SPARSE_FRACTION of the 888 eigenvalues
-    # (40 modes below 3e4 rad/s, and the real ones): dense, as if asked for
-    big = modal(asm, max_frequency=3e4)
+    # (188 > 148 with |λ| ≤ 1e5 rad/s): dense, as if asked for
+    big = modal(asm, max_frequency=1e5)
     assert big.method == "dense"
     np.testing.assert_array_equal(
-        big.eigenvalues, modal(asm, method="dense", max_frequency=3e4).eigenvalues
+        big.eigenvalues, modal(asm, method="dense", max_frequency=1e5).eigenvalues
     )
+
+
+def test_next_k_extrapolates_the_eigenvalue_count():
+    """N(r) ∝ r (rods) and ∝ √r (beams): from k found eigenvalues, the count at the wanted
+    radius with a 20 % margin; clipped to [1.5k, 4k]."""
+    k = 40
+    i = np.arange(1, k + 1)
+    assert mm._next_k(k, i * 1.0, 2.0 * k) == int(np.ceil(k * 1.2 * 2))  # N ∝ r, twice r
+    assert mm._next_k(k, i**2 * 1.0, 4.0 * k**2) == int(np.ceil(k * 1.2 * 2))  # N ∝ √r
+    assert mm._next_k(k, i * 1.0, 1.01 * k) == int(np.ceil(1.5 * k))
+    assert mm._next_k(k, i * 1.0, 100.0 * k) == 4 * k
