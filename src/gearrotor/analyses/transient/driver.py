@@ -253,7 +253,7 @@ def transient(
     elif isinstance(integ, ModalRK4):
         if frozen_speed:
             raise ModelError("frozen speed is available with RK4 only", field="frozen_speed")
-        prep = _prepare_modal(system, integ, out)
+        prep = _prepare_modal(system, integ, out, save.dt)
     else:
         raise TypeError(f"unknown integrator {integ!r}; expected RK4(...) or ModalRK4(...)")
     dt = prep.dt

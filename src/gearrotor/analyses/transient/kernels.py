@@ -1003,24 +1003,33 @@ def _first_event(G0, G1, h, n_probe, pat, stride, code, Gs):
 
 
 @njit(cache=_CACHE)
-def _phi_k(z, k):
-    """φ_k(z) = Σ_j z^j/(j+k)! (φ_0 = e^z, φ_1 = (e^z − 1)/z, ...) of a complex z: the series
-    for |z| < 0.5 (no cancellation), the closed form (e^z − Σ_{j<k} z^j/j!)/z^k above."""
+def _phis(z):
+    """(e^z, φ1, φ2, φ3)(z) of a complex z, φ_k(z) = Σ_j z^j/(j+k)!: one series for |z| < 0.5
+    (terms until they stop changing the sums; no cancellation), else the recurrence
+    φ_{k+1} = (φ_k − 1/k!)/z from e^z (cancellation at most ε/|z|³ ≈ 1e-15)."""
     if abs(z) < 0.5:
-        term = 1.0 + 0.0j
-        for j in range(1, k + 1):
-            term /= j
-        acc = term
-        for j in range(1, 24):
-            term = term * z / (j + k)
-            acc += term
-        return acc
-    r = np.exp(z)
-    term = 1.0 + 0.0j
-    for j in range(k):
-        r -= term
-        term = term * z / (j + 1)
-    return r / z**k
+        p1 = 1.0 + 0.0j
+        p2 = 0.5 + 0.0j
+        p3 = 1.0 / 6.0 + 0.0j
+        zj = 1.0 + 0.0j
+        f = 1.0  # 1/(j+1)!
+        for j in range(1, 30):
+            zj = zj * z
+            f = f / (j + 1)
+            t1 = zj * f
+            t2 = t1 / (j + 2)
+            t3 = t2 / (j + 3)
+            p1 += t1
+            p2 += t2
+            p3 += t3
+            if abs(t1) < 1e-17 * abs(p1) and abs(t3) < 1e-17 * abs(p3):
+                break
+        return 1.0 + z * p1, p1, p2, p3
+    e = np.exp(z)
+    p1 = (e - 1.0) / z
+    p2 = (p1 - 1.0) / z
+    p3 = (p2 - 0.5) / z
+    return e, p1, p2, p3
 
 
 @njit(cache=_CACHE)
@@ -1040,12 +1049,9 @@ def etd_coefficients(om, tau, C):
             C[8, i], C[9, i] = tau / 6.0, tau * tau / 12.0
             C[10, i], C[11, i] = tau / 6.0, 0.0
             continue
-        zh = 0.5j * w * tau
-        z = 1j * w * tau
-        p1, p2, p3 = _phi_k(z, 1), _phi_k(z, 2), _phi_k(z, 3)
-        F0 = np.exp(zh)
-        F1 = 0.5 * tau * _phi_k(zh, 1)
-        F2 = np.exp(z)
+        F2, p1, p2, p3 = _phis(1j * w * tau)
+        F0, q1, _, _ = _phis(0.5j * w * tau)
+        F1 = 0.5 * tau * q1
         F3 = tau * (p1 - 3.0 * p2 + 4.0 * p3)
         F4 = tau * (p2 - 2.0 * p3)
         F5 = tau * (4.0 * p3 - p2)

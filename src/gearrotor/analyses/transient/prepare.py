@@ -177,7 +177,9 @@ def _prepare_physical(system: TransientSystem, integ: RK4, out: NDArray, frozen:
     )
 
 
-def _prepare_modal(system: TransientSystem, integ: ModalRK4, out: NDArray) -> _Prepared:
+def _prepare_modal(
+    system: TransientSystem, integ: ModalRK4, out: NDArray, save_dt: float | None = None
+) -> _Prepared:
     M, K, C = system.linear_matrices()
     # modes of the symmetric part of K; its skew part (cross-coupled bearings and seals) acts
     # as a force on its few DOFs (kernel: k_idx, k_skew)
@@ -255,6 +257,9 @@ def _prepare_modal(system: TransientSystem, integ: ModalRK4, out: NDArray) -> _P
         # the oscillators are exact: the step resolves the excitation (4 steps per period
         # of the highest mesh frequency, ω·dt = π/2) and the drives
         dt = min(0.5 * np.pi / excitation_frequency(system), integ.accuracy / max(w_drive, 1e-9))
+        if save_dt is not None:
+            # records are taken at step starts: a whole number of steps per save interval
+            dt = save_dt / np.ceil(save_dt / dt * (1 - 1e-9))
     elif dt is None:
         dt = min(integ.accuracy / max(float(om.max()), w_drive, 1e-9), 0.95 * limit)
     if dt >= 0.995 * limit and not exact:
@@ -310,6 +315,8 @@ def _prepare_modal(system: TransientSystem, integ: ModalRK4, out: NDArray) -> _P
                     "use a smaller dt (the default is reduced until it is stable)"
                 )
             dt *= 0.8
+            if save_dt is not None:
+                dt = save_dt / np.ceil(save_dt / dt * (1 - 1e-9))
             operators = _contact_operators(system, lam, Phi, sel, out, P, dt, forces[:3])
     info = {
         "n_modes": m,
