@@ -13,14 +13,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.linalg as la
-import scipy.sparse.linalg as spla
+import scipy.sparse as sp
 from numpy.typing import NDArray
 from scipy.optimize import linear_sum_assignment
 
 from ..assembly import Assembly, assemble
-from ..errors import SolverError
 from ..model import Train
-from .modal import DENSE_LIMIT, ModalResult, _classify, _solve_dense, modal
+from .modal import ModalResult, _classify, modal
 
 __all__ = ["CampbellResult", "ExcitationOrder", "Crossing", "campbell", "default_orders", "mac"]
 
@@ -183,19 +182,21 @@ def campbell(
     that frequency. ``frequency_weight`` scales the relative-frequency-jump penalty added to
     1 − MAC.
 
-    ``reduced=True`` (default) solves the first speed on the full model and every later one in
-    a reduced basis (:func:`_reduced_modes`): the undamped modes up to 2.25×max_frequency plus
-    the real and imaginary parts of the tracked candidates' eigenvectors at the two previous
-    speeds. Each eigenpair of the small
-    damped problem is checked a posteriori on the full model by its relative residual
+    ``reduced=True`` (default) solves the first speed on the full model and every later one
+    by a Rayleigh–Ritz step on a subspace (:class:`_Subspace`): the real and imaginary parts of
+    the tracked modes' eigenvectors at the speeds solved on the full model (the last three).
+    The Ritz pairs that continue the tracked modes (the same MAC assignment as for the full
+    solve) are checked a posteriori on the full model by their relative residual
     ``‖P(λ)φ‖ / (|λ|²‖Mφ‖ + |λ|‖(C+G)φ‖ + ‖Kφ‖)``, ``P(λ) = λ²M + λ(C+G) + K``; when one
-    exceeds ``residual_tol``, or the number of modes inside 1.5×max_frequency changed, that
-    speed is solved on the full model instead. The default tolerance keeps the frequencies and
-    log decrements within 1e-6 (relative) of the full solve (tests/perf): a Ritz value's error
-    is second order in the residual when, as here, the left eigenvectors lie in the same basis
-    (measured: residual 4e-5 → eigenvalue error 1e-10 to 5e-10). The residuals and
-    the solver used at each speed are in the result (``residual``, ``solver``,
-    ``full_solves``).
+    exceeds ``residual_tol`` that speed is solved on the full model instead and its shapes join
+    the subspace. The default tolerance keeps the frequencies and log decrements within 1e-6
+    (relative) of the full solve (tests/perf): a Ritz value's error is second order in the
+    residual when, as here, the left eigenvectors lie in the same real subspace (measured on
+    SPEC 6.1: residuals ≤ 8.3e-5 → frequencies within 4e-9 and log decs within 7e-8 of the
+    dense solve). The reduced speeds' ``modal_results`` hold the tracked modes only; the
+    residuals and the solver used at each speed are in the result (``residual``, ``solver``,
+    ``full_solves``). Cost per reduced speed: one dense eigenproblem of twice the subspace's
+    dimension (104 states for the flagship's 13 tracked modes at two speeds) and O(n·m) work.
 
     ``method`` is the full solver: ``"sparse"`` (default) finds only the eigenvalues within the
     circle of radius 1.5×max_frequency about a small negative shift by shift-invert Arnoldi,
@@ -220,46 +221,43 @@ def campbell(
     solver: list[str] = []
     k_hint = None
     radius = 1.5 * max_frequency
-    basis = None
-    carried = None
-    n_cand = None
+    space = _Subspace(asm) if reduced else None
+
+    def assign(cand_phi: NDArray, cand_f: NDArray) -> NDArray:
+        """Indices into the candidates of the modes that continue the tracked ones."""
+        cost = 1.0 - mac(prev_phi, cand_phi)
+        jump = np.abs(cand_f[None, :] - prev_f[:, None])
+        cost = cost + frequency_weight * jump / np.maximum(prev_f[:, None], 1e-9)
+        rows, colsel = linear_sum_assignment(cost)
+        return colsel[np.argsort(rows)]
+
     for w in speeds:
         r = None
-        if reduced and carried is not None:
-            if basis is None:
-                basis = _undamped_basis(asm, w, _UNDAMPED * radius)
-            r, res = _reduced_modes(asm, w, basis, carried, radius)
-            cand_r = _candidates(r, include_overdamped, radius)
-            if len(cand_r) != n_cand or (len(cand_r) and np.max(res[cand_r]) > residual_tol):
-                r = None
+        if space is not None and space.ready:
+            out = space.tracked_modes(w, radius, n_track, include_overdamped, assign)
+            if out is not None and np.max(out[2]) <= residual_tol:
+                r, chosen, res = out
+                solver.append("reduced")
         if r is None:
             r = modal(asm, speed=w, max_frequency=radius, method=method, sparse_k=k_hint)
             k_hint = r.n_eigenvalues + 8  # those inside 1.5×max_frequency, and a margin
-            res = _residuals(asm, w, r.eigenvalues, r.mode_shapes)
+            idx = _candidates(r, include_overdamped, radius)
+            if n_track is None:
+                n_track = int(np.sum(r.damped_frequency[idx] <= max_frequency))
+                if n_track == 0:
+                    raise ValueError("no modes below max_frequency at the first speed")
+                chosen = idx[:n_track]
+            else:
+                if len(idx) < n_track:
+                    raise ValueError(
+                        f"only {len(idx)} modes below 1.5×max_frequency at "
+                        f"{w * 30 / np.pi:.1f} rpm; raise max_frequency"
+                    )
+                chosen = idx[assign(r.mode_shapes[idx], r.damped_frequency[idx])]
+            res = _residuals(asm, w, r.eigenvalues[chosen], r.mode_shapes[chosen])
             solver.append("full")
-        else:
-            solver.append("reduced")
-        idx = _candidates(r, include_overdamped, radius)
-        n_cand = len(idx)
-        carried = ([] if carried is None else carried) + [r.mode_shapes[idx]]
-        carried = carried[-_N_CARRY:]
-        if n_track is None:
-            n_track = int(np.sum(r.damped_frequency[idx] <= max_frequency))
-            if n_track == 0:
-                raise ValueError("no modes below max_frequency at the first speed")
-            chosen = idx[:n_track]
-        else:
-            cand = idx
-            if len(cand) < n_track:
-                raise ValueError(
-                    f"only {len(cand)} modes below 1.5×max_frequency at "
-                    f"{w * 30 / np.pi:.1f} rpm; raise max_frequency"
-                )
-            cost = 1.0 - mac(prev_phi, r.mode_shapes[cand])
-            jump = np.abs(r.damped_frequency[cand][None, :] - prev_f[:, None])
-            cost = cost + frequency_weight * jump / np.maximum(prev_f[:, None], 1e-9)
-            rows, colsel = linear_sum_assignment(cost)
-            chosen = cand[colsel[np.argsort(rows)]]
+            if space is not None:
+                space.add(r.mode_shapes[idx if _ADD == "cand" else chosen])
         prev_phi = r.mode_shapes[chosen]
         prev_f = r.damped_frequency[chosen]
         cols["f"].append(prev_f)
@@ -267,7 +265,7 @@ def campbell(
         cols["wh"].append(np.array(r.whirl, dtype=object)[chosen])
         cols["ty"].append(np.array(r.mode_type, dtype=object)[chosen])
         cols["od"].append(r.overdamped[chosen])
-        cols["res"].append(res[chosen])
+        cols["res"].append(res)
         if keep_results:
             results.append(r)
     f = np.array(cols["f"])
@@ -292,12 +290,8 @@ def campbell(
     return _with_crossings(res)
 
 
-# the reduced basis: the undamped modes up to _UNDAMPED × 1.5 max_frequency and the tracked
-# candidates' shapes at the last _N_CARRY speeds (two speeds span the first-order change of
-# the shapes with speed, so the residual stays O(Δspeed²); measured on SPEC 6.1, 60 speeds to
-# 12,000 rpm: 2 full solves instead of 9 with one speed carried)
-_N_CARRY = 2
-_UNDAMPED = 1.5
+_N_KEEP = 3
+_ADD = "tracked"
 _TRUNC = 1e-10
 
 
@@ -315,7 +309,10 @@ def _residuals(asm: Assembly, speed: float, lam: NDArray, phi: NDArray) -> NDArr
         return np.zeros(0)
     M, C, G, K = asm.matrices(speed)
     X = phi.T
-    MX, CX, KX = M @ X, (C + G) @ X, K @ X
+    return _relative_residual(lam, M @ X, (C + G) @ X, K @ X)
+
+
+def _relative_residual(lam: NDArray, MX: NDArray, CX: NDArray, KX: NDArray) -> NDArray:
     R = MX * lam**2 + CX * lam + KX
     a = np.abs(lam)
     den = (
@@ -326,64 +323,110 @@ def _residuals(asm: Assembly, speed: float, lam: NDArray, phi: NDArray) -> NDArr
     return np.linalg.norm(R, axis=0) / np.maximum(den, 1e-300)
 
 
-def _undamped_basis(asm: Assembly, speed: float, wmax: float) -> NDArray:
-    """Undamped modes (n, r) of the symmetric part of K at ``speed`` with M, up to ``wmax``
-    (rad/s): dense for models up to DENSE_LIMIT DOFs, else shift-invert Lanczos."""
-    M, _, _, K = asm.matrices(speed)
-    Ks = 0.5 * (K + K.T)
-    n = asm.n_dof
-    if n <= DENSE_LIMIT:
-        _, V = la.eigh(Ks.toarray(), M.toarray(), subset_by_value=(-np.inf, wmax**2))
-        return V
-    k = 20
-    while True:
-        k = min(k, n - 2)
-        w2, V = spla.eigsh(Ks.tocsc(), k=k, M=M.tocsc(), sigma=-1e-3 * wmax, which="LM")
-        if w2.max() > wmax**2 or k >= n - 2:
-            return V[:, w2 <= wmax**2]
-        k *= 2
+class _Subspace:
+    """The real span of the tracked modes' shapes (real and imaginary parts) at the speeds
+    solved on the full model, with the model's speed-independent matrices and per-shaft
+    gyroscopic and circulatory matrices applied to it once; at any speed the damped problem is
+    projected on it (a Rayleigh–Ritz step) in O(n·m²) without touching the sparse matrices
+    again (except the bearings whose coefficients change with speed)."""
 
+    def __init__(self, asm: Assembly):
+        self.asm = asm
+        self.shapes: list[NDArray] = []
+        self.ready = False
 
-def _reduced_modes(
-    asm: Assembly, speed: float, basis: NDArray, carried: NDArray, radius: float
-) -> tuple[ModalResult, NDArray]:
-    """Damped modes at ``speed`` within |λ| ≤ ``radius`` from the projection of the model on
-    span(basis, Re carried, Im carried), classified as by :func:`modal`, and the relative
-    residual of each returned mode on the full model (:func:`_residuals`)."""
-    M, C, G, K = asm.matrices(speed)
-    W = np.hstack([basis] + [x for c in carried for x in (c.real.T, c.imag.T)])
-    Q, s, _ = la.svd(W, full_matrices=False, check_finite=False)
-    Q = Q[:, s > _TRUNC * s[0]]
-    Mr = Q.T @ (M @ Q)
-    Cr = Q.T @ ((C + G) @ Q)
-    Kr = Q.T @ (K @ Q)
-    lam, Y = _solve_dense(Mr, Cr, Kr, asm)
-    inside = np.abs(lam) <= radius
-    lam, V = lam[inside], Q @ Y[:, inside]
-    if not np.all(np.isfinite(lam)):
-        raise SolverError("the reduced eigenproblem returned non-finite eigenvalues")
-    w = float(speed)
-    out = _classify(
-        lam,
-        V,
-        asm,
-        asm.shaft_speeds(w),
-        K,
-        rigid_tol=1e-2,
-        overdamped_zeta=0.999,
-        type_threshold=0.1,
-        max_frequency=radius,
-    )
-    r = ModalResult(
-        speed=w,
-        shaft_speeds=asm.shaft_speeds(w),
-        method="reduced",
-        n_eigenvalues=len(lam),
-        shaft_names=tuple(s.name for s in asm.train.shafts),
-        assembly=asm,
-        **out,
-    )
-    return r, _residuals(asm, w, r.eigenvalues, r.mode_shapes)
+    def add(self, phi: NDArray) -> None:
+        self.shapes = [*self.shapes, phi][-_N_KEEP:]
+        Z = np.vstack(self.shapes).T
+        Z = np.hstack([Z.real, Z.imag])
+        Q, s, _ = la.svd(Z, full_matrices=False, check_finite=False)
+        Q = Q[:, s > _TRUNC * s[0]]
+        asm = self.asm
+        self.Q = Q
+        self.MQ = asm.M @ Q
+        self.C0Q = asm.C0 @ Q
+        self.K0Q = asm.K0 @ Q
+        self.GQ = [g @ Q if g.nnz else None for g in asm.G_shaft]
+        self.KcQ = [k @ Q if k.nnz else None for k in asm.Kc_shaft]
+        self.Mr = Q.T @ self.MQ
+        try:
+            self.cho = la.cho_factor(self.Mr, lower=True, check_finite=False)
+        except la.LinAlgError:
+            self.ready = False
+            return
+        self.ready = True
+
+    def applied(self, speed: float) -> tuple[NDArray, NDArray, sp.csr_array | None]:
+        """(C+G)Q and KQ at ``speed``, and K (sparse) when it changes with speed."""
+        asm = self.asm
+        speeds = asm.shaft_speeds(speed)
+        CQ, KQ = self.C0Q.copy(), self.K0Q.copy()
+        for s, gq, kq in zip(speeds, self.GQ, self.KcQ, strict=True):
+            if s != 0.0:
+                if gq is not None:
+                    CQ += s * gq
+                if kq is not None:
+                    KQ += s * kq
+        K = None
+        if asm.speed_dependent:
+            _, C, _, K = asm.matrices(speed)
+            CQ += (C - asm.C0) @ self.Q
+        if asm.speed_dependent or asm.rotating_damping:
+            K = asm.matrices(speed)[3] if K is None else K
+            if asm.speed_dependent:
+                KQ = K @ self.Q
+        return CQ, KQ, K
+
+    def tracked_modes(self, speed, radius, n_track, include_overdamped, assign):
+        """(result holding the tracked modes, their indices in it, their relative residuals on
+        the full model) at ``speed``, or None when the projection offers fewer Ritz pairs than
+        tracked modes (the caller then solves the full model)."""
+        asm, Q = self.asm, self.Q
+        CQ, KQ, K = self.applied(speed)
+        m = Q.shape[1]
+        A = np.zeros((2 * m, 2 * m))
+        A[:m, m:] = np.eye(m)
+        A[m:, :m] = -la.cho_solve(self.cho, Q.T @ KQ, check_finite=False)
+        A[m:, m:] = -la.cho_solve(self.cho, Q.T @ CQ, check_finite=False)
+        if not np.isfinite(A).all():
+            return None
+        lam, Y = la.eig(A, overwrite_a=True, check_finite=False)
+        sel = np.flatnonzero((lam.imag > 0) & (np.abs(lam) <= radius))
+        if len(sel) < n_track:
+            return None
+        lam, Y = lam[sel], Y[:m, sel]
+        pick = assign((Q @ Y).T, lam.imag)
+        lam, Y = lam[pick], Y[:, pick]
+        res = _relative_residual(lam, self.MQ @ Y, CQ @ Y, KQ @ Y)
+        order = np.argsort(lam.imag, kind="stable")
+        w = float(speed)
+        out = _classify(
+            lam[order],
+            Q @ Y[:, order],
+            asm,
+            asm.shaft_speeds(w),
+            asm.K0 if K is None else K,
+            rigid_tol=1e-2,
+            overdamped_zeta=0.999,
+            type_threshold=0.1,
+            max_frequency=radius,
+        )
+        if len(out["eigenvalues"]) != n_track:  # a chosen Ritz pair classified as real/rigid
+            return None
+        if not include_overdamped and np.any(out["overdamped"]):
+            return None
+        r = ModalResult(
+            speed=w,
+            shaft_speeds=asm.shaft_speeds(w),
+            method="reduced",
+            n_eigenvalues=n_track,
+            shaft_names=tuple(s.name for s in asm.train.shafts),
+            assembly=asm,
+            **out,
+        )
+        chosen = np.empty(n_track, int)
+        chosen[order] = np.arange(n_track)
+        return r, chosen, res
 
 
 def _with_crossings(res: CampbellResult) -> CampbellResult:
