@@ -38,6 +38,8 @@ __all__ = [
     "nl_forces",
     "rk4_physical",
     "rk4_modal",
+    "etd_modal",
+    "etd_coefficients",
     "outputs_kernel",
     "STATUS_OK",
     "STATUS_NONFINITE",

@@ -24,7 +24,10 @@ the compiled kernel's arrays from it once (:mod:`.prepare`), then advances the s
   they act on. The modes are those of the symmetric part of K; its skew part (cross-coupled
   bearings, seals) acts through the rows of its DOFs too. Dropping the modes above the cut-off
   removes the stiff shear/axial modes, so the step is set by accuracy, not by stability (the
-  same stability check applies to the reduced system).
+  same stability check applies to the reduced system). With backlash (or
+  ``exact_linear=True``) the modal oscillators are integrated exactly instead (exponential
+  RK4, one linear operator per contact state, contact changes located within the step:
+  :func:`~.kernels.etd_modal`), and the step resolves the excitation, not the highest mode.
 """
 
 from __future__ import annotations
