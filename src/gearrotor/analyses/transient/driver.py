@@ -253,7 +253,7 @@ def transient(
     elif isinstance(integ, ModalRK4):
         if frozen_speed:
             raise ModelError("frozen speed is available with RK4 only", field="frozen_speed")
-        prep = _prepare_modal(system, integ, out)
+        prep = _prepare_modal(system, integ, out, save.dt)
     else:
         raise TypeError(f"unknown integrator {integ!r}; expected RK4(...) or ModalRK4(...)")
     dt = prep.dt
@@ -349,10 +349,14 @@ def transient(
     last_pr = wall0
     step = step0
     runner = kn.rk4_physical if prep.kind == "physical" else kn.rk4_modal
+    extra = () if prep.operators is None else (prep.operators,)
+    if extra:
+        runner = kn.etd_modal
     out_arg = out if prep.kind == "physical" else prep.Phi_out
+    substeps = 0
     while step < n_steps:
         nst = min(chunk, n_steps - step, last_ck_step + ck_steps - step)
-        status, done = runner(
+        status, done, *more = runner(
             step * dt,
             dt,
             nst,
@@ -370,7 +374,9 @@ def transient(
             prep.P,
             prep.W,
             prep.K1,
+            *extra,
         )
+        substeps += more[0] if more else 0
         if status != kn.STATUS_OK:
             t_bad = (step + done) * dt
             what = (
@@ -426,10 +432,12 @@ def transient(
         "method": prep.kind if prep.kind == "physical" else "modal",
         "dt": dt,
         "steps": n_steps,
-        "rhs_evaluations": 4 * (n_steps - step0),
+        "rhs_evaluations": 4 * (n_steps - step0) + 8 * substeps,
         "wall_time_s": wall,
         "setup_time_s": setup,
         "save_every": save_every,
+        "scheme": None if prep.kind == "physical" else ("exponential" if extra else "rk4"),
+        "contact_events": substeps if extra else None,
         **{k: v for k, v in prep.info.items() if k not in ("Phi", "M")},
     }
     final = (q.copy(), v.copy())

@@ -96,11 +96,12 @@ def _pack_forces(system: TransientSystem, sel: NDArray, *, modal: bool, bearing_
     m_w = np.array([[law.w, law.w_back] for law in laws], float).reshape(nm, 2, 12)
     m_par = np.array(
         [
-            [law.kg, law.ka, law.backlash, law.damping, law.teeth, law.kg if modal else 0.0, 0.0]
+            [law.kg, law.ka, law.backlash, law.damping, law.teeth]
+            + [law.kg if modal else 0.0, 0.0, 0.0]
             for law in laws
         ],
         float,
-    ).reshape(nm, 7)
+    ).reshape(nm, 8)
     m_ab = np.zeros((nm, S, 2))
     m_ns = np.zeros(nm, np.int64)
     m_te = np.zeros((nm, Se, 2))

@@ -17,9 +17,10 @@ from ...errors import ModelError, SolverError
 from ..torsional.drive_laws import P_WLINE
 from .equations import TransientSystem
 from .forces import _drive_laws, _force_dofs, _pack_forces
+from .kernels import etd_coefficients
 from .options import RK4, ModalRK4, excitation_frequency
 from .reduction import _harmonic_error, _harmonic_shapes, _modal_basis, _static_shapes
-from .step_limits import _linearised, _rk4_step_limit, _unstable_step
+from .step_limits import _etd_unstable, _linearised, _rk4_step_limit, _unstable_step
 
 
 @dataclass
@@ -35,6 +36,8 @@ class _Prepared:
     info: dict
     # the drives' event state inside P (synchronous motors' pull-in), saved with checkpoints
     drive_state: NDArray = field(default_factory=lambda: np.zeros((0, 2)))
+    # the exact-linear modal scheme's operators per contact state (kernels.etd_modal)
+    operators: tuple | None = None
 
 
 def _mass_factor(M: sp.csr_array) -> tuple[NDArray, ...]:
@@ -174,7 +177,9 @@ def _prepare_physical(system: TransientSystem, integ: RK4, out: NDArray, frozen:
     )
 
 
-def _prepare_modal(system: TransientSystem, integ: ModalRK4, out: NDArray) -> _Prepared:
+def _prepare_modal(
+    system: TransientSystem, integ: ModalRK4, out: NDArray, save_dt: float | None = None
+) -> _Prepared:
     M, K, C = system.linear_matrices()
     # modes of the symmetric part of K; its skew part (cross-coupled bearings and seals) acts
     # as a force on its few DOFs (kernel: k_idx, k_skew)
@@ -243,13 +248,21 @@ def _prepare_modal(system: TransientSystem, integ: ModalRK4, out: NDArray) -> _P
     limit, lam_lim = _rk4_step_limit(
         np.eye(m), np.diag(lam) + Phi.T @ Ka @ Phi, Phi.T @ _linearised(system)[2] @ Phi
     )
+    exact = integ.exact_linear if integ.exact_linear is not None else backlash
     dt = integ.dt
-    if dt is None:
-        # the drives' fastest torque: 2 f_line (synchronous start-up pulsation at standstill,
-        # two-phase short circuit), resolved like the highest kept mode
-        w_drive = 2.0 * float(np.max(_drive_laws(system)[0].par[:, P_WLINE], initial=0.0))
+    # the drives' fastest torque: 2 f_line (synchronous start-up pulsation at standstill,
+    # two-phase short circuit), resolved like the highest kept mode
+    w_drive = 2.0 * float(np.max(_drive_laws(system)[0].par[:, P_WLINE], initial=0.0))
+    if dt is None and exact:
+        # the oscillators are exact: the step resolves the excitation (4 steps per period
+        # of the highest mesh frequency, ω·dt = π/2) and the drives
+        dt = min(0.5 * np.pi / excitation_frequency(system), integ.accuracy / max(w_drive, 1e-9))
+        if save_dt is not None:
+            # records are taken at step starts: a whole number of steps per save interval
+            dt = save_dt / np.ceil(save_dt / dt * (1 - 1e-9))
+    elif dt is None:
         dt = min(integ.accuracy / max(float(om.max()), w_drive, 1e-9), 0.95 * limit)
-    if dt >= 0.995 * limit:
+    if dt >= 0.995 * limit and not exact:
         raise _unstable_step("modal RK4", dt, limit, lam_lim, " or lower the cut-off")
     k_dofs = np.flatnonzero(np.any(Ka != 0, axis=1))
     sel = np.union1d(_force_dofs(system), k_dofs).astype(np.int64)
@@ -284,6 +297,27 @@ def _prepare_modal(system: TransientSystem, integ: ModalRK4, out: NDArray) -> _P
         np.zeros((ns, m)),
     )
     K1 = tuple(np.zeros(m) for _ in range(10))
+    operators = None
+    if exact:
+        operators = _contact_operators(system, lam, Phi, sel, out, P, dt, forces[:3])
+        Bk = -Phi.T @ Ka @ Phi
+        Bc = -Phi.T @ _linearised(system)[2] @ Phi
+        while (
+            grow := max(
+                _etd_unstable(om_j, C_j, Y.T @ Bk @ Y, Y.T @ Bc @ Y, dt)
+                for Y, om_j, C_j in zip(operators[0], operators[2], operators[3], strict=True)
+            )
+        ) > 1.0 + 1e-6:
+            if integ.dt is not None:
+                raise SolverError(
+                    f"modal exponential RK4 step dt = {dt:.4g} s amplifies the damped modes of "
+                    f"the reduced model (growth {grow:.6g} per step beyond the model's own); "
+                    "use a smaller dt (the default is reduced until it is stable)"
+                )
+            dt *= 0.8
+            if save_dt is not None:
+                dt = save_dt / np.ceil(save_dt / dt * (1 - 1e-9))
+            operators = _contact_operators(system, lam, Phi, sel, out, P, dt, forces[:3])
     info = {
         "n_modes": m,
         "cutoff_hz": wcut / 2 / np.pi,
@@ -303,4 +337,105 @@ def _prepare_modal(system: TransientSystem, integ: ModalRK4, out: NDArray) -> _P
         np.ascontiguousarray(Phi[out]),
         info,
         drive_state=forces[-1][3],
+        operators=operators,
     )
+
+
+def _contact_operators(
+    system: TransientSystem,
+    lam: NDArray,
+    Phi: NDArray,
+    sel: NDArray,
+    out: NDArray,
+    P: tuple,
+    dt: float,
+    mesh: tuple,
+) -> tuple:
+    """The linear operators of the exact-linear modal scheme (:func:`.kernels.etd_modal`),
+    one per combination of the meshes' contact states: diag(Λ) (every mesh engaged at Kg on
+    its drive line, as the modal basis is built) with Kg w wᵀ removed from the meshes whose
+    teeth are apart (and, for the mirrored back flank, Kg w_b w_bᵀ added while it touches);
+    its eigenvectors Y (orthonormal: η = Y ζ), frequencies ω (rad/s), the ETD weights of the
+    step and the reduced system in its coordinates (the mesh stiffness it holds not subtracted
+    again). Returns the kernel's tuple."""
+    m_sel, m_w, m_par = mesh
+    lam0, Cr, Gr, alpha, Phi_sel = P[0], P[1], P[2], P[3], P[4]
+    m = len(lam)
+    nm = len(system.meshes)
+    pats = np.zeros((nm, 4), np.int64)
+    radix = []
+    for k in range(nm):
+        same = np.allclose(m_w[k, 1], -m_w[k, 0])
+        # state index s = drive touching + 2·back touching → pattern (bit 0 drive, 1 back)
+        pats[k] = [0, 1, 1, 1] if same else [0, 1, 2, 3]
+        radix.append(2 if same else 4)
+    stride = np.concatenate([[1], np.cumprod(radix)[:-1]]).astype(np.int64)
+    n_ops = int(np.prod(radix))
+    if n_ops > 64:
+        raise ModelError(
+            f"the exact-linear modal scheme needs one operator per combination of contact "
+            f"states, {n_ops} for these meshes",
+            field="exact_linear",
+            value=True,
+            expected="at most 64 combinations (fewer meshes, or exact_linear=False)",
+        )
+    u = np.zeros((nm, 2, m))
+    for k in range(nm):
+        for j in range(12):
+            if m_sel[k, j] >= 0:
+                u[k, 0] += m_w[k, 0, j] * Phi_sel[m_sel[k, j]]
+                u[k, 1] += m_w[k, 1, j] * Phi_sel[m_sel[k, j]]
+    Ys = np.zeros((n_ops, m, m))
+    oms = np.zeros((n_ops, m))
+    m_pars = np.repeat(m_par[None], n_ops, axis=0)
+    for code in range(n_ops):
+        Kc = np.diag(lam0).astype(float)
+        changed = False
+        for k, law in enumerate(system.meshes):
+            p = (code // stride[k]) % radix[k]
+            drive, back = (p, 0) if radix[k] == 2 else (p & 1, (p >> 1) & 1)
+            m_pars[code, k, 5] = law.kg * drive
+            m_pars[code, k, 7] = law.kg * back
+            if not drive:
+                Kc -= law.kg * np.outer(u[k, 0], u[k, 0])
+                changed = True
+            if back:
+                Kc += law.kg * np.outer(u[k, 1], u[k, 1])
+                changed = True
+        if not changed:
+            Ys[code] = np.eye(m)
+            oms[code] = np.sqrt(lam0)
+            continue
+        mu, Y = la.eigh(0.5 * (Kc + Kc.T))
+        mu = np.clip(mu, 0.0, None)
+        mu[mu < 1e-12 * max(mu.max(), 1.0)] = 0.0
+        Ys[code] = Y
+        oms[code] = np.sqrt(mu)
+    op_of = np.arange(n_ops, dtype=np.int64)
+    idents = np.array([np.array_equal(Y, np.eye(m)) for Y in Ys])
+    coefs = np.zeros((n_ops, 12, m))
+    for code in range(n_ops):
+        etd_coefficients(oms[code], dt, coefs[code])
+    rot = np.ascontiguousarray
+    Phis = np.array([rot(Phi_sel @ Y) for Y in Ys])
+    X = (
+        Ys,
+        idents,
+        oms,
+        coefs,
+        pats,
+        stride,
+        op_of,
+        # contact changes change the operator only with backlash or a mirrored back flank
+        8 if any(law.backlash > 0 for law in system.meshes) or 4 in radix else 0,
+        16,
+        oms**2,
+        np.array([Y.T @ Cr @ Y for Y in Ys]),
+        np.array([[Y.T @ g @ Y for g in Gr] for Y in Ys]).reshape(n_ops, *Gr.shape),
+        np.array([alpha @ Y for Y in Ys]).reshape(n_ops, *alpha.shape),
+        Phis,
+        np.array([rot(p.T) for p in Phis]),
+        m_pars,
+        np.array([rot(Phi[out] @ Y) for Y in Ys]),
+    )
+    return X

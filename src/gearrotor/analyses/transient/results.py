@@ -41,8 +41,10 @@ class SolverStats:
     """Work and settings of a run: method, step (s), steps, right-hand-side evaluations, wall
     time of the integration (s; the first run in a process includes numba compilation unless
     cached), setup time (assembly, modal basis; s), recording interval (steps), and for the
-    modal method the number of modes, the cut-off and highest kept mode (Hz) and the achieved
-    1x harmonic check."""
+    modal method the number of modes, the cut-off and highest kept mode (Hz), the achieved
+    1x harmonic check, the scheme (``"rk4"``, or ``"exponential"``: the modal oscillators
+    integrated exactly, :class:`~.options.ModalRK4` ``exact_linear``) and the contact changes
+    located within steps (exponential scheme)."""
 
     method: str
     dt: float
@@ -56,6 +58,8 @@ class SolverStats:
     cutoff_hz: float | None = None
     highest_mode_hz: float | None = None
     harmonic_error: float | None = None
+    scheme: str | None = None
+    contact_events: int | None = None
 
 
 def spectra_one_x_rpm(time: NDArray, shaft_speed: NDArray) -> NDArray:

@@ -86,3 +86,37 @@ def _unstable_step(what: str, dt: float, limit: float, lam: complex, fix: str) -
         f"speeds ({abs(lam.imag) / 2 / np.pi:.5g} Hz, damping ratio {zeta:.3g}; |λ|·dt = "
         f"{abs(lam) * dt:.3f}); use dt ≤ {0.99 * limit:.4g} s{fix}"
     )
+
+
+def _etd_amplification(om: NDArray, C: NDArray, Bk: NDArray, Bc: NDArray) -> NDArray:
+    """One-step matrix (2m, 2m) of the exponential RK4 step of :func:`.kernels.etd_modal` on
+    the linear system ζ̈ + diag(ω²) ζ = Bk ζ + Bc ζ̇ (``C`` its weights,
+    :func:`.kernels.etd_coefficients`): the kernel's stages with N(x) = [[0, 0], [Bk, Bc]] x."""
+    m = len(om)
+    Z = np.zeros((m, m))
+
+    def block(a, b):  # F(L) = α I + β L on (ζ, v)
+        return np.block([[np.diag(a), np.diag(b)], [np.diag(-(om**2) * b), np.diag(a)]])
+
+    def forcing(a, b):  # F(L) applied to (0, g): (β g, α g)
+        return np.block([[Z, np.diag(b)], [Z, np.diag(a)]])
+
+    Eh, E = block(C[0], C[1]), block(C[4], C[5])
+    Ph = forcing(C[2], C[3])
+    F1, F2, F3 = forcing(C[6], C[7]), forcing(C[8], C[9]), forcing(C[10], C[11])
+    N = np.block([[Z, Z], [Bk, Bc]])
+    A = Eh + Ph @ N
+    B = Eh + Ph @ N @ A
+    Cm = Eh @ A + Ph @ (2.0 * N @ B - N)
+    return E + F1 @ N + 2.0 * F2 @ N @ (A + B) + F3 @ N @ Cm
+
+
+def _etd_unstable(om: NDArray, C: NDArray, Bk: NDArray, Bc: NDArray, dt: float) -> float:
+    """How far the exponential RK4 step leaves the linear system's own growth: the spectral
+    radius of its one-step matrix over that of the exact flow (at least 1); > 1 + 1e-6 means the
+    step amplifies a mode the system does not (unstable step)."""
+    rho = np.max(np.abs(la.eigvals(_etd_amplification(om, C, Bk, Bc))))
+    m = len(om)
+    A = np.block([[np.zeros((m, m)), np.eye(m)], [-np.diag(om**2) + Bk, Bc]])
+    exact = np.exp(dt * np.max(la.eigvals(A).real))
+    return float(rho / max(1.0, exact))
