@@ -209,10 +209,12 @@ def campbell(
     ``method`` is the full solver: ``"sparse"`` finds only the eigenvalues within the circle of
     radius 1.5×max_frequency about a small negative shift by shift-invert Arnoldi, ``"dense"``
     computes the full spectrum (see :func:`~gearrotor.analyses.modal.modal`); ``"auto"``
-    (default) solves the first speed as ``modal(method="auto")`` does and the later ones
-    sparsely unless the modes inside the circle are more than ``SPARSE_FRACTION`` of the 2n
-    eigenvalues (then the Arnoldi iteration costs as much as the dense solve: 70 modes of the
-    222-DOF motor–gearbox–compressor train to 80,000 cpm took 0.25 s sparse, 0.05 s dense).
+    (default) solves sparsely from 200 DOFs (the measured crossover when only the circle's
+    modes are wanted; the flagship's 252 DOFs: 0.05 s against 0.11 s dense), densely below,
+    and switches to dense when a full solve finds more than ``SPARSE_FRACTION`` of the 2n
+    eigenvalues inside the circle (then the Arnoldi iteration costs as much as the dense
+    solve: 70 modes of the 222-DOF motor–gearbox–compressor train to 80,000 cpm took 0.25 s
+    sparse, 0.05 s dense).
 
     ``operating_point`` (name or :class:`~gearrotor.model.OperatingPoint`): fluid-film bearings
     at the coefficients of the point's static loads at every speed, the point's ``hold``
@@ -235,6 +237,8 @@ def campbell(
     radius = 1.5 * max_frequency
     space = _Subspace(asm) if reduced else None
     full_method = method
+    if method == "auto":  # only the circle's modes are wanted: the measured crossover applies
+        full_method = "sparse" if asm.n_dof >= _SPARSE_FROM else "dense"
 
     def assign(cand_phi: NDArray, cand_f: NDArray) -> NDArray:
         """Indices into the candidates of the modes that continue the tracked ones."""
@@ -309,6 +313,10 @@ def campbell(
 
 _N_KEEP = 1  # full-solve speeds whose vectors span the subspaces
 _TRUNC = 1e-10
+# DOFs from which a full solve of the circle's modes is sparse: the measured dense/sparse
+# crossover (~200 DOFs, docs/performance.md); modal()'s "auto" waits until 400 because its
+# dense result lists every eigenvalue, which a Campbell diagram does not use
+_SPARSE_FROM = 200
 
 
 def _candidates(r: ModalResult, include_overdamped: bool, radius: float) -> NDArray:
