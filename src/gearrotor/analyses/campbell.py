@@ -21,7 +21,8 @@ from scipy.optimize import linear_sum_assignment
 from ..assembly import Assembly, assemble
 from ..errors import ModelError
 from ..model import Train
-from .modal import SPARSE_FRACTION, ModalResult, _classify, modal
+from .modal import SPARSE_FRACTION, ModalResult, _classify, _relative_residual, modal
+from .modal import _residuals as _residuals_of
 
 __all__ = ["CampbellResult", "ExcitationOrder", "Crossing", "campbell", "default_orders", "mac"]
 
@@ -332,19 +333,7 @@ def _residuals(asm: Assembly, speed: float, lam: NDArray, phi: NDArray) -> NDArr
     if not len(lam):
         return np.zeros(0)
     M, C, G, K = asm.matrices(speed)
-    X = phi.T
-    return _relative_residual(lam, M @ X, (C + G) @ X, K @ X)
-
-
-def _relative_residual(lam: NDArray, MX: NDArray, CX: NDArray, KX: NDArray) -> NDArray:
-    R = MX * lam**2 + CX * lam + KX
-    a = np.abs(lam)
-    den = (
-        a**2 * np.linalg.norm(MX, axis=0)
-        + a * np.linalg.norm(CX, axis=0)
-        + np.linalg.norm(KX, axis=0)
-    )
-    return np.linalg.norm(R, axis=0) / np.maximum(den, 1e-300)
+    return _residuals_of(M, C + G, K, lam, phi.T)
 
 
 def _speed_vectors(

@@ -437,7 +437,11 @@ _REFINE_STEPS = 3
 def _residuals(M, Cg, K, lam: NDArray, X: NDArray) -> NDArray:
     """Relative residual of each eigenpair (λ_j, x_j = X[:, j]) of the quadratic problem:
     ‖P(λ)x‖ / (|λ|²‖Mx‖ + |λ|‖(C+G)x‖ + ‖Kx‖), P(λ) = λ²M + λ(C+G) + K."""
-    MX, CX, KX = M @ X, Cg @ X, K @ X
+    return _relative_residual(lam, M @ X, Cg @ X, K @ X)
+
+
+def _relative_residual(lam: NDArray, MX: NDArray, CX: NDArray, KX: NDArray) -> NDArray:
+    """:func:`_residuals` from the products MX, (C+G)X, KX (e.g. a projection's, formed once)."""
     R = MX * lam**2 + CX * lam + KX
     a = np.abs(lam)
     den = (
