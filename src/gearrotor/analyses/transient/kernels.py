@@ -78,13 +78,10 @@ def _interp(x, xp, fp, lo, hi):
 
 
 @njit(cache=_CACHE)
-def mesh_eval(k, qs, vs, m_sel, m_w, m_par, m_ab, m_ns, m_tptr, m_tphi, m_tk, m_te, m_nte):
-    """Mesh k: returns (F_d, F_b, stiffness, δ_e, δ̇_e, state, φ_m).
-
-    ``m_w[k, 0]`` is the drive line w (δ = w·q), ``m_w[k, 1]`` the back-flank line w_b
-    (``−w`` for SPEC 2.4's law, the mirrored line of action otherwise). F_d ≥ 0 acts along
-    −w, F_b ≥ 0 along −w_b (both N, damping included while in contact); state +1 drive,
-    −1 back, +2 both flanks, 0 separated."""
+def mesh_deflections(k, qs, vs, m_sel, m_w, m_par, m_te, m_nte):
+    """Mesh k: (δ, δ̇, δ_b, δ̇_b, φ_m): the deflections and rates along the drive line w
+    (δ = w·q) and the back-flank line w_b, with the transmission error (δ → δ − e on the drive
+    line, δ_b → δ_b + e on the back line), and the mesh angle φ_m = N θz of the pinion node."""
     delta = 0.0
     ddelta = 0.0
     db = 0.0
@@ -110,6 +107,18 @@ def mesh_eval(k, qs, vs, m_sel, m_w, m_par, m_ab, m_ns, m_tptr, m_tphi, m_tk, m_
         ddelta -= de
         db += e
         ddb += de
+    return delta, ddelta, db, ddb, phi
+
+
+@njit(cache=_CACHE)
+def mesh_eval(k, qs, vs, m_sel, m_w, m_par, m_ab, m_ns, m_tptr, m_tphi, m_tk, m_te, m_nte):
+    """Mesh k: returns (F_d, F_b, stiffness, δ_e, δ̇_e, state, φ_m).
+
+    ``m_w[k, 0]`` is the drive line w (δ = w·q), ``m_w[k, 1]`` the back-flank line w_b
+    (``−w`` for SPEC 2.4's law, the mirrored line of action otherwise). F_d ≥ 0 acts along
+    −w, F_b ≥ 0 along −w_b (both N, damping included while in contact); state +1 drive,
+    −1 back, +2 both flanks, 0 separated."""
+    delta, ddelta, db, ddb, phi = mesh_deflections(k, qs, vs, m_sel, m_w, m_par, m_te, m_nte)
     lo, hi = m_tptr[k], m_tptr[k + 1]
     if hi > lo:
         ph = phi - 2.0 * np.pi * np.floor(phi / (2.0 * np.pi))
@@ -866,30 +875,7 @@ def outputs_kernel(
 def mesh_gaps(k, qs, vs, m_sel, m_w, m_par, m_te, m_nte, g):
     """Gap functions of mesh k into g[0:4]: δ − b, δ̇ (drive line), δ_b − b, δ̇_b (back line),
     with the transmission error, as :func:`mesh_eval` forms them (> 0: that flank touches)."""
-    delta = 0.0
-    ddelta = 0.0
-    db = 0.0
-    ddb = 0.0
-    for j in range(12):
-        i = m_sel[k, j]
-        if i >= 0:
-            delta += m_w[k, 0, j] * qs[i]
-            ddelta += m_w[k, 0, j] * vs[i]
-            db += m_w[k, 1, j] * qs[i]
-            ddb += m_w[k, 1, j] * vs[i]
-    teeth = m_par[k, 4]
-    it = m_sel[k, 5]
-    phi = teeth * qs[it] if it >= 0 else 0.0
-    dphi = teeth * vs[it] if it >= 0 else 0.0
-    for s in range(m_nte[k]):
-        sp = (s + 1) * phi
-        c, sn = np.cos(sp), np.sin(sp)
-        e = m_te[k, s, 0] * c + m_te[k, s, 1] * sn
-        de = (s + 1) * dphi * (-m_te[k, s, 0] * sn + m_te[k, s, 1] * c)
-        delta -= e
-        ddelta -= de
-        db += e
-        ddb += de
+    delta, ddelta, db, ddb, _ = mesh_deflections(k, qs, vs, m_sel, m_w, m_par, m_te, m_nte)
     b = m_par[k, 2]
     g[0] = delta - b
     g[1] = ddelta
