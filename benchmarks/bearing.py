@@ -24,6 +24,8 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "src"))
 
+from _machine import cpu_name  # noqa: E402
+
 from gearrotor.bearings import Grid, SolverOptions, coefficients, load_bearing  # noqa: E402
 
 EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "bearings" / "pinion_3lobe_dam.toml"
@@ -32,16 +34,6 @@ EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "bearings" / "pinio
 def _grid(text: str) -> Grid:
     a, b = text.lower().split("x")
     return Grid(int(a), int(b))
-
-
-def _cpu() -> str:
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return platform.processor() or "unknown CPU"
 
 
 def run(grid: Grid, case) -> tuple[list, list[float]]:
@@ -65,7 +57,7 @@ def main(argv: list[str] | None = None) -> int:
     grid = _grid(args.grid)
     b = case.bearing
     print(
-        f"machine : {platform.node()} | {_cpu()} | {os.cpu_count()} cpus | "
+        f"machine : {platform.node()} | {cpu_name()} | {os.cpu_count()} cpus | "
         f"{platform.system()} {platform.release()}"
     )
     print(f"python  : {platform.python_version()} | numpy {np.__version__}")

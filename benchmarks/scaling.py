@@ -36,6 +36,7 @@ import time  # noqa: E402
 from pathlib import Path  # noqa: E402
 
 import numpy as np  # noqa: E402
+from _machine import cpu_name  # noqa: E402
 
 from gearrotor.analyses import campbell, modal  # noqa: E402
 from gearrotor.analyses.modal import SPARSE_FROM, auto_method  # noqa: E402
@@ -110,16 +111,6 @@ def _timed(fn) -> float:
     return time.perf_counter() - t0
 
 
-def _cpu() -> str:
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return platform.processor() or "unknown"
-
-
 def fit_exponent(dofs, times) -> float:
     """Least-squares slope of log t against log DOF (nan with fewer than 2 distinct DOF)."""
     x, y = np.log(np.asarray(dofs, float)), np.log(np.asarray(times, float))
@@ -164,7 +155,7 @@ def main() -> None:
         "transient": 2000 if args.quick else 4000,
     }
     print(
-        f"machine: {platform.machine()} {_cpu()}, {os.cpu_count()} cores, python "
+        f"machine: {platform.machine()} {cpu_name()}, {os.cpu_count()} cores, python "
         f"{platform.python_version()}, numpy {np.__version__}, 1 BLAS thread; load average "
         f"{os.getloadavg()[0]:.2f}"
     )

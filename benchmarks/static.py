@@ -28,6 +28,8 @@ import numpy as np  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "src"))
 
+from _machine import cpu_name  # noqa: E402
+
 import gearrotor as gr  # noqa: E402
 from gearrotor.analyses.static import analysis as static_analysis  # noqa: E402
 from gearrotor.analyses.static import static  # noqa: E402
@@ -48,16 +50,6 @@ SPEC_LOADS = [
 ]
 
 
-def _cpu() -> str:
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return platform.processor() or "unknown CPU"
-
-
 def _clear_caches() -> None:
     static_analysis._JOURNAL_CACHE.clear()
     static_analysis._LAST_EQ.clear()
@@ -70,7 +62,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--repeat", type=int, default=3, help="cold timing repeats (best reported)")
     args = ap.parse_args(argv)
     print(
-        f"machine : {platform.node()} | {_cpu()} | {os.cpu_count()} cpus | "
+        f"machine : {platform.node()} | {cpu_name()} | {os.cpu_count()} cpus | "
         f"{platform.system()} {platform.release()}"
     )
     print(f"python  : {platform.python_version()} | numpy {np.__version__}")

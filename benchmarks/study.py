@@ -28,20 +28,11 @@ import time
 from pathlib import Path
 
 import numpy as np
+from _machine import cpu_name
 
 from gearrotor.studies import collect, load_study, run_study
 
 STUDY = Path(__file__).resolve().parents[1] / "examples" / "unity_gearbox_study.toml"
-
-
-def _cpu() -> str:
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return platform.processor() or "unknown"
 
 
 def _run(study, backend: str, workers: int | None) -> tuple[dict, object]:
@@ -76,7 +67,7 @@ def main() -> None:
         base = dataclasses.replace(base, analysis=analysis, outputs=outputs)
     root = args.folder or Path(tempfile.mkdtemp(prefix="gearrotor-study-bench-"))
     print(
-        f"machine: {platform.machine()} {_cpu()}, {os.cpu_count()} cores, python "
+        f"machine: {platform.machine()} {cpu_name()}, {os.cpu_count()} cores, python "
         f"{platform.python_version()}, numpy {np.__version__}; load average before: "
         f"{os.getloadavg()[0]:.2f}"
     )

@@ -28,6 +28,7 @@ import time  # noqa: E402
 from pathlib import Path  # noqa: E402
 
 import numpy as np  # noqa: E402
+from _machine import cpu_name  # noqa: E402
 
 from gearrotor import load_model  # noqa: E402
 from gearrotor.analyses.transient import RK4, ModalRK4, transient  # noqa: E402
@@ -41,16 +42,6 @@ CASE = {
 }
 
 
-def _cpu() -> str:
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return platform.processor() or "unknown"
-
-
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--t-end", type=float, default=3.0)
@@ -58,7 +49,7 @@ def main() -> None:
     args = ap.parse_args()
     train = load_model(MODEL, CASE)
     print(
-        f"machine: {platform.machine()} {_cpu()}, python {platform.python_version()}, "
+        f"machine: {platform.machine()} {cpu_name()}, python {platform.python_version()}, "
         f"numpy {np.__version__}, 1 thread"
     )
     # warm-up: compile the kernels (cached on disk afterwards)
