@@ -18,6 +18,7 @@ import numpy as np
 from ..assembly import Assembly
 from ..errors import ModelError
 from ..model import Train
+from ..threads import managed
 from .operating import model_max_continuous_speed
 from .stability import RPM, Level1Result, Level2Result, Site, Stage, level1, level2, mid_span
 
@@ -157,6 +158,7 @@ def level1_inputs(
     }
 
 
+@managed
 def stability_audit(
     model: Train | Assembly,
     *,

@@ -21,6 +21,7 @@ from scipy.optimize import linear_sum_assignment
 from ..assembly import Assembly, assemble
 from ..errors import ModelError
 from ..model import Train
+from ..threads import managed
 from .modal import SPARSE_FRACTION, ModalResult, _classify, _relative_residual, modal
 from .modal import _residuals as _residuals_of
 
@@ -163,6 +164,7 @@ def default_orders(asm: Assembly, extra: tuple[float, ...] = ()) -> tuple[Excita
     return tuple(out)
 
 
+@managed
 def campbell(
     model: Train | Assembly,
     *,

@@ -61,6 +61,7 @@ from scipy.optimize import brentq
 from ..assembly import Assembly, assemble
 from ..errors import ModelError
 from ..model import NodeRef, Train
+from ..threads import managed
 from ..units import to_si
 from .modal import ModalResult, modal
 from .operating import model_max_continuous_speed
@@ -570,6 +571,7 @@ class _LogDec:
         return self.eval(q)[0]
 
 
+@managed
 def level1(
     model: Train | Assembly,
     *,
@@ -780,6 +782,7 @@ def _bracket(f, qa, f0, fa, q_max):
     return None
 
 
+@managed
 def level2(
     model: Train | Assembly,
     *,

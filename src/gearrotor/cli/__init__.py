@@ -21,7 +21,9 @@ command             module                      calls
 ``torsional ...``   :mod:`.torsional`           :mod:`gearrotor.analyses.torsional`
 ==================  ==========================  ==============================================
 
-Shared options (``--set``, ``--format``, rpm) are in :mod:`.options`; every command maps errors
+Shared options (``--set``, ``--format``, rpm) are in :mod:`.options`; every command also gets
+``--threads`` there (:func:`.options.common_options`: it runs in a
+:func:`gearrotor.threads.scope`); every command maps errors
 to exit statuses through :func:`.errors.cli_errors`: input errors print one clear message (file,
 field, value, expectation) and exit with status 2, without a traceback; solver failures exit
 with status 3 (see :mod:`.errors`). The analyses are imported inside the command functions, so
@@ -39,6 +41,7 @@ from .campbell import campbell_command
 from .errors import EXIT_CODES_HELP, OneLineGroup
 from .floquet import floquet_command
 from .modal import modal_command
+from .options import common_options
 from .report import report_command
 from .stability import stability_command
 from .static import static_command
@@ -77,7 +80,7 @@ def reflow(doc: str | None) -> str | None:
 
 
 def _command(name: str, fn) -> None:
-    app.command(name, help=reflow(fn.__doc__), epilog=EXIT_CODES_HELP)(fn)
+    app.command(name, help=reflow(fn.__doc__), epilog=EXIT_CODES_HELP)(common_options(fn))
 
 
 _command("modal", modal_command)
@@ -91,6 +94,9 @@ _command("report", report_command)
 _command("floquet", floquet_command)
 _command("ucs", ucs_command)
 _command("stability", stability_command)
+for _group in (study_app, torsional_app):  # the options every command has, also in the groups
+    for _info in _group.registered_commands:
+        _info.callback = common_options(_info.callback)
 app.add_typer(study_app, name="study")
 app.add_typer(torsional_app, name="torsional")
 

@@ -8,6 +8,8 @@ The parsers check an option's value when the command line is read, before anythi
 
 from __future__ import annotations
 
+import functools
+import inspect
 import math
 from collections.abc import Callable
 from pathlib import Path
@@ -24,6 +26,8 @@ __all__ = [
     "FormatOpt",
     "OperatingPointOpt",
     "SetOpt",
+    "ThreadsOpt",
+    "common_options",
     "check_format",
     "check_operating_point",
     "McsOpt",
@@ -50,6 +54,59 @@ SetOpt = Annotated[
     ),
 ]
 FormatOpt = Annotated[str, typer.Option("--format", help="table or json")]
+
+
+def _threads(text: str) -> str:
+    """``--threads``: ``auto`` or a positive integer (checked when the command line is read)."""
+    from ..threads import parse_setting
+
+    try:
+        return str(parse_setting(text, "--threads"))
+    except ModelError:
+        raise _bad(text, "invalid number of threads", "'auto' or an integer >= 1") from None
+
+
+ThreadsOpt = Annotated[
+    str | None,
+    typer.Option(
+        "--threads",
+        parser=_threads,
+        metavar="N|auto",
+        help="BLAS/LAPACK threads: 'auto' (one, more only for large dense solves on free "
+        "cores) or N; default: the GEARROTOR_THREADS environment variable, else auto",
+    ),
+]
+
+
+def common_options(fn: Callable) -> Callable:
+    """Give a command function the options every command has (``--threads``), keeping the
+    parameters Typer reads: the command then runs in a :func:`gearrotor.threads.scope` with
+    that setting (a bad ``GEARROTOR_THREADS`` is an input error, before anything runs)."""
+    from .errors import cli_errors
+
+    sig = inspect.signature(fn, eval_str=True)
+    if "threads" in sig.parameters:
+        return fn
+    extra = inspect.Parameter(
+        "threads", inspect.Parameter.KEYWORD_ONLY, default=None, annotation=ThreadsOpt
+    )
+
+    @functools.wraps(fn)
+    def command(*args, threads: str | None = None, **kwargs):
+        from .. import threads as threads_
+
+        with threads_.using(threads):
+            with cli_errors():
+                threads_.setting()  # GEARROTOR_THREADS is read (and checked) before anything runs
+            with threads_.scope():
+                return fn(*args, **kwargs)
+
+    params = list(sig.parameters.values())
+    command.__signature__ = sig.replace(parameters=[*params, extra])
+    command.__annotations__ = {**fn.__annotations__, "threads": ThreadsOpt}
+    return command
+
+
 OperatingPointOpt = Annotated[
     str | None,
     typer.Option(

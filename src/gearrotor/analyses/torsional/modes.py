@@ -28,6 +28,7 @@ from scipy.optimize import linear_sum_assignment
 
 from ...assembly import Assembly
 from ...model import Train
+from ...threads import managed
 from .model import TorsionalModel, torsional_model
 
 __all__ = ["TorsionalModes", "torsional_modes"]
@@ -178,6 +179,7 @@ def _damping(tm: TorsionalModel, w: NDArray, V: NDArray, elastic: NDArray):
     return wd, zeta
 
 
+@managed
 def torsional_modes(
     model: Train | Assembly | TorsionalModel,
     *,

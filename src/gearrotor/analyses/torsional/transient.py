@@ -59,6 +59,7 @@ from scipy.sparse.csgraph import connected_components
 from ...assembly import Assembly
 from ...errors import ModelError, SolverError
 from ...model import Train
+from ...threads import managed
 from ..jit import configure_cache
 from .drive_laws import TorqueLaws, advance_states, check_load_paths, law_torque, pack_laws
 from .model import TorsionalModel, torsional_model
@@ -758,6 +759,7 @@ def _default_dt(tm: TorsionalModel, max_frequency: float, contact: NDArray) -> f
     return float(2 * np.pi / max(keep) / 20)
 
 
+@managed
 def torsional_transient(
     model: Train | Assembly | TorsionalModel,
     *,
