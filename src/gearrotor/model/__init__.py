@@ -23,6 +23,7 @@ from .components import (
     Shaft,
     Support,
     ThrustBearing,
+    TorsionalSupport,
     Unbalance,
 )
 from .drives import (
@@ -85,6 +86,7 @@ __all__ = [
     "ThrustBearing",
     "TorqueDrive",
     "Torsional",
+    "TorsionalSupport",
     "Train",
     "Unbalance",
     "VoltageProfile",

@@ -38,6 +38,7 @@ __all__ = [
     "advance_states",
     "evaluate",
     "check_load_paths",
+    "check_transient_supports",
 ]
 
 KIND_CONSTANT, KIND_TABLE, KIND_QUADRATIC, KIND_INDUCTION, KIND_SYNCHRONOUS = range(5)
@@ -364,4 +365,20 @@ def check_load_paths(laws: TorqueLaws, component_of: NDArray, node_dof) -> None:
                 field=f"torsional.drives[{j}]",
                 value=laws.names[j],
                 expected="a [[torsional.loads]] entry on a shaft torsionally connected to it",
+            )
+
+
+def check_transient_supports(train: Train) -> None:
+    """A transient turns the train (θz is the absolute angle): a torsional spring to ground
+    would wind up with it, so it is refused (:class:`ModelError` naming the support); a damper
+    to ground is a torque ``−c θ̇`` on the absolute speed, a viscous brake, and is kept."""
+    for k, t in enumerate(train.torsional_supports):
+        if t.k > 0:
+            raise ModelError(
+                "a torsional spring to ground holds the shaft, but a transient turns the train "
+                "(θz is the absolute angle)",
+                field=f"torsional_supports[{k}].k",
+                value=f"{t.k:.6g} N·m/rad",
+                expected="k = 0 in a transient (a damper c acts on the absolute speed); a held "
+                "end belongs to the linear analyses (modes, response)",
             )
