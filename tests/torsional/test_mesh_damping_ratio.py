@@ -71,13 +71,14 @@ def test_the_heavily_damped_hub_modes_are_the_couplings(modes):
 
 
 def test_cli_says_which_mode_the_ratio_refers_to(examples):
-    r = CliRunner().invoke(app, ["torsional", "modes", str(examples / "motor_gearbox_compressor.toml")])
+    model = str(examples / "motor_gearbox_compressor.toml")
+    r = CliRunner().invoke(app, ["torsional", "modes", model])
     assert r.exit_code == 0, r.output
     assert "damping_ratio 0.02 is the mesh damper's ζ on its mesh mode, mode 17" in r.output
     assert "not listed: --n-modes 18" in r.output
     r = CliRunner().invoke(
         app,
-        ["torsional", "modes", str(examples / "motor_gearbox_compressor.toml"), "--format", "json"],
+        ["torsional", "modes", model, "--format", "json"],
     )
     d = json.loads(r.output)
     assert d["mesh_damping"][0]["index"] == 17

@@ -159,7 +159,8 @@ class TorsionalModes:
             out.append(
                 f"mesh {m['mesh']!r}: damping_ratio {m['damping_ratio']:g} is the mesh damper's ζ "
                 f"on its mesh mode, mode {m['index']} at {m['frequency_hz']:.4g} Hz "
-                f"({m['mesh_strain_energy_fraction']:.0%} of its strain energy in the mesh{where}): "
+                f"({m['mesh_strain_energy_fraction']:.0%} of its strain energy in the mesh"
+                f"{where}): "
                 f"c = {m['damping_N_s_per_m']:.4g} N·s/m, ζ from the mesh there "
                 f"{m['mesh_damping_ratio_of_mode']:.4f}; other modes get c (w·φ)² in proportion"
             )
