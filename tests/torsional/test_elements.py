@@ -173,3 +173,67 @@ def test_section_fields_absent_keep_the_model_json():
     text = geared_train([shaft("s", K, [disk(0, J1)])]).model_dump_json()
     assert "torsional_stiffness" not in text and "torsional_supports" not in text
     assert "torsional_stiffness" in tr.model_dump_json()
+
+
+def _history_train(load_history=None):
+    """J1 -K- J2 free, a torque drive with a history (a ramp T = a t) at J1 and a load with a
+    history at J2."""
+    tr = _lumped(K, [])
+    data = tr.model_dump()
+    data["torsional"] = {
+        "drives": [
+            {
+                "type": "torque",
+                "name": "ramp",
+                "shaft": "s",
+                "node": 0,
+                "rated_power": "10 kW",
+                "rated_speed": "1000 rpm",
+                "history": {"time": [0.0, 1.0], "torque": [0.0, RAMP]},
+            }
+        ],
+        "loads": [
+            {
+                "type": "history",
+                "name": "record",
+                "shaft": "s",
+                "node": 1,
+                "history": load_history or {"time": [0.0, 1.0], "torque": [0.0, 0.0]},
+            }
+        ],
+    }
+    return type(tr).model_validate(data)
+
+
+RAMP = 60.0  # N·m at 1 s
+
+
+def test_torque_history_drive_ramp_closed_form():
+    """A ramp T = a t on the free train from rest: the inertia-weighted speed is
+    a t² / (2 (J1 + J2)) exactly (the trapezoidal rule integrates a linear force exactly; the
+    shaft's own rod inertia, ~1e-9 of the disks, is in the sum); the drive's work is the
+    kinetic plus strain energy (the energy balance)."""
+    tr = _history_train()
+    res = torsional_transient(tr, t_end=1.0, dt=1e-3)
+    jt = torsional_model(tr).M.sum()
+    assert res.speed[-1, 0] == pytest.approx(RAMP / 2 / jt, rel=1e-9)
+    assert res.law_torque[-1, 0] == pytest.approx(RAMP, rel=1e-12)
+    assert res.energy_error < 1e-9
+
+
+def test_torque_history_load_against_the_rotation():
+    """A load history braking the ramp: T_load = b t, net a − b: speed (a − b) t² / (2 J)."""
+    b = 20.0
+    tr = _history_train({"time": [0.0, 1.0], "torque": [0.0, b]})
+    res = torsional_transient(tr, t_end=1.0, dt=1e-3)
+    jt = torsional_model(tr).M.sum()
+    assert res.speed[-1, 0] == pytest.approx((RAMP - b) / 2 / jt, rel=1e-9)
+    # the linear analyses take a history's last value (held beyond its end)
+    assert tr.torsional.loads[0].torque_at(10.0) == b
+
+
+def test_history_needs_its_table():
+    with pytest.raises(ValueError, match="'history' load needs 'history'"):
+        _history_train().torsional.loads[0].model_validate(
+            {"type": "history", "shaft": "s", "node": 1, "torque": 3.0}
+        )

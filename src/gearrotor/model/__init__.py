@@ -38,6 +38,7 @@ from .drives import (
     StressConcentration,
     SynchronousMotor,
     TorqueDrive,
+    TorqueHistory,
     Torsional,
     VoltageProfile,
 )
@@ -79,6 +80,7 @@ __all__ = [
     "ShaftLayout",
     "ShortCircuit",
     "SpeedTorqueTable",
+    "TorqueHistory",
     "StartTable",
     "StressConcentration",
     "Support",

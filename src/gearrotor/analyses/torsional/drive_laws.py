@@ -41,7 +41,7 @@ __all__ = [
     "check_transient_supports",
 ]
 
-KIND_CONSTANT, KIND_TABLE, KIND_QUADRATIC, KIND_INDUCTION, KIND_SYNCHRONOUS = range(5)
+KIND_CONSTANT, KIND_TABLE, KIND_QUADRATIC, KIND_INDUCTION, KIND_SYNCHRONOUS, KIND_HISTORY = range(6)
 (
     P_KIND,
     P_SIGN,
@@ -145,6 +145,9 @@ def pack_laws(train: Train) -> TorqueLaws:
             if d.table is not None:
                 p[P_KIND] = KIND_TABLE
                 tab = (np.asarray(d.table.speed), np.asarray(d.table.torque), np.zeros(0))
+            elif d.history is not None:
+                p[P_KIND] = KIND_HISTORY
+                tab = (np.asarray(d.history.time), np.asarray(d.history.torque), np.zeros(0))
             else:
                 p[P_KIND] = KIND_CONSTANT
                 p[P_VALUE] = d.value
@@ -207,6 +210,10 @@ def pack_laws(train: Train) -> TorqueLaws:
             p[P_VALUE] = ld.torque
             p[P_SPEED] = ld.speed
             p[P_RATED] = ld.torque
+        elif ld.type == "history":
+            p[P_KIND] = KIND_HISTORY
+            tab = (np.asarray(ld.history.time), np.asarray(ld.history.torque), np.zeros(0))
+            p[P_RATED] = float(np.max(np.abs(ld.history.torque)))
         else:
             p[P_KIND] = KIND_TABLE
             tab = (np.asarray(ld.table.speed), np.asarray(ld.table.torque), np.zeros(0))
@@ -287,6 +294,8 @@ def law_torque(j, t, th, om, state, par, t_ptr, t_x, t_y, t_z, v_ptr, v_t, v_f, 
         out = par[j, P_VALUE]
     elif kind == KIND_TABLE:
         out = np.interp(om, t_x[lo:hi], t_y[lo:hi]) * v ** par[j, P_VEXP]
+    elif kind == KIND_HISTORY:
+        out = np.interp(t, t_x[lo:hi], t_y[lo:hi])
     elif kind == KIND_QUADRATIC:
         out = par[j, P_VALUE] * om * abs(om) / (par[j, P_SPEED] * par[j, P_SPEED])
     elif kind == KIND_INDUCTION:
