@@ -96,7 +96,7 @@ from numpy.typing import NDArray
 from scipy.optimize import brentq
 
 from ..assembly import Assembly, assemble
-from ..errors import ModelError, SolverError
+from ..errors import ModelError
 from ..model import NodeRef, Train
 from ..units import to_si
 from .modal import ModalResult, modal
@@ -706,9 +706,8 @@ def _mass_mac(M, a: NDArray, b: NDArray) -> NDArray:
 def _shaft_amplitudes(res: ModalResult, i: int) -> NDArray:
     """Σ |x|² + |y|² over each shaft's nodes of mode i."""
     phi = res.mode_shapes[i]
-    return np.array(
-        [float(np.sum(np.abs(phi[o]) ** 2 + np.abs(phi[o + 1]) ** 2)) for o in res.assembly.node_offset]
-    )
+    offsets = res.assembly.node_offset
+    return np.array([float(np.sum(np.abs(phi[o]) ** 2 + np.abs(phi[o + 1]) ** 2)) for o in offsets])
 
 
 def first_forward_mode(
@@ -1007,9 +1006,7 @@ def level1(
         share[s.shaft] = share.get(s.shaft, 0.0) + s.weight
     loaded = max(share, key=share.__getitem__)
     si_loaded = train.shaft_index(loaded, "at")
-    f = _Follower(
-        asm, _unit_coupling(asm, sites), sense * w, window, si_loaded, min_lateral, qa
-    )
+    f = _Follower(asm, _unit_coupling(asm, sites), sense * w, window, si_loaded, min_lateral, qa)
 
     # Q_0: the first zero of the followed log dec, on both sides of Q_A
     q_max = ratio_limit * qa
