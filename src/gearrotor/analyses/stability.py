@@ -51,8 +51,12 @@ log dec of every forward lateral mode below 3× the fastest shaft speed is repor
 criterion, gearrotor's addition to the standard's: another forward mode weaker than the
 followed one at Q_A is visible, not hidden, and sends the machine to Level II as well.
 
-*The threshold* Q_0 is the least Q > 0 where the followed log dec reaches zero, searched on both
-sides of Q_A: the path from 0 to Q_A is sampled (at least quarters of Q_A, finer where the
+*The threshold* Q_0 is the least Q > 0 where the rotor loses stability under the applied
+cross-coupling: where the followed mode's log dec, or that of a weaker forward lateral mode
+(below 3× the fastest shaft speed, or unstable at any frequency solved for), reaches zero
+(``threshold_mode`` names the mode that does; on the steam turbine's original bearings it is not
+the first forward mode, which veers away from the pinion's conical whirl). It is searched on
+both sides of Q_A: the path from 0 to Q_A is sampled (at least quarters of Q_A, finer where the
 continuation needs it) and the first sign change there is the bracket; when the log dec stays
 positive up to Q_A, the bracket is found by secant extrapolation beyond Q_A up to
 ``ratio_limit × Q_A`` (10, the range the standard asks for). Brent's method then finds Q_0 to
@@ -640,14 +644,18 @@ def _sites(train: Train, at, stages, qs) -> tuple[Site, ...]:
 
 
 def _level1_train(train: Train, exclude_bearings: Sequence[str]) -> tuple[Train, dict]:
+    """The Level I model: the train without its destabilisers (cross-couplings, seals,
+    rotating shaft damping) and without the bearings named in ``exclude_bearings`` (a
+    ``[[seals]]`` entry's name is accepted too: seals are left out anyway)."""
     names = [b.name or f"bearings[{k}]" for k, b in enumerate(train.bearings)]
+    seal_names = [sl.name or f"seals[{k}]" for k, sl in enumerate(train.seals)]
     for e in exclude_bearings:
-        if e not in names:
+        if e not in names and e not in seal_names:
             raise ModelError(
-                "no such bearing to exclude",
+                "no such bearing or seal to exclude",
                 field="exclude_bearings",
                 value=e,
-                expected=f"one of {names}",
+                expected=f"one of {names + seal_names}",
             )
     materials = {}
     dropped_damping = []
@@ -671,8 +679,8 @@ def _level1_train(train: Train, exclude_bearings: Sequence[str]) -> tuple[Train,
         "cross_couplings": [
             c.name or f"cross_couplings[{k}]" for k, c in enumerate(train.cross_couplings)
         ],
-        "seals": [sl.name or f"seals[{k}]" for k, sl in enumerate(train.seals)],
-        "bearings": list(exclude_bearings),
+        "seals": seal_names,
+        "bearings": [e for e in exclude_bearings if e in names],
         "rotating_damping_materials": dropped_damping,
     }
     return bare, excluded
@@ -742,6 +750,21 @@ class _Point:
     mode: dict  # _mode_summary of the followed mode
     least_log_dec: float | None  # least log dec of the forward lateral modes (see _store)
     halvings: int
+    least_mode: dict | None = None  # _mode_summary of that least-damped forward mode
+
+    @property
+    def stability(self) -> float:
+        """The log dec that decides Q_0: the followed mode's, or a forward lateral mode's that
+        is weaker (:attr:`least_log_dec`), whichever is less."""
+        d = self.mode["log_dec"]
+        return d if self.least_log_dec is None else min(d, self.least_log_dec)
+
+    @property
+    def weakest_mode(self) -> dict:
+        """The mode whose log dec is :attr:`stability`."""
+        if self.least_log_dec is None or self.mode["log_dec"] <= self.least_log_dec:
+            return self.mode
+        return self.least_mode
 
 
 class _Follower:
@@ -795,15 +818,16 @@ class _Follower:
         # speed, as Level II), and of any unstable one found beyond it
         fwd = forward_lateral_modes(res, self.min_lateral)
         d = res.log_dec[fwd]
-        judged = d[(res.damped_frequency[fwd] <= self.window) | (d < 0)]
-        least = float(np.min(judged)) if len(judged) else None
+        judged = fwd[(res.damped_frequency[fwd] <= self.window) | (d < 0)]
+        k = int(judged[np.argmin(res.log_dec[judged])]) if len(judged) else None
         self.points[q] = _Point(
             q,
             complex(res.eigenvalues[i]),
             res.mode_shapes[i],
             _mode_summary(res, i),
-            least,
+            None if k is None else float(res.log_dec[k]),
             halvings,
+            None if k is None else _mode_summary(res, k),
         )
 
     def _predict(self, qa: float, qb: float) -> complex:
@@ -864,14 +888,14 @@ class _Follower:
         return self.points[q]
 
     def __call__(self, q: float) -> float:
-        return self.at(q).mode["log_dec"]
+        return self.at(q).stability
 
     def first_crossing(self, q_hi: float) -> tuple[float, float] | None:
-        """The first interval (a, b) of the known path within [0, q_hi] where the log dec goes
-        from > 0 to <= 0."""
+        """The first interval (a, b) of the known path within [0, q_hi] where the deciding log
+        dec (:attr:`_Point.stability`) goes from > 0 to <= 0."""
         qs = sorted(k for k in self.points if k <= q_hi)
         for a, b in itertools.pairwise(qs):
-            if self.points[a].mode["log_dec"] > 0 >= self.points[b].mode["log_dec"]:
+            if self.points[a].stability > 0 >= self.points[b].stability:
                 return a, b
         return None
 
@@ -1022,8 +1046,8 @@ def level1(
             bracket = _bracket(f, qa, f(qa * 0.75), f(qa), q_max)
         if bracket is not None:
             q0 = float(brentq(f, *bracket, xtol=1e-9 * qa, rtol=rtol))
-    fa = f(qa)
-    threshold_mode = f.at(q0).mode if q0 is not None else None
+    fa = f.at(qa).mode["log_dec"]
+    threshold_mode = f.at(q0).weakest_mode if q0 is not None else None
 
     if n_curve:
         q_hi = min(q_max, 1.25 * max(qa, q0 or 0.0))
@@ -1158,12 +1182,15 @@ def level2(
     speeds: float | Sequence[float] | None = None,
     max_frequency: float | None = None,
     min_lateral: float = 0.5,
+    edition: str | Edition | None = None,
 ) -> Level2Result:
     """API 617 Level II stability: damped modes of the model as given (every modelled
     destabiliser) at reference-shaft ``speeds`` (rad/s; default the model's
     ``max_continuous_speed``); acceptance: log dec >= 0.1 for every forward lateral mode
     (:func:`forward_lateral_modes`) below ``max_frequency`` (rad/s, default 3× the fastest shaft
-    speed at each speed) and no unstable mode."""
+    speed at each speed) and no unstable mode. ``edition``: ``"8th"`` (default) or ``"9th"``
+    (the same acceptance; the result names it)."""
+    ed = _edition(edition)
     asm = model if isinstance(model, Assembly) else assemble(model)
     train = asm.train
     if speeds is None:
@@ -1202,7 +1229,7 @@ def level2(
         )
         fmaxes.append(float(fmax))
     return Level2Result(
-        edition=EDITION,
+        edition=ed.name,
         evaluations=tuple(evals),
         shaft_names=tuple(s.name for s in train.shafts),
         max_frequency=tuple(fmaxes),
