@@ -21,7 +21,14 @@ from scipy.optimize import linear_sum_assignment
 from ..assembly import Assembly, assemble
 from ..errors import ModelError
 from ..model import Train
-from .modal import SPARSE_FRACTION, ModalResult, _classify, _relative_residual, modal
+from .modal import (
+    SPARSE_FRACTION,
+    TYPE_THRESHOLD,
+    ModalResult,
+    _classify,
+    _relative_residual,
+    modal,
+)
 from .modal import _residuals as _residuals_of
 
 __all__ = ["CampbellResult", "ExcitationOrder", "Crossing", "campbell", "default_orders", "mac"]
@@ -538,7 +545,8 @@ class _Subspace:
             asm.K0 if K is None else K,
             rigid_tol=1e-2,
             overdamped_zeta=0.999,
-            type_threshold=0.1,
+            # the full solves' (modal's default): one type per mode at every speed
+            type_threshold=TYPE_THRESHOLD,
             max_frequency=radius,
         )
         if len(out["eigenvalues"]) != n_track:  # a chosen Ritz pair classified as real/rigid
