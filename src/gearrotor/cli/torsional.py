@@ -41,6 +41,7 @@ from .options import (
     count,
     duration,
     number,
+    option_fields,
     rpm,
     speed_grid,
 )
@@ -199,10 +200,15 @@ def parse_torque(text: str, k: int):
     try:
         return HarmonicTorque.model_validate(data)
     except ValidationError as exc:
-        err = exc.errors()[0]
+        # an unknown key first (it explains a "missing" one), in the option's words
+        errors = sorted(exc.errors(), key=lambda e: e["type"] != "extra_forbidden")
+        err = errors[0]
         loc = ".".join(str(x) for x in err["loc"])
+        msg = {"missing": "required key is missing", "extra_forbidden": "unknown key"}.get(
+            err["type"], err["msg"].removeprefix("Value error, ")
+        )
         raise ModelError(
-            err["msg"],
+            msg,
             field=f"{field}.{loc}" if loc else field,
             value=text,
             expected="shaft, node, amplitude (N*m) and one of order / frequency",
@@ -339,15 +345,16 @@ def campbell_command(
             value=f"{lo:g}..{hi:g} rpm",
             expected="0 < min ≤ max",
         )
-    res = interference(
-        _torsional_model(train, mesh, held),
-        speed_range=(lo * RPM, hi * RPM),
-        margin=margin,
-        line_frequency=None if line_frequency is None else line_frequency * HZ,
-        orders=extra,
-        vfd_harmonics=vfd,
-        max_frequency=None if max_frequency is None else max_frequency * HZ,
-    )
+    with option_fields(orders="--orders"):
+        res = interference(
+            _torsional_model(train, mesh, held),
+            speed_range=(lo * RPM, hi * RPM),
+            margin=margin,
+            line_frequency=None if line_frequency is None else line_frequency * HZ,
+            orders=extra,
+            vfd_harmonics=vfd,
+            max_frequency=None if max_frequency is None else max_frequency * HZ,
+        )
     if format == "json":
         _echo_json(res.to_dict())
     else:
@@ -422,7 +429,10 @@ def response_command(
         speeds = speed_grid(
             lo, hi, 200 if n_speeds is None else n_speeds, "--min-speed/--max-speed"
         )
-    res = torsional_response(_torsional_model(train, mesh, held), excitations=exc, speeds=speeds)
+    with option_fields(excitations="--torque"):
+        res = torsional_response(
+            _torsional_model(train, mesh, held), excitations=exc, speeds=speeds
+        )
     if format == "json":
         _echo_json(res.to_dict())
     else:
