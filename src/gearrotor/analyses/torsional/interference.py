@@ -155,14 +155,12 @@ class InterferenceResult:
         }
 
     def table(self) -> str:
-        lo, hi = (s * RPM for s in self.speed_range)
         head = (
             f"{'mode':>4} {'freq Hz':>9} {'excitation':<28} {'speed rpm':>10} "
             f"{'margin':>8}  {'result':<6} where"
         )
         rows = [
-            f"operating range {lo:.0f}-{hi:.0f} rpm (reference shaft), required separation "
-            f"{self.required_margin:.0%}",
+            f"{self.range_label} (reference shaft), required separation {self.required_margin:.0%}",
             head,
             "-" * len(head),
         ]
