@@ -23,7 +23,7 @@ command             module                      calls
 ==================  ==========================  ==============================================
 
 Shared options (``--set``, ``--format``, rpm) are in :mod:`.options`; every command also gets
-``--threads`` there (:func:`.options.common_options`: it runs in a
+``--threads`` there (:func:`common_options`: it runs in a
 :func:`gearrotor.threads.scope`); every command maps errors
 to exit statuses through :func:`.errors.cli_errors`: input errors print one clear message (file,
 field, value, expectation) and exit with status 2, without a traceback; solver failures exit
@@ -33,16 +33,19 @@ with status 3 (see :mod:`.errors`). The analyses are imported inside the command
 
 from __future__ import annotations
 
+import functools
+import inspect
 import sys
+from collections.abc import Callable
 
 import typer
 
 from .bearing import bearing_cli
 from .campbell import campbell_command
-from .errors import EXIT_CODES_HELP, OneLineGroup
+from .errors import EXIT_CODES_HELP, OneLineGroup, cli_errors
 from .floquet import floquet_command
 from .modal import modal_command
-from .options import common_options
+from .options import ThreadsOpt
 from .report import report_command
 from .show import show_command
 from .stability import stability_command
@@ -82,6 +85,33 @@ def reflow(doc: str | None) -> str | None:
 
     paras = inspect.cleandoc(doc).split("\n\n")
     return "\n\n".join(" ".join(p.split()) for p in paras)
+
+
+def common_options(fn: Callable) -> Callable:
+    """Give a command function the options every command has (``--threads``), keeping the
+    parameters Typer reads: the command then runs in a :func:`gearrotor.threads.scope` with
+    that setting (a bad ``GEARROTOR_THREADS`` is an input error, before anything runs)."""
+    sig = inspect.signature(fn, eval_str=True)
+    if "threads" in sig.parameters:
+        return fn
+    extra = inspect.Parameter(
+        "threads", inspect.Parameter.KEYWORD_ONLY, default=None, annotation=ThreadsOpt
+    )
+
+    @functools.wraps(fn)
+    def command(*args, threads: str | None = None, **kwargs):
+        from .. import threads as threads_
+
+        with threads_.using(threads):
+            with cli_errors():
+                threads_.setting()  # GEARROTOR_THREADS is read (and checked) before anything runs
+            with threads_.scope():
+                return fn(*args, **kwargs)
+
+    params = list(sig.parameters.values())
+    command.__signature__ = sig.replace(parameters=[*params, extra])
+    command.__annotations__ = {**fn.__annotations__, "threads": ThreadsOpt}
+    return command
 
 
 def _command(name: str, fn) -> None:

@@ -9,8 +9,6 @@ The parsers check an option's value when the command line is read, before anythi
 from __future__ import annotations
 
 import contextlib
-import functools
-import inspect
 import math
 from collections.abc import Callable
 from pathlib import Path
@@ -28,7 +26,6 @@ __all__ = [
     "OperatingPointOpt",
     "SetOpt",
     "ThreadsOpt",
-    "common_options",
     "check_format",
     "check_operating_point",
     "McsOpt",
@@ -81,35 +78,6 @@ ThreadsOpt = Annotated[
         "cores) or N; default: the GEARROTOR_THREADS environment variable, else auto",
     ),
 ]
-
-
-def common_options(fn: Callable) -> Callable:
-    """Give a command function the options every command has (``--threads``), keeping the
-    parameters Typer reads: the command then runs in a :func:`gearrotor.threads.scope` with
-    that setting (a bad ``GEARROTOR_THREADS`` is an input error, before anything runs)."""
-    from .errors import cli_errors
-
-    sig = inspect.signature(fn, eval_str=True)
-    if "threads" in sig.parameters:
-        return fn
-    extra = inspect.Parameter(
-        "threads", inspect.Parameter.KEYWORD_ONLY, default=None, annotation=ThreadsOpt
-    )
-
-    @functools.wraps(fn)
-    def command(*args, threads: str | None = None, **kwargs):
-        from .. import threads as threads_
-
-        with threads_.using(threads):
-            with cli_errors():
-                threads_.setting()  # GEARROTOR_THREADS is read (and checked) before anything runs
-            with threads_.scope():
-                return fn(*args, **kwargs)
-
-    params = list(sig.parameters.values())
-    command.__signature__ = sig.replace(parameters=[*params, extra])
-    command.__annotations__ = {**fn.__annotations__, "threads": ThreadsOpt}
-    return command
 
 
 OperatingPointOpt = Annotated[
