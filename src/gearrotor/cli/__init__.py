@@ -61,6 +61,9 @@ app = typer.Typer(
     no_args_is_help=True,
     add_completion=False,
     pretty_exceptions_enable=False,
+    # help text is printed as written: rich markup would take '[[operating_points]]' or
+    # '[default]' for tags and drop them
+    rich_markup_mode=None,
     cls=OneLineGroup,  # parser errors are one line, like every other error
 )
 

@@ -40,6 +40,7 @@ from .options import (
     count,
     duration,
     number,
+    option_fields,
     rpm,
     speed_grid,
 )
@@ -163,10 +164,15 @@ def parse_torque(text: str, k: int):
     try:
         return HarmonicTorque.model_validate(data)
     except ValidationError as exc:
-        err = exc.errors()[0]
+        # an unknown key first (it explains a "missing" one), in the option's words
+        errors = sorted(exc.errors(), key=lambda e: e["type"] != "extra_forbidden")
+        err = errors[0]
         loc = ".".join(str(x) for x in err["loc"])
+        msg = {"missing": "required key is missing", "extra_forbidden": "unknown key"}.get(
+            err["type"], err["msg"].removeprefix("Value error, ")
+        )
         raise ModelError(
-            err["msg"],
+            msg,
             field=f"{field}.{loc}" if loc else field,
             value=text,
             expected="shaft, node, amplitude (N*m) and one of order / frequency",
@@ -300,16 +306,17 @@ def campbell_command(
             value=f"{lo:g}..{hi:g} rpm",
             expected="0 < min ≤ max",
         )
-    res = interference(
-        train,
-        speed_range=(lo * RPM, hi * RPM),
-        margin=margin,
-        mesh=mesh,
-        line_frequency=None if line_frequency is None else line_frequency * HZ,
-        orders=extra,
-        vfd_harmonics=vfd,
-        max_frequency=None if max_frequency is None else max_frequency * HZ,
-    )
+    with option_fields(orders="--orders"):
+        res = interference(
+            train,
+            speed_range=(lo * RPM, hi * RPM),
+            margin=margin,
+            mesh=mesh,
+            line_frequency=None if line_frequency is None else line_frequency * HZ,
+            orders=extra,
+            vfd_harmonics=vfd,
+            max_frequency=None if max_frequency is None else max_frequency * HZ,
+        )
     if format == "json":
         _echo_json(res.to_dict())
     else:
@@ -360,7 +367,8 @@ def response_command(
     lo = 0.5 * nominal if min_speed is None else min_speed
     hi = 1.2 * nominal if max_speed is None else max_speed
     speeds = speed_grid(lo, hi, n_speeds, "--min-speed/--max-speed")
-    res = torsional_response(train, excitations=exc, speeds=speeds, mesh=mesh)
+    with option_fields(excitations="--torque"):
+        res = torsional_response(train, excitations=exc, speeds=speeds, mesh=mesh)
     if format == "json":
         _echo_json(res.to_dict())
     else:
