@@ -166,3 +166,90 @@ def test_bad_input():
         clearance_check(t, [("s", 3, -1e-4)], speeds=SPEEDS)
     with pytest.raises(ModelError, match="clearances"):
         clearance_check(t, [], speeds=SPEEDS)
+
+
+ROTOR_TOML = f"""name = "rotor_example"
+speed = "9000 rpm"
+max_continuous_speed = "9000 rpm"
+operating_speed_range = ["7020 rpm", "9000 rpm"]
+
+[materials.steel]
+E = 211e9
+density = {RHO}
+poisson = 0.3
+
+[[shafts]]
+name = "s"
+material = "steel"
+sections = [{{ length = 1.5, outer_diameter = {D}, elements = 6 }}]
+disks = [
+  {{ node = 2, outer_diameter = 0.28, inner_diameter = 0.05, width = 0.07 }},
+  {{ node = 4, outer_diameter = 0.28, inner_diameter = 0.05, width = 0.07 }},
+]
+
+[[bearings]]
+shaft = "s"
+node = 0
+k = 1e6
+c = 1e3
+
+[[bearings]]
+shaft = "s"
+node = 6
+k = 1e6
+c = 1e3
+
+[[unbalances]]
+shaft = "s"
+node = 2
+amount = "10 g*mm"
+
+[[probes]]
+name = "DE-45"
+shaft = "s"
+node = 0
+angle = "45 deg"
+
+[[probes]]
+name = "NDE-45"
+shaft = "s"
+node = 6
+angle = "-45 deg"
+"""
+
+
+def test_unbalance_command_with_the_9th_edition(tmp_path):
+    """``gearrotor unbalance --api --edition 9th``: the unbalance from the mode shape (the
+    library's numbers), the close-clearance check with --clearance, the edition in the output;
+    --edition without --api and --clearance with the 8th edition are input errors."""
+    from typer.testing import CliRunner
+
+    from gearrotor.cli import app
+
+    p = tmp_path / "rotor.toml"
+    p.write_text(ROTOR_TOML)
+    run = CliRunner().invoke
+    args = ["unbalance", str(p), "--min-speed", "100", "--max-speed", "10000", "--n-speeds", "40"]
+    r = run(
+        app,
+        [*args, "--api", "--edition", "9th", "--clearance", "s:3:0.5 mm:eye", "--format", "json"],
+    )
+    assert r.exit_code == 0, r.output
+    d = json.loads(r.stdout)
+    assert d["api617_edition"] == "API 617 9th edition (2022)"
+    lib = mode_unbalances(rotor(mcs_rpm=9000.0), mode=0).to_dict()
+    assert d["api617_mode_unbalance"]["unbalances"] == lib["unbalances"]
+    assert d["unbalances"][0]["amount_g_mm"] == pytest.approx(lib["unbalances"][0]["amount_g_mm"])
+    check = d["close_clearance_check"]
+    assert check["locations"][0]["name"] == "eye" and check["verdict"] in ("pass", "fail")
+    r = run(app, [*args, "--api", "--edition", "9", "--mode", "1"])
+    assert r.exit_code == 0, r.output
+    assert "API 617 9th edition (2022)" in r.stdout and r.stdout.count("unbalance ") >= 2
+    for bad, field in (
+        (["--edition", "9th"], "--api"),
+        (["--api", "--clearance", "s:3:0.5 mm"], "--clearance"),
+        (["--api", "--edition", "9th", "--clearance", "s:3"], "--clearance"),
+        (["--api", "--edition", "10th"], "--edition"),
+    ):
+        r = run(app, [*args, *bad])
+        assert r.exit_code == 2 and r.stderr.startswith(f"error: {field}"), (bad, r.output)
