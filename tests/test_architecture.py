@@ -180,6 +180,7 @@ LAYERS = {
     "threads": 1,
     "model": 1,
     "bearings": 2,
+    "seals": 2,
     "io": 2,
     "assembly": 3,
     "analyses": 4,

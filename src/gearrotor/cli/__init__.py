@@ -12,6 +12,7 @@ command             module                      calls
 ``unbalance``       :mod:`.unbalance`           :func:`gearrotor.analyses.unbalance_response`
 ``static``          :mod:`.static`              :func:`gearrotor.analyses.static.static`
 ``bearing``         :mod:`.bearing`             :func:`gearrotor.bearings.coefficients`
+``seal``            :mod:`.seal`                :func:`gearrotor.seals.seal_coefficients`
 ``transient``,      :mod:`.transient`           :func:`gearrotor.analyses.transient.transient`
 ``transient-plot``
 ``report``          :mod:`.report`              :func:`gearrotor.plots.report.make_report`
@@ -47,6 +48,7 @@ from .floquet import floquet_command
 from .modal import modal_command
 from .options import ThreadsOpt
 from .report import report_command
+from .seal import seal_command
 from .show import show_command
 from .stability import stability_command
 from .static import static_command
@@ -124,6 +126,7 @@ _command("campbell", campbell_command)
 _command("unbalance", unbalance_command)
 _command("static", static_command)
 _command("bearing", bearing_cli)
+_command("seal", seal_command)
 _command("transient", transient_command)
 _command("transient-plot", plot_command)
 _command("report", report_command)
