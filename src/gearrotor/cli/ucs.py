@@ -79,7 +79,6 @@ def ucs_command(
 ) -> None:
     """Undamped critical speed map: criticals of every shaft against the bearing stiffness,
     the bearings' Kxx/Kyy over speed, their intersections and the rigid-support criticals."""
-    from ..analyses.ucs import ucs_map
     from ..io import load_model, parse_overrides
 
     check_format(format)
@@ -91,6 +90,8 @@ def ucs_command(
     train = load_model(model, parse_overrides(set_))
     train = operating_range_from_options(train, operating_range, mcs)
     check_operating_point(train, operating_point)
+    from ..analyses.ucs import ucs_map
+
     lo = _stiffness(min_stiffness, "--min-stiffness")
     hi = _stiffness(max_stiffness, "--max-stiffness")
     if (lo is None) != (hi is None):
