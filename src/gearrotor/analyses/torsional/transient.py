@@ -59,6 +59,7 @@ from scipy.sparse.csgraph import connected_components
 from ...assembly import Assembly
 from ...errors import ModelError, SolverError
 from ...model import Train
+from ...threads import managed
 from ..jit import configure_cache
 from ..limits import MAX_STEPS, check_run_size
 from .drive_laws import (
@@ -766,6 +767,7 @@ def _default_dt(tm: TorsionalModel, max_frequency: float, contact: NDArray) -> f
     return float(2 * np.pi / max(keep) / 20)
 
 
+@managed
 def torsional_transient(
     model: Train | Assembly | TorsionalModel,
     *,
