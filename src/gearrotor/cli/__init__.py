@@ -18,6 +18,8 @@ command             module                      calls
 ``floquet``         :mod:`.floquet`             :func:`gearrotor.analyses.floquet.floquet`
 ``ucs``             :mod:`.ucs`                 :func:`gearrotor.analyses.ucs.ucs_map`
 ``stability``       :mod:`.stability`           :func:`gearrotor.analyses.audit.stability_audit`
+``import-ross``     :mod:`.ross`                :func:`gearrotor.io.ross.import_ross`
+``export``          :mod:`.ross`                :func:`gearrotor.io.ross.ross_script`
 ``study ...``       :mod:`.study`               :mod:`gearrotor.studies`
 ``torsional ...``   :mod:`.torsional`           :mod:`gearrotor.analyses.torsional`
 ==================  ==========================  ==============================================
@@ -41,6 +43,7 @@ from .errors import EXIT_CODES_HELP, OneLineGroup
 from .floquet import floquet_command
 from .modal import modal_command
 from .report import report_command
+from .ross import export_command, import_ross_command
 from .show import show_command
 from .stability import stability_command
 from .static import static_command
@@ -97,6 +100,8 @@ _command("report", report_command)
 _command("floquet", floquet_command)
 _command("ucs", ucs_command)
 _command("stability", stability_command)
+_command("import-ross", import_ross_command)
+_command("export", export_command)
 app.add_typer(study_app, name="study")
 app.add_typer(torsional_app, name="torsional")
 
