@@ -21,7 +21,7 @@ import pytest
 import gearrotor as gr
 from gearrotor.errors import ModelError
 from gearrotor.io import load_model
-from gearrotor.io.ross import import_ross, model_toml, ross_script
+from gearrotor.interop.ross import import_ross, model_toml, ross_script
 
 DATA = Path(__file__).resolve().parents[1] / "data" / "ross"
 REF = json.loads((DATA / "ross_modal.json").read_text())

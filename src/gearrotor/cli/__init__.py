@@ -19,8 +19,8 @@ command             module                      calls
 ``floquet``         :mod:`.floquet`             :func:`gearrotor.analyses.floquet.floquet`
 ``ucs``             :mod:`.ucs`                 :func:`gearrotor.analyses.ucs.ucs_map`
 ``stability``       :mod:`.stability`           :func:`gearrotor.analyses.audit.stability_audit`
-``import-ross``     :mod:`.ross`                :func:`gearrotor.io.ross.import_ross`
-``export``          :mod:`.ross`                :func:`gearrotor.io.ross.ross_script`
+``import-ross``     :mod:`.ross`                :func:`gearrotor.interop.import_ross`
+``export``          :mod:`.ross`                :func:`gearrotor.interop.ross_script`
 ``study ...``       :mod:`.study`               :mod:`gearrotor.studies`
 ``torsional ...``   :mod:`.torsional`           :mod:`gearrotor.analyses.torsional`
 ==================  ==========================  ==============================================

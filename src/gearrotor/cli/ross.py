@@ -49,7 +49,7 @@ def import_ross_command(
 
     from ..inputs import parse_toml
     from ..io import model_from_file_data
-    from ..io.ross import import_ross, model_toml
+    from ..interop.ross import import_ross, model_toml
 
     if output.suffix.lower() != ".toml":
         raise ModelError(
@@ -96,7 +96,7 @@ def export_command(
     anyone can cross-check gearrotor's results in ROSS."""
     from ..assembly import assemble
     from ..io import load_model, parse_overrides
-    from ..io.ross import ross_script
+    from ..interop.ross import ross_script
 
     if output is not None:
         check_output(output, "file", field="--output", parents=True)
