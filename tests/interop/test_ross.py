@@ -20,8 +20,8 @@ import pytest
 
 import gearrotor as gr
 from gearrotor.errors import ModelError
-from gearrotor.io import load_model
 from gearrotor.interop.ross import import_ross, model_toml, ross_script
+from gearrotor.io import load_model
 
 DATA = Path(__file__).resolve().parents[1] / "data" / "ross"
 REF = json.loads((DATA / "ross_modal.json").read_text())

@@ -48,8 +48,8 @@ def import_ross_command(
     import numpy as np
 
     from ..inputs import parse_toml
-    from ..io import model_from_file_data
     from ..interop.ross import import_ross, model_toml
+    from ..io import model_from_file_data
 
     if output.suffix.lower() != ".toml":
         raise ModelError(
@@ -95,8 +95,8 @@ def export_command(
     shafts joined by one gear mesh) and prints its damped modes at the model's speed, so that
     anyone can cross-check gearrotor's results in ROSS."""
     from ..assembly import assemble
-    from ..io import load_model, parse_overrides
     from ..interop.ross import ross_script
+    from ..io import load_model, parse_overrides
 
     if output is not None:
         check_output(output, "file", field="--output", parents=True)

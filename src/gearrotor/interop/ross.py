@@ -19,9 +19,9 @@ What a ROSS file holds and what it becomes (all values SI in both):
 * ``BearingElement_*`` and its subclasses (``SealElement_*``, ball, roller, fluid-film tables):
   ``kxx``..``cyy`` (one value: constant; a list against ``speed`` in rad/s: a table; a list
   against the whirl ``frequency`` only is taken at synchronous whirl, frequency = speed, as
-  ROSS's synchronous analyses do) → a bearing, or a seal for seals; ``kzz``/``czz`` → a thrust bearing. A bearing to a
-  link node carrying a ``PointMass`` that a second, diagonal bearing holds to ground becomes a
-  bearing on a pedestal (``support``).
+  ROSS's synchronous analyses do) → a bearing, or a seal for seals; ``kzz``/``czz`` → a
+  thrust bearing. A bearing to a link node carrying a ``PointMass`` that a second, diagonal
+  bearing holds to ground becomes a bearing on a pedestal (``support``).
 * ``PointMass_*`` on a shaft node → a disk with that mass.
 
 Refused, each with a one-line error naming the element and what to do: mass coefficients
