@@ -179,6 +179,7 @@ LAYERS = {
     "files": 1,
     "model": 1,
     "bearings": 2,
+    "seals": 2,
     "io": 2,
     "assembly": 3,
     "analyses": 4,
