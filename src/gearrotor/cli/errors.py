@@ -191,13 +191,15 @@ def usage_message(exc: BaseException) -> str:
 @contextlib.contextmanager
 def one_line_usage_errors():
     """Print a parser error as one line on stderr and exit with status 2 (the README's promise:
-    errors are one line); ``--help`` and a bare command (its help) pass through."""
+    errors are one line); ``--help`` passes through and a bare command prints its help (stdout,
+    status 0)."""
     exc_types = _click_exceptions()
     no_args = getattr(exc_types, "NoArgsIsHelpError", ())
     try:
         yield
-    except no_args:
-        raise
+    except no_args as exc:  # a bare command: its help on stdout, exit 0 (click >= 8.2 made it
+        typer.echo(exc.format_message())  # an error on stderr with status 2)
+        raise typer.Exit(EXIT_OK) from None
     except exc_types.ClickException as exc:
         typer.echo(f"error: {usage_message(exc)}", err=True)
         raise typer.Exit(EXIT_INPUT) from None
