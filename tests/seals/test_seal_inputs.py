@@ -196,9 +196,11 @@ def test_docs_commands_run(tmp_path):
     cmds = doc_commands(ROOT / "docs" / "seals.md")
     assert len(cmds) >= 4
     for args, _ in cmds:
+        files = [ROOT / a for a in args if a.endswith(".toml")]
         args = [str(tmp_path / a) if a.startswith("out/") else a for a in args]
         args = [str(ROOT / a) if a.startswith("examples/") else a for a in args]
-        if any("composition" in a for a in args) and not coolprop_available():
+        real_gas = any("composition" in f.read_text() for f in files if f.exists())
+        if real_gas and not coolprop_available():
             continue
         r = invoke(*args)
         assert r.exit_code == 0, (args, r.output)

@@ -59,6 +59,7 @@ from scipy.sparse.csgraph import connected_components
 from ...assembly import Assembly
 from ...errors import ModelError, SolverError
 from ...model import Train
+from ...threads import managed
 from ..jit import configure_cache
 from .drive_laws import (
     TorqueLaws,
@@ -765,6 +766,7 @@ def _default_dt(tm: TorsionalModel, max_frequency: float, contact: NDArray) -> f
     return float(2 * np.pi / max(keep) / 20)
 
 
+@managed
 def torsional_transient(
     model: Train | Assembly | TorsionalModel,
     *,
