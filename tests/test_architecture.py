@@ -177,6 +177,7 @@ LAYERS = {
     "elements": 1,
     "inputs": 1,
     "files": 1,
+    "threads": 1,
     "model": 1,
     "bearings": 2,
     "seals": 2,

@@ -20,6 +20,8 @@ from numpy.typing import NDArray
 from ...assembly import Assembly, assemble
 from ...errors import ModelError, SolverError
 from ...model import Train
+from ...threads import managed
+from ..limits import check_run_size
 from . import kernels as kn
 from .checkpoint import _check_state, _fingerprint, _read_checkpoint, _write_npz_atomic
 from .equations import TransientSystem, build_system, static_state
@@ -109,25 +111,10 @@ def _warn_rotating_damping_speed(system: TransientSystem, speeds: NDArray) -> No
             )
 
 
-#: Largest record a transient allocates (bytes): the saved histories live in memory.
-MAX_RECORD_BYTES = 2 * 1024**3
-#: Most steps a transient takes (about a day at a few microseconds per step).
-MAX_STEPS = 2 * 10**10
-
-
 def _check_memory(n_rec: int, n_out: int, n_shafts: int, n_steps: int, t_end: float) -> None:
     """Refuse a run whose record would not fit in memory, or that would not end, before it
-    starts (an input error naming t_end, with the estimate)."""
-    need = n_rec * (3 * n_out + n_shafts + 1) * 8
-    if need > MAX_RECORD_BYTES or n_steps > MAX_STEPS:
-        raise ModelError(
-            f"the run is too long: {n_steps:.3g} steps, {n_rec:.3g} saved samples of "
-            f"{3 * n_out + n_shafts + 1} values would need {need / 1e9:.3g} GB of memory",
-            field="t_end",
-            value=t_end,
-            expected=f"a record of at most {MAX_RECORD_BYTES / 1e9:.3g} GB (a shorter t_end, "
-            "or a larger save interval)",
-        )
+    starts (the bounds shared with the torsional transient, :mod:`..limits`)."""
+    check_run_size(n_steps, n_rec, 3 * n_out + n_shafts + 1, t_end)
 
 
 def _restore_drive_state(path, ck: dict, state: NDArray) -> None:
@@ -159,6 +146,7 @@ def _check_checkpoint_options(ck: Checkpoint) -> None:
         )
 
 
+@managed
 def transient(
     model: Train | Assembly,
     *,

@@ -20,6 +20,7 @@ from ...files import (
     write_json,
     write_text,
 )
+from ...threads import managed
 from .base import Context
 from .blocks import RPM
 from .page import _page
@@ -94,6 +95,7 @@ def _default_max_frequency(asm, w: float, given: float | None) -> tuple[float, s
     return 5 * w, f"default: 5 × the operating speed {w * RPM:,.0f} rpm (no gear mesh)"
 
 
+@managed
 def make_report(
     model,
     output: str | Path,
