@@ -184,6 +184,7 @@ LAYERS = {
     "io": 2,
     "assembly": 3,
     "analyses": 4,
+    "interop": 4,
     "plots": 5,
     "studies": 5,
     "cli": 6,
