@@ -179,7 +179,7 @@ def unbalance_command(
             typer.echo(f"  API 617 unbalance: {ed.name}, {ed.unbalance}")
         for u in unb:
             typer.echo(
-                f"  unbalance {u.amount * 1e6:.1f} g·mm at {u.shaft} "
+                f"  unbalance {u.amount * 1e6:.1f} g·mm at {u.shaft} node {u.node} "
                 f"phase {np.rad2deg(u.phase):.0f}°"
             )
         typer.echo(res.table())
