@@ -7,6 +7,7 @@ order of ``gearrotor --help``):
 command             module                      calls
 ==================  ==========================  ==============================================
 ``show``            :mod:`.show`                :func:`gearrotor.analyses.model_summary.summarize`
+``view``            :mod:`.view`                a live model view on 127.0.0.1
 ``modal``           :mod:`.modal`               :func:`gearrotor.analyses.modal`
 ``campbell``        :mod:`.campbell`            :func:`gearrotor.analyses.campbell`
 ``unbalance``       :mod:`.unbalance`           :func:`gearrotor.analyses.unbalance_response`
@@ -60,6 +61,7 @@ from .torsional import torsional_app
 from .transient import plot_command, transient_command
 from .ucs import ucs_command
 from .unbalance import unbalance_command
+from .view import view_command
 
 __all__ = ["app", "main"]
 
@@ -124,6 +126,7 @@ def _command(name: str, fn) -> None:
 
 
 _command("show", show_command)
+_command("view", view_command)
 _command("modal", modal_command)
 _command("campbell", campbell_command)
 _command("unbalance", unbalance_command)
