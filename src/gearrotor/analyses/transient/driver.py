@@ -47,7 +47,9 @@ def transient_at_operating_point(model: Train | Assembly, operating_point) -> tu
       and moments, and on each fluid-film journal the constant part of its film force
       linearised about the static equilibrium, ``F = −W_s − K (d − d_s)`` (``W_s`` the static
       load, ``d_s`` the static journal position): the journals carry the static load through
-      the run, and the static state of the point is an equilibrium of the transient.
+      the run, and the static state of the point is an equilibrium of the transient; on each
+      seal (which carries no static load) its force at the static deflection, so that it acts on
+      the motion about the static state.
     """
     from ..static import static
     from ..static.analysis import _gravity_field
@@ -74,14 +76,17 @@ def transient_at_operating_point(model: Train | Assembly, operating_point) -> tu
         si, node = train.node_index(sf, f"operating_point.forces[{j}]")
         f[asm0.node_offset[si][node] + np.arange(6)] += np.concatenate([sf.force, sf.moment])
     preload = np.zeros((len(asm.bearings), 2))
-    for k, (spec, info) in enumerate(zip(train.bearings, asm.bearings, strict=True)):
-        if spec.fluid_film is None:
+    for k, info in enumerate(asm.bearings):  # the bearings, then the seals
+        spec = train.bearings[k] if info.kind == "bearing" else None
+        if spec is not None and spec.fluid_film is None:
             continue
         d = st.q[info.dofs].copy()
         if info.support_dofs is not None:
             d -= st.q[info.support_dofs]
         kb = info.element.K(asm.shaft_speeds(w)[info.shaft])
-        g = kb @ d - st.bearings[k].force[:2]  # −W_s + K d_s, on the journal
+        # a journal: −W_s + K d_s; a seal (no static load: analyses/static) K d_s, so that it
+        # acts on the motion about the static state
+        g = kb @ d - (st.bearings[k].force[:2] if spec is not None else 0.0)
         preload[k] = g
         f[info.dofs] += g
         if info.support_dofs is not None:
