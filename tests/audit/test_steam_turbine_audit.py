@@ -112,7 +112,7 @@ def doc_audit():
             "fail",
             "fail",
         ),
-        ("redesign", (), ("--set",), 7.291e7, 1.284, 1.46, 0.209, 0.209, "pass", "pass"),
+        ("redesign", (), ("--set",), 7.300e7, 1.285, 1.46, 0.210, 0.210, "pass", "pass"),
     ],
 )
 def test_doc_audit_numbers(
@@ -146,14 +146,14 @@ def test_doc_audit_numbers(
 def test_doc_map_numbers(doc_audit):
     u = find_run(doc_audit, "ucs")
     rigid = {s["name"]: s["rigid_critical_speeds_rpm"] for s in u["shafts"]}
-    assert rigid["pinion"] == pytest.approx([19562, 24142, 35468], abs=1)
-    assert rigid["bull_gear"][:2] == pytest.approx([16046, 17864], abs=1)
+    assert rigid["pinion"] == pytest.approx([19552, 24141, 35459], abs=1)
+    assert rigid["bull_gear"][:2] == pytest.approx([16042, 17864], abs=1)
     kyy = sorted(
         x["speed_rpm"]
         for x in u["intersections"]
         if x["shaft"] == "pinion" and x["direction"] == "kyy" and "brg 1" in x["bearing"]
     )
-    assert kyy == pytest.approx([8949, 11135, 13261], abs=1)
+    assert kyy == pytest.approx([8942, 11135, 13256], abs=1)
     assert not [x for x in u["intersections"] if x["shaft"] == "bull_gear"]
 
 
