@@ -102,4 +102,4 @@ def report_command(
     )
     typer.echo(f"report written to {rep.html}")
     for v in rep.summary.get("verdicts", []):
-        typer.echo(f"  {'pass' if v['ok'] else 'FAIL'}  {v['check']}: {v['detail']}")
+        typer.echo(f"  {v['result']}  {v['check']}: {v['detail']}")

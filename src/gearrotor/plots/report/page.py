@@ -7,7 +7,8 @@ import datetime as _dt
 
 import numpy as np
 
-from .blocks import RPM, _badge, _e
+from .blocks import RPM, _e
+from .verdicts import result_badge
 
 _CSS = """
 body { font-family: system-ui, -apple-system, 'Segoe UI', sans-serif; margin: 0; color: #222; }
@@ -46,8 +47,9 @@ def _page(train, sections, summary, figures, notes, *, source, command) -> str:
     vt = ["<table><tr><th class='l'>check</th><th>result</th><th class='l'>detail</th></tr>"]
     for v in verdicts:
         vt.append(
-            f"<tr class='{'' if v['ok'] else 'bad'}'><td class='l'>{_e(v['check'])}</td>"
-            f"<td>{_badge(v['ok'])}</td><td class='l'>{_e(v['detail'])}</td></tr>"
+            f"<tr class='{'bad' if v['ok'] is False else ''}'><td class='l'>"
+            f"{_e(v['check'])}</td><td>{result_badge(v['result'])}</td>"
+            f"<td class='l'>{_e(v['detail'])}</td></tr>"
         )
     vt.append("</table>")
     if not verdicts:
