@@ -21,6 +21,7 @@ from scipy.optimize import linear_sum_assignment
 from ..assembly import Assembly, assemble
 from ..errors import ModelError
 from ..model import Train
+from ..threads import managed
 from .modal import (
     SPARSE_FRACTION,
     TYPE_THRESHOLD,
@@ -170,6 +171,7 @@ def default_orders(asm: Assembly, extra: tuple[float, ...] = ()) -> tuple[Excita
     return tuple(out)
 
 
+@managed
 def campbell(
     model: Train | Assembly,
     *,
@@ -273,13 +275,21 @@ def campbell(
             if n_track is None:
                 n_track = int(np.sum(r.damped_frequency[idx] <= max_frequency))
                 if n_track == 0:
-                    raise ValueError("no modes below max_frequency at the first speed")
+                    raise ModelError(
+                        "no modes below max_frequency at the first speed",
+                        field="max_frequency",
+                        value=f"{max_frequency * 30 / np.pi:.6g} rpm",
+                        expected="a higher max_frequency",
+                    )
                 chosen = idx[:n_track]
             else:
                 if len(idx) < n_track:
-                    raise ValueError(
-                        f"only {len(idx)} modes below 1.5×max_frequency at "
-                        f"{w * 30 / np.pi:.1f} rpm; raise max_frequency"
+                    raise ModelError(
+                        f"only {len(idx)} of the {n_track} tracked modes stay below "
+                        f"1.5 × max_frequency at {w * 30 / np.pi:.1f} rpm",
+                        field="max_frequency",
+                        value=f"{max_frequency * 30 / np.pi:.6g} rpm",
+                        expected="a higher max_frequency",
                     )
                 chosen = idx[assign(r.mode_shapes[idx], r.damped_frequency[idx])]
             res = _residuals(asm, w, r.eigenvalues[chosen], r.mode_shapes[chosen])

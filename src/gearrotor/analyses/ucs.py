@@ -52,6 +52,7 @@ from ..assembly import Assembly, _Triplets, assemble
 from ..elements import RadialBearing
 from ..errors import ModelError, SolverError
 from ..model import Train
+from ..threads import managed
 
 __all__ = [
     "UCSResult",
@@ -519,6 +520,7 @@ def _criticals(prob, k, ratio, members, n_modes, min_share, method, rigid_tol) -
         n_want *= 2
 
 
+@managed
 def ucs_map(
     model: Train | Assembly,
     *,

@@ -56,6 +56,7 @@ __all__ = [
     "Bearing",
     "Seal",
     "ThrustBearing",
+    "TorsionalSupport",
     "CrossCoupling",
     "Coupling",
     "GearSide",
@@ -178,8 +179,20 @@ class Material(Spec):
         return self.E / (2 * (1 + self.poisson))
 
 
+_SECTION_TORSION = ("torsional_stiffness", "polar_inertia", "torsional_damping")
+
+
 class Section(Spec):
-    """A uniform stretch of shaft, split into ``elements`` equal Timoshenko elements."""
+    """A uniform stretch of shaft, split into ``elements`` equal Timoshenko elements.
+
+    The torsional rod may be given directly instead of from the diameters and the material:
+    ``torsional_stiffness`` (N·m/rad) and ``polar_inertia`` (kg·m²) of the whole section (a
+    quill shaft, a spline or a flexible element of known stiffness, an inertia from a data
+    sheet; the section's ``elements`` are springs in series, each ``n k``, with ``J / n`` of
+    consistent rod mass), and ``torsional_damping`` (N·m·s/rad, a dashpot across the whole
+    section, ``n c`` per element). The lateral beam, the axial bar, the gyroscopic matrix and
+    the surface shear stress still come from the diameters.
+    """
 
     length: Length = Field(gt=0)
     outer_diameter: Length = Field(gt=0)
@@ -188,6 +201,20 @@ class Section(Spec):
     material: str | None = None
     mass_outer_diameter: Length | None = Field(default=None, gt=0)
     mass_inner_diameter: Length | None = Field(default=None, ge=0)
+    # the torsional rod given directly (whole section; lateral beam and stress from diameters)
+    torsional_stiffness: RotStiffness | None = Field(default=None, gt=0)
+    polar_inertia: Inertia | None = Field(default=None, gt=0)
+    torsional_damping: RotDamping | None = Field(default=None, ge=0)
+
+    @model_serializer(mode="wrap")
+    def _without_absent_torsion(self, handler):
+        # a section without the torsional values serialises as before they existed (model
+        # JSON: study case keys, checkpoint fingerprints)
+        out = handler(self)
+        for key in _SECTION_TORSION:
+            if getattr(self, key) is None:
+                out.pop(key, None)
+        return out
 
     @model_validator(mode="after")
     def _hollow(self) -> Section:
@@ -369,10 +396,12 @@ def _eight(b) -> tuple[float, ...]:
 class Seal(NodeRef):
     """An annular seal (labyrinth, damper, hole-pattern) between a shaft node and ground: 8
     coefficients, constant (``k``/``c`` isotropic shortcuts or kxx..cyy) or a ``table`` against
-    speed, or a saved ``table_file``. Unlike a bearing's, its direct stiffness and damping may
-    be negative (a labyrinth seal's direct stiffness often is). It assembles like a bearing to
-    ground in every analysis; API 617 Level I analyses and undamped critical speed maps leave
-    seals out, as they leave out the cross-coupling destabilisers."""
+    speed, or a saved ``table_file``, or a seal ``file`` (``docs/seals.md``: the seal computed
+    from its geometry, tabulated at the absolute shaft ``speeds`` at synchronous whirl). Unlike
+    a bearing's, its direct stiffness and damping may be negative (a labyrinth seal's direct
+    stiffness often is). It assembles like a bearing to ground in every analysis; API 617 Level
+    I analyses and undamped critical speed maps leave seals out, as they leave out the
+    cross-coupling destabilisers."""
 
     name: str | None = None
     k: Stiffness | None = None
@@ -387,6 +416,8 @@ class Seal(NodeRef):
     cyy: Damping = 0.0
     table: BearingTable | None = None
     table_file: str | None = None
+    file: str | None = None
+    speeds: list[AngularSpeed] | None = Field(default=None, min_length=1)
     extrapolate: Literal["error", "hold"] = "error"
 
     @model_validator(mode="after")
@@ -395,13 +426,39 @@ class Seal(NodeRef):
             getattr(self, n)
             for n in ("k", "c", "kxx", "kxy", "kyx", "kyy", "cxx", "cxy", "cyx", "cyy")
         )
-        if (self.table is not None) + (self.table_file is not None) + constant > 1:
-            raise ValueError("give one coefficient source: constants, 'table' or 'table_file'")
+        sources = (self.table is not None) + (self.table_file is not None)
+        if sources + (self.file is not None) + constant > 1:
+            raise ValueError(
+                "give one coefficient source: constants, 'table', 'table_file' or 'file'"
+            )
+        if (self.file is None) != (self.speeds is None):
+            raise ValueError(
+                "a seal 'file' goes with 'speeds', the shaft speeds at which its coefficients "
+                "are tabulated (e.g. speeds = ['4000 rpm', '8000 rpm', '12000 rpm'])"
+            )
         return self
 
     def coefficients(self) -> tuple[float, ...]:
         """The constant coefficients kxx kxy kyx kyy cxx cxy cyx cyy (isotropic shortcuts added)."""
         return _eight(self)
+
+
+class TorsionalSupport(NodeRef):
+    """Torsional spring ``k`` (N·m/rad) and damper ``c`` (N·m·s/rad) from a node's θz to ground:
+    a held or elastically restrained end, propeller or windage damping (the slope dT/dΩ of
+    the load curve at the operating speed). In a transient ``c`` is a torque ``−c θ̇`` on the
+    absolute speed (a viscous brake); a spring to ground holds the shaft, so the transients
+    refuse it."""
+
+    name: str | None = None
+    k: RotStiffness = Field(default=0.0, ge=0)
+    c: RotDamping = Field(default=0.0, ge=0)
+
+    @model_validator(mode="after")
+    def _something(self) -> TorsionalSupport:
+        if self.k == 0 and self.c == 0:
+            raise ValueError("a torsional support needs k > 0 or c > 0 (both are 0)")
+        return self
 
 
 class ThrustBearing(NodeRef):

@@ -38,6 +38,7 @@ from ...assembly import Assembly, _shaft_elements, assemble
 from ...elements import CrossCoupling
 from ...errors import ModelError, SolverError
 from ...model import OperatingPoint, Train
+from ...threads import managed
 from .results import (
     OVERLOAD_FILM_FRACTION,
     BearingLoad,
@@ -232,6 +233,7 @@ def _unreacted(asm, R, acc, M, f, op) -> None:
     )
 
 
+@managed
 def static(
     model: Train | Assembly,
     operating_point: str | OperatingPoint | None = None,
@@ -562,6 +564,7 @@ def _shaft_curves(asm: Assembly, q: NDArray, g: NDArray) -> tuple[ShaftStatics, 
     return tuple(out)
 
 
+@managed
 def static_sweep(model: Train | Assembly, operating_points=None) -> StaticSweep:
     """:func:`static` at several operating points (default: all of the model's, in order)."""
     asm = model if isinstance(model, Assembly) else assemble(model)

@@ -39,6 +39,7 @@ from numpy.typing import NDArray
 from ...errors import ModelError
 from ...model import SynchronousMotor, Train
 from ...model.drives import InductionMotor
+from ...threads import managed
 from .model import TorsionalModel
 from .modes import TorsionalModes, torsional_modes
 
@@ -106,6 +107,14 @@ class InterferenceResult:
     def failures(self) -> tuple[InterferenceCrossing, ...]:
         return tuple(c for c in self.crossings if not c.passes)
 
+    @property
+    def range_label(self) -> str:
+        """Label of the operating band: "operating speed N rpm" or "operating range A–B rpm"."""
+        lo, hi = (s * RPM for s in self.speed_range)
+        if abs(hi - lo) <= 1e-9 * hi:
+            return f"operating speed {lo:.0f} rpm"
+        return f"operating range {lo:.0f}–{hi:.0f} rpm"
+
     def line_frequency(self, line: ExcitationLine, speeds: NDArray) -> NDArray:
         return line.at(speeds, self.modes.model.speed_ratio)
 
@@ -147,14 +156,12 @@ class InterferenceResult:
         }
 
     def table(self) -> str:
-        lo, hi = (s * RPM for s in self.speed_range)
         head = (
             f"{'mode':>4} {'freq Hz':>9} {'excitation':<28} {'speed rpm':>10} "
             f"{'margin':>8}  {'result':<6} where"
         )
         rows = [
-            f"operating range {lo:.0f}-{hi:.0f} rpm (reference shaft), required separation "
-            f"{self.required_margin:.0%}",
+            f"{self.range_label} (reference shaft), required separation {self.required_margin:.0%}",
             head,
             "-" * len(head),
         ]
@@ -248,6 +255,7 @@ def default_lines(
     return tuple(lines)
 
 
+@managed
 def interference(
     model: Train | TorsionalModel | TorsionalModes,
     *,

@@ -59,8 +59,16 @@ from scipy.sparse.csgraph import connected_components
 from ...assembly import Assembly
 from ...errors import ModelError, SolverError
 from ...model import Train
+from ...threads import managed
 from ..jit import configure_cache
-from .drive_laws import TorqueLaws, advance_states, check_load_paths, law_torque, pack_laws
+from .drive_laws import (
+    TorqueLaws,
+    advance_states,
+    check_load_paths,
+    check_transient_supports,
+    law_torque,
+    pack_laws,
+)
 from .model import TorsionalModel, torsional_model
 
 configure_cache()  # before the first @njit(cache=True): numba's cache outside the package
@@ -758,6 +766,7 @@ def _default_dt(tm: TorsionalModel, max_frequency: float, contact: NDArray) -> f
     return float(2 * np.pi / max(keep) / 20)
 
 
+@managed
 def torsional_transient(
     model: Train | Assembly | TorsionalModel,
     *,
@@ -800,6 +809,7 @@ def torsional_transient(
         )
     if t_end <= 0:
         raise ModelError("t_end must be positive", field="t_end", value=t_end)
+    check_transient_supports(train)  # dampers to ground act on the absolute speed
     laws = pack_laws(train)
     if len(laws) == 0:
         raise ModelError(

@@ -20,6 +20,7 @@ from numpy.typing import NDArray
 from ...assembly import Assembly, assemble
 from ...errors import ModelError, SolverError
 from ...model import Train
+from ...threads import managed
 from . import kernels as kn
 from .checkpoint import _check_state, _fingerprint, _read_checkpoint, _write_npz_atomic
 from .equations import TransientSystem, build_system, static_state
@@ -159,6 +160,7 @@ def _check_checkpoint_options(ck: Checkpoint) -> None:
         )
 
 
+@managed
 def transient(
     model: Train | Assembly,
     *,

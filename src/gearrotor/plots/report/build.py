@@ -20,6 +20,7 @@ from ...files import (
     write_json,
     write_text,
 )
+from ...threads import managed
 from .base import Context
 from .blocks import RPM
 from .page import _page
@@ -122,6 +123,7 @@ def _default_max_frequency(asm, top: float, given: float | None) -> tuple[float,
     )
 
 
+@managed
 def make_report(
     model,
     output: str | Path,
