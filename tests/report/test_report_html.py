@@ -79,8 +79,9 @@ def test_page_is_self_contained(page):
     # the plotly.js bundle is inline, once
     js = get_plotlyjs()
     assert page.count(js[:400]) == 1
-    # and every figure is drawn by it
-    assert page.count('class="plotly-graph-div"') == 7
+    # and every figure is drawn by it (the model's 3-D view, modes, Campbell, Bode, orbits,
+    # spectra, waterfall, whirl power)
+    assert page.count('class="plotly-graph-div"') == 8
 
 
 def test_page_has_the_sections(page, report):

@@ -30,8 +30,16 @@ class CampbellSection(Section):
             ctx.results["campbell"] = campbell(
                 ctx.assembly, speeds=speeds, max_frequency=ctx.max_frequency
             )
-        except ModelError:
-            raise
+        except ModelError as exc:
+            if exc.field != "max_frequency":
+                raise
+            # the analysis' argument is the report's --max-frequency
+            raise ModelError(
+                f"the Campbell diagram cannot be made: {exc.message}",
+                field="--max-frequency",
+                value=f"{ctx.max_frequency * RPM:.6g} cpm",
+                expected="a maximum frequency above the lowest modes of the train",
+            ) from None
         except ValueError as exc:  # e.g. no mode below max_frequency: an input problem
             raise ModelError(
                 f"the Campbell diagram cannot be made: {exc}",
