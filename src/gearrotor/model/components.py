@@ -475,23 +475,25 @@ class CrossCoupling(NodeRef):
 
 
 class Coupling(Spec):
-    """Flexible coupling between two shaft nodes (shafts at the same speed)."""
+    """Flexible coupling between two shaft nodes (shafts at the same speed). Stiffness and
+    damping are ≥ 0 (a negative spring or damper between two hubs is no coupling; 0: the
+    direction is not connected)."""
 
     name: str | None = None
     node_i: NodeRef
     node_j: NodeRef
-    kx: Stiffness = 0.0
-    ky: Stiffness = 0.0
-    kz: Stiffness = 0.0
-    ktx: RotStiffness = 0.0
-    kty: RotStiffness = 0.0
-    ktz: RotStiffness = 0.0
-    cx: Damping = 0.0
-    cy: Damping = 0.0
-    cz: Damping = 0.0
-    ctx: RotDamping = 0.0
-    cty: RotDamping = 0.0
-    ctz: RotDamping = 0.0
+    kx: Stiffness = Field(default=0.0, ge=0)
+    ky: Stiffness = Field(default=0.0, ge=0)
+    kz: Stiffness = Field(default=0.0, ge=0)
+    ktx: RotStiffness = Field(default=0.0, ge=0)
+    kty: RotStiffness = Field(default=0.0, ge=0)
+    ktz: RotStiffness = Field(default=0.0, ge=0)
+    cx: Damping = Field(default=0.0, ge=0)
+    cy: Damping = Field(default=0.0, ge=0)
+    cz: Damping = Field(default=0.0, ge=0)
+    ctx: RotDamping = Field(default=0.0, ge=0)
+    cty: RotDamping = Field(default=0.0, ge=0)
+    ctz: RotDamping = Field(default=0.0, ge=0)
 
 
 class GearSide(NodeRef):
