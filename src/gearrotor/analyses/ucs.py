@@ -109,6 +109,10 @@ SPARSE_FROM = 400
 #: few modes (API RP 684 looks at the modes up to about twice the maximum continuous speed);
 #: every branch asked for widens the band of solutions followed at every stiffness
 MAX_MODES = 12
+#: default forward lateral share from which a mode is a critical speed of a shaft (module
+#: docstring): a mode with 10 % of its kinetic energy in the forward whirl of the shaft responds
+#: there with about a tenth of a mode of the shaft alone at the same damping
+MIN_SHARE = 0.1
 #: the sweep follows every solution below CAP times the highest rigid-support critical kept
 CAP = 1.5
 #: a pairing of neighbouring solutions is trusted when every MAC is at least this; otherwise the
@@ -168,7 +172,7 @@ class Intersection:
     (``bearings`` and ``directions`` list every bearing and direction with that same curve)."""
 
     shaft: str
-    mode: int  # branch index of the shaft (0: the lowest at the softest stiffness)
+    mode: int  # branch index of the shaft, 0-based ("critical mode + 1" in the table, figure)
     bearings: tuple[str, ...]
     directions: tuple[str, ...]  # "kxx" and/or "kyy"
     stiffness: float  # N/m
@@ -264,7 +268,7 @@ class UCSResult:
             vals = ", ".join(f"{v * RPM:.0f}" for v in s.rigid_critical_speeds if np.isfinite(v))
             rows.append(f"  {s.name:>12}: {vals or '-'}")
         head = (
-            f"{'shaft':>12} {'mode':>4} {'dir':>7} {'k N/m':>11} {'rpm':>9} {'ref rpm':>9} "
+            f"{'shaft':>12} {'critical':>8} {'dir':>7} {'k N/m':>11} {'rpm':>9} {'ref rpm':>9} "
             f"{'q':>5}  bearings"
         )
         rows += [
@@ -276,7 +280,7 @@ class UCSResult:
         ]
         for x in self.intersections:
             rows.append(
-                f"{x.shaft:>12} {x.mode:>4} {'='.join(x.directions):>7} {x.stiffness:>11.4g} "
+                f"{x.shaft:>12} {x.mode + 1:>8} {'='.join(x.directions):>7} {x.stiffness:>11.4g} "
                 f"{x.speed * RPM:>9.0f} {x.reference_speed * RPM:>9.0f} {x.forward_share:>5.2f}"
                 f"  {', '.join(x.bearings)}"
             )
@@ -860,12 +864,6 @@ def _rigid(prob, ratio, members, n_modes, min_share, method) -> tuple[dict, floa
     top = float(sol.w2[min(n_modes, len(sol.w2)) - 1]) if len(sol.w2) else np.inf
     pad = {si: np.concatenate([f, np.full(n_modes - len(f), np.nan)]) for si, f in found.items()}
     return pad, top
-
-
-#: default forward lateral share from which a mode is a critical speed of a shaft (module
-#: docstring): a mode with 10 % of its kinetic energy in the forward whirl of the shaft responds
-#: there with about a tenth of a mode of the shaft alone at the same damping
-MIN_SHARE = 0.1
 
 
 def ucs_map(
