@@ -6,6 +6,7 @@ import os
 import re
 import shlex
 import subprocess
+from dataclasses import dataclass
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -47,3 +48,116 @@ def find_run(runs, kind: str, *words: str, without: tuple[str, ...] = ()) -> dic
     ]
     assert len(hits) == 1, (kind, words, [c for c, _ in runs])
     return hits[0]
+
+
+# --------------------------------------------------------------------------------------------
+# Every command printed in README.md and docs/: collected from the markdown, not listed by hand
+# --------------------------------------------------------------------------------------------
+
+DOCS = (ROOT / "README.md", *sorted((ROOT / "docs").rglob("*.md")))
+
+# a synopsis names its arguments by placeholders (MODEL, DIR, FILE.nc, RPM) or brackets
+_PLACEHOLDER = re.compile(r"^(--[\w-]+=)?[A-Z][A-Z0-9_]*[A-Z](\.[a-z]+)?,?$")
+
+
+@dataclass(frozen=True)
+class PrintedCommand:
+    """One ``gearrotor ...`` command as printed in a doc."""
+
+    doc: str  # path relative to the repository root
+    line: int  # 1-based line of the command's first line
+    argv: tuple[str, ...]  # the arguments after ``gearrotor``
+    comment: str  # the trailing ``# ...`` comment, if any
+    output: tuple[str, ...] = ()  # printed output that follows a ``$ gearrotor`` prompt line
+
+    @property
+    def id(self) -> str:
+        return f"{self.doc}:{self.line}:{' '.join(self.argv[:2])}"
+
+    @property
+    def shell(self) -> str:
+        return "gearrotor " + shlex.join(self.argv)
+
+
+def _is_synopsis(argv: list[str], raw: str) -> bool:
+    """True for a usage line (``gearrotor modal MODEL [--speed RPM]``), a reference to a
+    command by name (``gearrotor stability``) or anything else that names no input file."""
+    if any(_PLACEHOLDER.match(a) for a in argv):
+        return True
+    unquoted = re.sub(r"'[^']*'|\"[^\"]*\"", "", raw)
+    if re.search(r"(^|\s)\[", unquoted) or "|" in unquoted or "..." in unquoted:
+        return True
+    return not any(a.endswith((".toml", ".nc", ".json")) for a in argv)
+
+
+def _split_line(line: str) -> tuple[list[str], str] | None:
+    """(argv after ``gearrotor``, comment) of one shell line, or None if no gearrotor command.
+    ``pip install ... && gearrotor ...`` keeps the gearrotor part."""
+    line = line.strip().removeprefix("$ ").strip()
+    for part in re.split(r"\s*&&\s*", line):
+        if part.startswith("gearrotor "):
+            lexer = shlex.shlex(part, posix=True, punctuation_chars=False)
+            lexer.whitespace_split = True
+            lexer.commenters = "#"
+            argv = list(lexer)
+            comment = part.partition(" #")[2].strip() if " #" in part else ""
+            return argv[1:], comment
+    return None
+
+
+def _expand_loops(block: str) -> str:
+    """``for v in a b c; do BODY done`` -> BODY once per value (the seed study's loop)."""
+
+    def expand(m: re.Match) -> str:
+        var, values, body = m.group(1), m.group(2).split(), m.group(3).strip()
+        return "\n".join(body.replace("$" + var, v) for v in values)
+
+    return re.sub(r"for (\w+) in ([^;\n]+); do\s*(.*?)\s*done", expand, block, flags=re.S)
+
+
+def printed_commands(docs=DOCS) -> tuple[list[PrintedCommand], list[PrintedCommand]]:
+    """(commands, synopses) printed in ``docs``: every ``gearrotor ...`` line of a fenced block
+    (any language; continuation lines joined, ``$ `` prompts dropped, the output printed under a
+    prompt kept, shell ``for`` loops expanded) and every inline code span that starts with
+    ``gearrotor ``. Synopses (placeholders, brackets, bare command names) are returned apart."""
+    commands, synopses = [], []
+    for doc in docs:
+        text = doc.read_text()
+        rel = str(doc.relative_to(ROOT))
+        fenced = []
+        for m in re.finditer(r"^```[^\n]*\n(.*?)^```", text, flags=re.S | re.M):
+            fenced.append(m.span())
+            first = text.count("\n", 0, m.start(1)) + 1
+            body = _expand_loops(re.sub(r"\\\n\s*", " ", m.group(1)))
+            lines = body.splitlines()
+            cursor = 0
+            for k, line in enumerate(lines):
+                got = _split_line(line)
+                if got is None:
+                    continue
+                argv, comment = got
+                output: tuple[str, ...] = ()
+                if line.lstrip().startswith("$ "):
+                    rest = []
+                    for nxt in lines[k + 1 :]:
+                        if nxt.lstrip().startswith("$ "):
+                            break
+                        rest.append(nxt)
+                    output = tuple(rest)
+                # line number of the command in the doc (joined continuations shift it)
+                at = m.group(1).find(line.strip()[:20], cursor)
+                cursor = max(at + 1, cursor)
+                lineno = first + m.group(1).count("\n", 0, at) if at >= 0 else first
+                cmd = PrintedCommand(rel, lineno, tuple(argv), comment, output)
+                (synopses if _is_synopsis(argv, line) else commands).append(cmd)
+        for m in re.finditer(r"`(gearrotor [^`]+)`", text):
+            if any(a <= m.start() < b for a, b in fenced):
+                continue
+            raw = " ".join(m.group(1).split())
+            got = _split_line(raw)
+            if got is None:
+                continue
+            argv, comment = got
+            cmd = PrintedCommand(rel, text.count("\n", 0, m.start()) + 1, tuple(argv), comment)
+            (synopses if _is_synopsis(argv, raw) else commands).append(cmd)
+    return commands, synopses

@@ -32,6 +32,7 @@ from .elements import (
     RadialBearing,
     ShaftElement,
     ThrustBearing,
+    TorsionalSupportElement,
     buckingham_stiffness,
     iso6336_stiffness,
 )
@@ -200,6 +201,14 @@ def _shaft_elements(train: Train, i: int) -> list[ShaftElement]:
             alpha=alpha,
             beta=beta,
             rotating_damping=damping is not None and damping.rotating,
+            # the torsional rod given directly: n elements in series, the inertia shared
+            torsional_stiffness=None
+            if sec.torsional_stiffness is None
+            else sec.torsional_stiffness * sec.elements,
+            polar_mass=None if sec.polar_inertia is None else sec.polar_inertia / sec.elements,
+            torsional_damping=None
+            if sec.torsional_damping is None
+            else sec.torsional_damping * sec.elements,
         )
         out.extend([el] * sec.elements)
     return out
@@ -404,6 +413,11 @@ def assemble(train: Train) -> Assembly:
     for k, t in enumerate(train.thrust_bearings):
         _, dofs = node_dofs(t, f"thrust_bearings[{k}]", [2])
         el = ThrustBearing(t.kzz, t.czz)
+        K.add(dofs, el.K())
+        C.add(dofs, el.C())
+    for k, t in enumerate(train.torsional_supports):
+        _, dofs = node_dofs(t, f"torsional_supports[{k}]", [5])
+        el = TorsionalSupportElement(t.k, t.c)
         K.add(dofs, el.K())
         C.add(dofs, el.C())
     for k, q in enumerate(train.cross_couplings):

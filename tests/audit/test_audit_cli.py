@@ -266,7 +266,7 @@ density_ratio = 1.2
     png = tmp_path / "level1.png"
     r = invoke("stability", f, "--plot", png)
     assert r.exit_code == 0, r.output
-    assert "API 617 stability audit: PASS" in r.stdout
+    assert "  audit: pass (decided by Level I)" in r.stdout
     for name in ("level1.png", "level1_screening.png", "level1_level2.png"):
         assert (png.parent / name).stat().st_size > 10_000
 
@@ -330,7 +330,40 @@ density_ratio = 1.2
             ["--operating-range", "MCS 2865"],
         ),
         ({}, ["--at", "s:2", "--qa", "1e5", "--plot", "x.pdf"], ["--plot"]),
+        ({}, ["--at", "s:2", "--qa", "1e5", "--edition", "7th"], ["--edition", "7th", "9th"]),
     ],
 )
 def test_stability_bad_input(jeffcott, kw, args, needles):
     one_line_error(invoke("stability", jeffcott(**kw), *args), *needles)
+
+
+def test_stability_edition_option(jeffcott):
+    """--edition picks API 617 8th (default) or 9th; the output says which, in the text and the
+    JSON; Level I's outcome "level II required" is not written FAIL."""
+    d = ok_json(invoke("stability", jeffcott(), "--at", "s:2", "--qa", "1e5", "--format", "json"))
+    assert d["edition"] == "API 617 8th edition (2014)" and d["edition_key"] == "8th"
+    d9 = ok_json(
+        invoke(
+            "stability",
+            jeffcott(),
+            "--at",
+            "s:2",
+            "--qa",
+            "1e5",
+            "--edition",
+            "9th",
+            "--format",
+            "json",
+        )
+    )
+    assert d9["edition"] == "API 617 9th edition (2022)"
+    assert d9["level2"]["edition"] == d9["edition"]
+    assert [c["check"] for c in d9["checks"]] == [
+        "API 617 Level I stability",
+        "API 617 Level II stability",
+    ]
+    r = invoke("stability", jeffcott(), "--at", "s:2", "--qa", f"{Q_ONSET / 1.5}", "--edition", "9")
+    assert r.exit_code == 0, r.output
+    assert "API 617 9th edition (2022) stability audit" in r.stdout
+    level1_block = r.stdout.split("Level II")[0]
+    assert "level II required" in level1_block and "FAIL" not in level1_block

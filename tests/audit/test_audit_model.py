@@ -111,3 +111,46 @@ def test_bad_tables_name_the_field(model, audit, match):
     base = json.loads(model.model_dump_json())
     with pytest.raises(ModelError, match=match):
         model_from_dict(base | {"api_audit": audit})
+
+
+SEAL = """
+[[seals]]
+name = "balance piston"
+shaft = "s"
+node = 2
+kxx = "-2e5 N/m"
+kyy = "-2e5 N/m"
+kxy = "3e5 N/m"
+kyx = "-3e5 N/m"
+c = "200 N*s/m"
+
+[api_audit]
+edition = "9th"
+qa = "1e4 N/m"
+at = [{ shaft = "s", node = 2 }]
+exclude_bearings = ["balance piston"]   # docs/model_format.md's own example: a seal's name
+"""
+
+
+def test_a_seal_name_can_be_excluded_and_the_edition_is_picked(tmp_path):
+    """docs/model_format.md's [api_audit] example excludes "balance piston", which its own
+    [[seals]] example names: the name is accepted (seals are always left out of Level I, like
+    the cross-coupling destabilisers) and reported as excluded; edition "9th" reaches the
+    result."""
+    from gearrotor.analyses import stability_audit
+
+    p = tmp_path / "m.toml"
+    p.write_text(jeffcott_toml(SEAL))
+    model = load_model(p)
+    kw = level1_inputs(model)
+    assert kw["exclude_bearings"] == ("balance piston",) and kw["edition"] == "9th"
+    res = stability_audit(model, n_curve=0)
+    assert res.level1.excluded["seals"] == ["balance piston"]
+    assert res.level1.excluded["bearings"] == []
+    assert res.level1.edition == "API 617 9th edition (2022)"
+    assert res.level2.edition == res.level1.edition
+    d = res.to_dict()
+    assert d["edition"] == "API 617 9th edition (2022)" and d["edition_key"] == "9th"
+    # the argument overrides the table
+    assert stability_audit(model, n_curve=0, edition="8").level1.edition_key == "8th"
+    assert "9th edition" in res.table()

@@ -60,6 +60,7 @@ FLAGS = [
 ]
 RPM = np.pi / 30
 FIGURES = (
+    "fig-model",
     "fig-modes",
     "fig-campbell",
     "fig-bode",
@@ -69,7 +70,7 @@ FIGURES = (
     "fig-whirl-power",
     "fig-waterfall-speed",
 )
-GL_FIGURES = ("fig-modes", "fig-waterfall")
+GL_FIGURES = ("fig-model", "fig-modes", "fig-waterfall")
 SHAFT_COLORS = ((0x1F, 0x77, 0xB4), (0xD6, 0x27, 0x28))  # shaft1, shaft2 in the 3-D modes
 
 

@@ -50,3 +50,29 @@ def test_figures(tmp_path):
     import matplotlib.pyplot as plt
 
     plt.close("all")  # pyplot keeps figures: the suite warns (an error) past 20
+
+
+def test_interference_legend_names_the_bands(tmp_path):
+    """Issue 22: the wide band (where a crossing fails the margin) was unlabelled and the
+    operating band read "operating range" for a single speed."""
+    modes = torsional_modes(driven_gear_pair())
+    rpm = np.pi / 30
+    one = interference(modes, speed_range=(1500 * rpm, 1500 * rpm))
+    labels = [t.get_text() for t in plot_interference(one).axes[0].get_legend().get_texts()]
+    assert "operating speed 1500 rpm" in labels
+    assert "crossings here fail the ±10% margin" in labels
+    rng = interference(modes, speed_range=(1000 * rpm, 1500 * rpm))
+    labels = [t.get_text() for t in plot_interference(rng).axes[0].get_legend().get_texts()]
+    assert "operating range 1000–1500 rpm" in labels
+
+
+def test_transient_shaft_torques_share_one_sign_convention():
+    """Issue 22: a shaft's torque was drawn with the opposite sign of the others (GJ/L Δθ about
+    +z: its sign depends on the sense of rotation and the end the power enters); per unit of
+    the signed rated torque every shaft in the load path transmits a positive torque."""
+    tr = torsional_transient(driven_gear_pair(), t_end=3.0)
+    ax = plot_torsional_transient(tr).axes[2]
+    lines = [ln for ln in ax.get_lines() if ln.get_label().endswith("/ rated")]
+    assert len(lines) == 2  # the gear's and the pinion's most loaded elements
+    ends = [float(np.mean(ln.get_ydata()[-200:])) for ln in lines]
+    assert min(ends) > 0.2  # both positive (the gear's was negative)

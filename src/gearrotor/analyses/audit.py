@@ -6,6 +6,15 @@ Level II runs whatever Level I says (the audit reports both); the audit passes w
 passes, or when Level I asks for Level II and Level II passes. Level II speeds: the minimum and
 maximum operating speeds and the maximum continuous speed of the model (distinct values), the
 MCS alone when the model states no operating range.
+
+The edition (API 617 8th or 9th, :func:`~gearrotor.analyses.stability.edition`) comes from the
+``edition`` argument, else the model's ``[api_audit] edition``, else the 8th.
+
+One verdict line per check (:meth:`StabilityAudit.checks`), in one vocabulary
+(:data:`~gearrotor.analyses.stability.VERDICTS`): Level I says ``"pass"`` or
+``"level II required"`` (not a failure: the standard's next step), Level II ``"pass"`` or
+``"fail"``, and the audit's conclusion is the Level II line's when Level I sent the machine
+there.
 """
 
 from __future__ import annotations
@@ -19,7 +28,17 @@ from ..assembly import Assembly
 from ..errors import ModelError
 from ..model import Train
 from .operating import model_max_continuous_speed
-from .stability import RPM, Level1Result, Level2Result, Site, Stage, level1, level2, mid_span
+from .stability import (
+    RPM,
+    Level1Result,
+    Level2Result,
+    Site,
+    Stage,
+    level1,
+    level2,
+    mid_span,
+)
+from .stability import edition as _edition
 
 __all__ = ["StabilityAudit", "level1_inputs", "level2_speeds", "stability_audit"]
 
@@ -45,6 +64,7 @@ class StabilityAudit:
         l1, l2 = self.level1.to_dict(), self.level2.to_dict()
         return {
             "edition": self.level1.edition,
+            "edition_key": self.level1.edition_key,
             "verdict": self.verdict,
             "decided_by": self.decided_by,
             "mcs_rpm": abs(self.level1.speed) * RPM,
@@ -52,10 +72,13 @@ class StabilityAudit:
             "threshold_q_N_per_m": l1["threshold_q_N_per_m"],
             "ratio_q0_qa": l1["ratio_q0_qa"],
             "log_dec_at_qa": l1["log_dec_at_qa"],
+            "least_forward_log_dec_at_qa": l1["least_forward_log_dec_at_qa"],
+            "followed_mode": l1["followed_mode"],
             "threshold_mode": l1["threshold_mode"],
             "level1_verdict": l1["verdict"],
             "level2_verdict": l2["verdict"],
             "level2_min_forward_log_dec": self.min_level2_log_dec,
+            "checks": self.checks(),
             "level1": l1,
             "level2": l2,
         }
@@ -67,14 +90,54 @@ class StabilityAudit:
         d = [v for v in d if v is not None]
         return min(d) if d else None
 
+    def checks(self) -> list[dict]:
+        """One verdict line per check: ``check`` (its name), ``status`` (``"pass"``,
+        ``"level II required"``, ``"fail"``), ``ok`` (True: pass, False: fail, None: Level II
+        required, which is neither), ``decides`` (whether this check decides the audit) and
+        ``detail`` (the numbers behind it)."""
+        l1, l2 = self.level1, self.level2
+        ratio = "> search limit" if l1.ratio is None else f"{l1.ratio:.3f}"
+        low = self.min_level2_log_dec
+        l1_status = "pass" if l1.passed else "level II required"
+        unmet = [c.name for c in l1.criteria if c.ok is False]
+        detail1 = f"Q_0/Q_A = {ratio}, log dec at Q_A {l1.log_dec_at_qa:.3f} ({l1.edition})" + (
+            f"; not met: {', '.join(unmet)}" if unmet else ""
+        )
+        speeds = ", ".join(f"{abs(e.speed) * RPM:.0f}" for e in l2.evaluations)
+        detail2 = (
+            f"least forward log dec {'-' if low is None else f'{low:.3f}'} (>= "
+            f"{l2.criterion_log_dec:g}) at {speeds} rpm"
+            + ("" if l1.passed else "; decides the audit")
+            + ("; not required: Level I passed" if l1.passed else "")
+        )
+        return [
+            {
+                "check": "API 617 Level I stability",
+                "status": l1_status,
+                "ok": True if l1.passed else None,
+                "decides": l1.passed,
+                "detail": detail1,
+            },
+            {
+                "check": "API 617 Level II stability",
+                "status": l2.verdict,
+                "ok": l2.passed,
+                "decides": not l1.passed,
+                "detail": detail2,
+            },
+        ]
+
     def table(self) -> str:
+        lines = [f"  {c['check']}: {c['status']} ({c['detail']})" for c in self.checks()]
         return "\n".join(
             [
                 self.level1.table(),
                 "",
                 self.level2.table(),
                 "",
-                f"API 617 stability audit: {self.verdict.upper()} (decided by {self.decided_by})",
+                f"{self.level1.edition} stability audit, one line per check:",
+                *lines,
+                f"  audit: {self.verdict} (decided by {self.decided_by})",
             ]
         )
 
@@ -101,6 +164,7 @@ def level1_inputs(
     operating_speed: float | None = None,
     average_density: float | None = None,
     exclude_bearings: Sequence[str] | None = None,
+    edition: str | None = None,
 ) -> dict:
     """Keyword arguments of :func:`~.stability.level1`: the model's ``[api_audit]`` table with
     the given arguments in place of its values (``qa`` or ``stages`` replace both of the
@@ -147,7 +211,10 @@ def level1_inputs(
         average_density = table.density
     if exclude_bearings is None:
         exclude_bearings = table.exclude_bearings if table is not None else ()
+    if edition is None and table is not None:
+        edition = table.edition
     return {
+        "edition": _edition(edition).key,
         "qa": qa,
         "stages": tuple(stages or ()),
         "at": tuple(resolved),
@@ -169,6 +236,9 @@ def stability_audit(
     """Level I (at the model's MCS, inputs from :func:`level1_inputs` with ``level1_args``)
     and Level II at ``speeds`` (rad/s, default :func:`level2_speeds`).
 
+    ``edition`` (in ``level1_args``): ``"8th"`` or ``"9th"``, default the model's
+    ``[api_audit] edition`` (else the 8th).
+
     ``operating_point`` (name or :class:`~gearrotor.model.OperatingPoint`): fluid-film bearings
     at the coefficients of the point's static loads, evaluated at the MCS and the Level II
     speeds, meshes on the loaded flank (:func:`~gearrotor.analyses.static.at_operating_point`).
@@ -183,7 +253,7 @@ def stability_audit(
         train = model_at_operating_point(train, operating_point, at)[0]
     kw = level1_inputs(train, **level1_args)
     r1 = level1(train, n_curve=n_curve, rtol=rtol, **kw)
-    r2 = level2(train, speeds=ws)
+    r2 = level2(train, speeds=ws, edition=kw["edition"])
     if r1.passed:
         verdict, by = "pass", "Level I"
     else:

@@ -21,7 +21,14 @@ from scipy.optimize import linear_sum_assignment
 from ..assembly import Assembly, assemble
 from ..errors import ModelError
 from ..model import Train
-from .modal import SPARSE_FRACTION, ModalResult, _classify, _relative_residual, modal
+from .modal import (
+    SPARSE_FRACTION,
+    TYPE_THRESHOLD,
+    ModalResult,
+    _classify,
+    _relative_residual,
+    modal,
+)
 from .modal import _residuals as _residuals_of
 
 __all__ = ["CampbellResult", "ExcitationOrder", "Crossing", "campbell", "default_orders", "mac"]
@@ -266,13 +273,21 @@ def campbell(
             if n_track is None:
                 n_track = int(np.sum(r.damped_frequency[idx] <= max_frequency))
                 if n_track == 0:
-                    raise ValueError("no modes below max_frequency at the first speed")
+                    raise ModelError(
+                        "no modes below max_frequency at the first speed",
+                        field="max_frequency",
+                        value=f"{max_frequency * 30 / np.pi:.6g} rpm",
+                        expected="a higher max_frequency",
+                    )
                 chosen = idx[:n_track]
             else:
                 if len(idx) < n_track:
-                    raise ValueError(
-                        f"only {len(idx)} modes below 1.5×max_frequency at "
-                        f"{w * 30 / np.pi:.1f} rpm; raise max_frequency"
+                    raise ModelError(
+                        f"only {len(idx)} of the {n_track} tracked modes stay below "
+                        f"1.5 × max_frequency at {w * 30 / np.pi:.1f} rpm",
+                        field="max_frequency",
+                        value=f"{max_frequency * 30 / np.pi:.6g} rpm",
+                        expected="a higher max_frequency",
                     )
                 chosen = idx[assign(r.mode_shapes[idx], r.damped_frequency[idx])]
             res = _residuals(asm, w, r.eigenvalues[chosen], r.mode_shapes[chosen])
@@ -530,7 +545,8 @@ class _Subspace:
             asm.K0 if K is None else K,
             rigid_tol=1e-2,
             overdamped_zeta=0.999,
-            type_threshold=0.1,
+            # the full solves' (modal's default): one type per mode at every speed
+            type_threshold=TYPE_THRESHOLD,
             max_frequency=radius,
         )
         if len(out["eigenvalues"]) != n_track:  # a chosen Ritz pair classified as real/rigid

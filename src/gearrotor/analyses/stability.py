@@ -1,11 +1,18 @@
 """API 617 lateral stability analysis: Level I and Level II.
 
-Edition: **API Standard 617, 8th edition (2014)**, the rotor stability analysis of the lateral
-analysis (Level I screening with the anticipated cross-coupling, Level II with every destabilising
-source), whose paragraphs API RP 684 (2nd edition, 2005) reproduces and explains in its stability
-chapter. The formulas and limits below are those of the standard as implemented and cited by
-ROSS (``ross/api_report.py``, "API 684 SP6.8.5.6 – SP6.8.5.10"); the standard's own text was not
-available to the author, so its paragraph numbers are not quoted here.
+Editions: **API Standard 617, 8th edition (2014)** (chapter 1, 1.6.5 Level I, 1.6.6 Level II)
+and **9th edition (2022)**, whose rotordynamics clause follows the numbering of API's Standard
+Paragraphs (Level I 6.8.5, Level II 6.8.6; ROSS's former ``api_report.py`` cites the same
+formulas as "API 684 SP6.8.5.6 – SP6.8.5.10"). API RP 684 (2nd edition, 2005) explains the
+paragraphs in its stability chapter. The user picks the edition (``edition=``, the model's
+``[api_audit] edition``, ``gearrotor stability --edition``); every result says which. The
+standards' own text was not available to the author: the formulas and limits below are those
+the public descriptions give (ROSS's Level I, its API 617 9th-edition pull request #1377, API
+RP 684's published tutorial material), and no public source found shows the 9th edition
+changing the Level I formula, its screening criteria or the Level II acceptance, so both
+editions apply the same stability criteria here; what the 9th edition changed for the lateral
+audit (the unbalance of the response analysis placed from the mode shape, 2× instead of 4× the
+residual unbalance, and the close-clearance check) is in :mod:`gearrotor.analyses.api617`.
 
 **Anticipated cross-coupling** (per stage, N/m with P in W, D and H in m, N in rpm):
 
@@ -19,18 +26,45 @@ speed of the stage's shaft, ρ_d/ρ_s the discharge-to-suction gas density ratio
 (The standard's US-unit form uses C = 63 with hp, in and rpm, giving klbf/in.) Q_A = Σ q_A.
 
 **Level I.** The rotor on its bearings, without the model's destabilisers (its
-``[[cross_couplings]]`` and rotating shaft damping; seals given as bearings can be left out with
-``exclude_bearings``), at the maximum continuous speed, with a cross-coupled stiffness Q applied
-at chosen nodes (split by the stages' q_A, or by given weights): on every such node
-``kxy = σ q``, ``kyx = −σ q``, σ = +1 if the node's shaft turns about +z and −1 if it turns about
-−z (meshing shafts turn oppositely), so that Q always feeds *forward* whirl of that shaft
-(:class:`gearrotor.elements.CrossCoupling` is the σ = +1 case). The log dec of the least-stable
-forward mode (see :func:`forward_lateral_modes`) is followed against Q; the threshold Q_0 where it
-reaches zero is found by Brent's method on a bracket found by secant extrapolation from Q = 0 and
-Q = Q_A, to ``|Q_0 − Q_0*| ≤ rtol·Q_0``, searched up to ``ratio_limit × Q_A`` (10, the range the
-standard asks for). Level I passes when
+``[[cross_couplings]]``, its ``[[seals]]`` and rotating shaft damping; bearings given for seals
+can be left out too with ``exclude_bearings``), at the maximum continuous speed, with a
+cross-coupled stiffness Q applied at chosen nodes (split by the stages' q_A, or by given
+weights): on every such node ``kxy = σ q``, ``kyx = −σ q``, σ = +1 if the node's shaft turns
+about +z and −1 if it turns about −z (meshing shafts turn oppositely), so that Q always feeds
+*forward* whirl of that shaft (:class:`gearrotor.elements.CrossCoupling` is the σ = +1 case).
 
-1. the log dec at Q_A is at least 0.1;
+*The mode followed* is the one the standard names: the **first forward mode** (the log dec of
+the first forward mode against the applied cross-coupling; ROSS's ``run_level1`` follows the
+same mode). On a geared train that is the first forward mode *of the loaded shaft* (the shaft
+carrying the largest share of Q): at Q = 0, the lowest-frequency mode that is not over-damped,
+has at least ``min_lateral`` of its kinetic energy in lateral motion, whirls forward on that
+shaft and moves that shaft more than any other (:func:`first_forward_mode`). That mode is then
+followed over Q by continuation of its shape, not picked again at each Q by a rule: from the
+last Q where it is known, the mode at the next Q is the one whose shape matches (mass-weighted
+MAC ≥ ``MAC_MIN`` = 0.9, the runner-up at most ``MAC_MIN_GAP`` = 0.2 lower); when no mode
+matches clearly, the step is halved. So the followed mode cannot leave the analysis as Q grows
+(no frequency window judges it) and no other mode is substituted for it. Where the followed
+mode's character changes along the way (its type, the shaft it mostly moves, its whirl on the
+loaded shaft), the result lists the change (``mode_changes``) and the chart marks it. The least
+log dec of every forward lateral mode below 3× the fastest shaft speed is reported beside it
+(``curve_least_log_dec``; an unstable one up to twice that too), and judged as a fourth
+criterion, gearrotor's addition to the standard's: another forward mode weaker than the
+followed one at Q_A is visible, not hidden, and sends the machine to Level II as well.
+
+*The threshold* Q_0 is the least Q > 0 where the rotor loses stability under the applied
+cross-coupling: where the followed mode's log dec, or that of a weaker forward lateral mode
+(below 3× the fastest shaft speed, or unstable at any frequency solved for), reaches zero
+(``threshold_mode`` names the mode that does; on the steam turbine's original bearings it is not
+the first forward mode, which veers away from the pinion's conical whirl). It is searched on
+both sides of Q_A: the path from 0 to Q_A is sampled (at least quarters of Q_A, finer where the
+continuation needs it) and the first sign change there is the bracket; when the log dec stays
+positive up to Q_A, the bracket is found by secant extrapolation beyond Q_A up to
+``ratio_limit × Q_A`` (10, the range the standard asks for). Brent's method then finds Q_0 to
+``|Q_0 − Q_0*| ≤ rtol·Q_0``. Level I passes when
+
+1. the log dec (of the followed mode) at Q_A is at least 0.1, and so is that of every forward
+   lateral mode below 3× the fastest shaft speed, none being unstable above (gearrotor's
+   addition);
 2. Q_0 / Q_A ≥ 2.0;
 3. not (2.0 ≤ Q_0/Q_A < 10 with the machine in region B of the screening chart): the critical
    speed ratio CSR = MCS / (first forward critical speed on rigid supports) against the average
@@ -38,18 +72,25 @@ standard asks for). Level I passes when
    CSR = 2.5 for ρ ≤ 16.53 kg/m³, CSR = 2.69 − 0.0115 ρ for 16.53 < ρ ≤ 60 kg/m³ (2.0 at 60), and
    every CSR beyond 60 kg/m³ (the chart's end). Applied when the average density is given
    (required with centrifugal stages); with Q_A given directly and no density it is reported as
-   not evaluated;
+   not evaluated, and the chart draws the machine's CSR as a line over every density;
 
-otherwise a Level II analysis is required.
+otherwise a Level II analysis is required. A larger Q_A can never make Level I pass: the
+log dec at Q_A falls and Q_0/Q_A shrinks as Q_A grows (``tests/audit/test_stability.py``
+checks the verdict's monotony on the steam-turbine train).
 
 **Level II.** The damped modes of the model as given (bearings and seals as coefficient tables,
 ``[[cross_couplings]]``, rotating shaft damping) at the given speed(s); acceptance: every forward
 lateral mode below ``max_frequency`` has a log dec of at least 0.1, and no mode is unstable.
+
+**Verdict vocabulary** (one word per outcome, the same in tables, JSON and the report):
+``"pass"``; ``"level II required"`` (Level I: a criterion not met sends the machine to Level II,
+which is not a failure); ``"fail"`` (Level II); ``"not evaluated"``.
 """
 
 from __future__ import annotations
 
 import dataclasses
+import itertools
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
@@ -68,6 +109,9 @@ from .ucs import rigid_support_criticals
 
 __all__ = [
     "EDITION",
+    "EDITIONS",
+    "Edition",
+    "edition",
     "Stage",
     "Site",
     "Criterion",
@@ -76,14 +120,15 @@ __all__ = [
     "anticipated_cross_coupling",
     "csr_boundary",
     "screening_region",
+    "first_forward_mode",
     "forward_lateral_modes",
     "level1",
     "level2",
     "mid_span",
     "SCREENING_DENSITY_LIMIT",
+    "VERDICTS",
 ]
 
-EDITION = "API 617 8th edition (2014) lateral stability analysis (Level I / Level II)"
 RPM = 30 / np.pi
 B_CENTRIFUGAL = 3.0
 B_AXIAL = 1.5
@@ -91,6 +136,82 @@ C_SI = 9.55  # the standard's constant with W, m, rpm -> N/m (≈ 60 / 2π)
 LOG_DEC_MIN = 0.1  # Level I (at Q_A) and Level II acceptance
 RATIO_MIN = 2.0  # Level I: Q_0 / Q_A
 RATIO_SCREEN = 10.0  # Level I: the screening chart applies below this Q_0 / Q_A
+MAC_MIN = 0.9  # continuation: least shape correlation of the followed mode between two Q
+MAC_MIN_GAP = 0.2  # ... and by how much it must beat the runner-up
+MAX_HALVINGS = 16  # continuation: step halvings before a tie is taken as a degeneracy
+DEGENERATE = 1e-7  # |Δλ|/|λ| of a degenerate eigenvalue at Q = 0
+START_FRACTION = 1e-3  # × Q_A: the small Q that splits a degenerate first forward mode
+#: the outcomes of a check, in every table, JSON file and report
+VERDICTS = ("pass", "level II required", "fail", "not evaluated")
+
+
+@dataclass(frozen=True)
+class Edition:
+    """An edition of API 617 as the audit applies it (see the module docstring)."""
+
+    key: str  # "8th" or "9th"
+    name: str  # "API 617 8th edition (2014)"
+    level1: str  # paragraphs of Level I
+    level2: str  # paragraphs of Level II
+    unbalance: str  # paragraphs of the unbalance response analysis
+
+    def __str__(self) -> str:
+        return self.name
+
+
+EDITIONS = {
+    "8th": Edition(
+        "8th",
+        "API 617 8th edition (2014)",
+        "1.6.5 (Level I)",
+        "1.6.6 (Level II)",
+        "1.6.2 (4x the residual unbalance at the model's unbalance planes)",
+    ),
+    "9th": Edition(
+        "9th",
+        "API 617 9th edition (2022)",
+        "6.8.5 (Level I)",
+        "6.8.6 (Level II)",
+        "6.8.2.7 (2x the residual unbalance at the mode shape's antinodes), "
+        "6.8.2.10-6.8.2.11 (close clearances)",
+    ),
+}
+_ALIASES = {
+    "8": "8th",
+    "8th": "8th",
+    "api 617 8th edition": "8th",
+    "api 617 8th edition (2014)": "8th",
+    "9": "9th",
+    "9th": "9th",
+    "api 617 9th edition": "9th",
+    "api 617 9th edition (2022)": "9th",
+}
+#: the edition used when none is given
+DEFAULT_EDITION = "8th"
+EDITION = EDITIONS[DEFAULT_EDITION].name  # the default edition's title
+
+
+def edition(value: str | Edition | None = None, field: str = "edition") -> Edition:
+    """The :class:`Edition` named by ``value`` (``"8th"``, ``"9th"``, ``"8"``, ``"9"`` or the
+    full title, any case; None: the default, the 8th)."""
+    if isinstance(value, Edition):
+        return value
+    if value is None:
+        return EDITIONS[DEFAULT_EDITION]
+    key = _ALIASES.get(str(value).strip().lower())
+    if key is None:
+        raise ModelError(
+            "unknown API 617 edition",
+            field=field,
+            value=value,
+            expected="'8th' (API 617 8th edition, 2014) or '9th' (9th edition, 2022)",
+        )
+    return EDITIONS[key]
+
+
+_edition = edition  # for the functions whose ``edition`` argument hides it
+
+
 SCREENING_DENSITY_LIMIT = 60.0  # kg/m³, end of the screening chart's boundary
 
 
@@ -208,10 +329,20 @@ def screening_region(csr: float, density: float) -> str:
 # results
 @dataclass(frozen=True)
 class Criterion:
+    """One acceptance criterion: ``ok`` True (met), False (not met), None (not evaluated);
+    ``if_not_met`` names the outcome of a criterion not met (Level I: ``"level II required"``,
+    which is not a failure)."""
+
     name: str
     value: float | None
     requirement: str
     ok: bool | None  # None: not evaluated
+    if_not_met: str = "level II required"
+
+    @property
+    def status(self) -> str:
+        """``"pass"``, :attr:`if_not_met` or ``"not evaluated"`` (see :data:`VERDICTS`)."""
+        return {True: "pass", False: self.if_not_met, None: "not evaluated"}[self.ok]
 
     def to_dict(self) -> dict:
         return {
@@ -219,6 +350,7 @@ class Criterion:
             "value": self.value,
             "requirement": self.requirement,
             "ok": self.ok,
+            "status": self.status,
         }
 
 
@@ -270,6 +402,12 @@ class Level1Result:
     rtol: float
     criterion_log_dec: float = LOG_DEC_MIN
     excluded: dict = field(default_factory=dict)
+    edition_key: str = DEFAULT_EDITION
+    followed_mode: str = ""  # which mode Level I follows, in words
+    loaded_shaft: str = ""  # the shaft whose first forward mode is followed
+    curve_least_log_dec: NDArray = field(default_factory=lambda: np.zeros(0))
+    least_log_dec_at_qa: float | None = None  # least of every forward lateral mode at Q_A
+    mode_changes: tuple[dict, ...] = ()  # where the followed mode's character changes
 
     @property
     def ratio(self) -> float | None:
@@ -283,7 +421,10 @@ class Level1Result:
     def to_dict(self) -> dict:
         return {
             "edition": self.edition,
+            "edition_key": self.edition_key,
             "speed_rpm": self.speed * RPM,
+            "followed_mode": self.followed_mode,
+            "loaded_shaft": self.loaded_shaft,
             "operating_speed_rpm": (
                 None if self.operating_speed is None else self.operating_speed * RPM
             ),
@@ -291,7 +432,9 @@ class Level1Result:
             "stage_qa_N_per_m": list(self.stage_q),
             "sites": [{"shaft": s.shaft, "node": s.node, "weight": s.weight} for s in self.sites],
             "log_dec_at_qa": self.log_dec_at_qa,
+            "least_forward_log_dec_at_qa": self.least_log_dec_at_qa,
             "mode_at_qa": self.mode_at_qa,
+            "mode_changes": list(self.mode_changes),
             "threshold_q_N_per_m": self.threshold_q,
             "q_max_N_per_m": self.q_max,
             "ratio_q0_qa": self.ratio,
@@ -308,6 +451,9 @@ class Level1Result:
             "curve": {
                 "q_N_per_m": [float(v) for v in self.curve_q],
                 "log_dec": [float(v) for v in self.curve_log_dec],
+                "least_forward_log_dec": [
+                    None if not np.isfinite(v) else float(v) for v in self.curve_least_log_dec
+                ],
             },
         }
 
@@ -323,15 +469,26 @@ class Level1Result:
             f"  speed {self.speed * RPM:.0f} rpm (reference shaft)",
             f"  Q_A = {self.qa:.5g} N/m at "
             + ", ".join(f"{s.shaft}:{s.node} ({s.weight:.3g})" for s in self.sites),
+            f"  mode followed: {self.followed_mode}",
             f"  log dec at Q_A = {self.log_dec_at_qa:.4f} ({self.mode_at_qa['frequency_rpm']:.0f}"
             f" rpm, {self.mode_at_qa['shaft']}, {self.mode_at_qa['type']})",
-            f"  Q_0 = {q0}, Q_0/Q_A = {ratio}",
         ]
+        if self.least_log_dec_at_qa is not None:
+            rows.append(
+                f"  least log dec of every forward lateral mode at Q_A = "
+                f"{self.least_log_dec_at_qa:.4f}"
+            )
+        rows.append(f"  Q_0 = {q0}, Q_0/Q_A = {ratio}")
         if self.threshold_mode is not None:
             m = self.threshold_mode
             rows.append(
                 f"  mode at Q_0: {m['frequency_rpm']:.0f} rpm, {m['shaft']}, whirl "
                 f"{'/'.join(m['whirl_per_shaft'].values())}, {m['type']}"
+            )
+        for c in self.mode_changes:
+            rows.append(
+                f"  followed mode changes between Q = {c['q_from_N_per_m']:.4g} and "
+                f"{c['q_to_N_per_m']:.4g} N/m: {c['from']} -> {c['to']}"
             )
         if self.csr is not None:
             dens = (
@@ -341,10 +498,9 @@ class Level1Result:
             )
             rows.append(f"  CSR = {self.csr:.3f}{dens}")
         for c in self.criteria:
-            mark = {True: "ok", False: "FAIL", None: "n/a"}[c.ok]
             val = "-" if c.value is None else f"{c.value:.4g}"
-            rows.append(f"  [{mark:>4}] {c.name}: {val} ({c.requirement})")
-        rows.append(f"  verdict: {self.verdict.upper()}")
+            rows.append(f"  [{c.status}] {c.name}: {val} ({c.requirement})")
+        rows.append(f"  Level I verdict: {self.verdict}")
         return "\n".join(rows)
 
 
@@ -488,14 +644,18 @@ def _sites(train: Train, at, stages, qs) -> tuple[Site, ...]:
 
 
 def _level1_train(train: Train, exclude_bearings: Sequence[str]) -> tuple[Train, dict]:
+    """The Level I model: the train without its destabilisers (cross-couplings, seals,
+    rotating shaft damping) and without the bearings named in ``exclude_bearings`` (a
+    ``[[seals]]`` entry's name is accepted too: seals are left out anyway)."""
     names = [b.name or f"bearings[{k}]" for k, b in enumerate(train.bearings)]
+    seal_names = [sl.name or f"seals[{k}]" for k, sl in enumerate(train.seals)]
     for e in exclude_bearings:
-        if e not in names:
+        if e not in names and e not in seal_names:
             raise ModelError(
-                "no such bearing to exclude",
+                "no such bearing or seal to exclude",
                 field="exclude_bearings",
                 value=e,
-                expected=f"one of {names}",
+                expected=f"one of {names + seal_names}",
             )
     materials = {}
     dropped_damping = []
@@ -519,8 +679,8 @@ def _level1_train(train: Train, exclude_bearings: Sequence[str]) -> tuple[Train,
         "cross_couplings": [
             c.name or f"cross_couplings[{k}]" for k, c in enumerate(train.cross_couplings)
         ],
-        "seals": [sl.name or f"seals[{k}]" for k, sl in enumerate(train.seals)],
-        "bearings": list(exclude_bearings),
+        "seals": seal_names,
+        "bearings": [e for e in exclude_bearings if e in names],
         "rotating_damping_materials": dropped_damping,
     }
     return bare, excluded
@@ -541,33 +701,218 @@ def _unit_coupling(asm: Assembly, sites: tuple[Site, ...]) -> sp.csr_array:
     return sp.coo_array((vals, (rows, cols)), shape=(asm.n_dof, asm.n_dof)).tocsr()
 
 
-class _LogDec:
-    """log dec of the least-stable forward lateral mode against Q (cached per Q)."""
+def _mass_mac(M, a: NDArray, b: NDArray) -> NDArray:
+    """Mass-weighted modal assurance criterion of shape ``a`` (n_dof,) against each row of
+    ``b`` (m, n_dof): |aᴴMb|² / (aᴴMa · bᴴMb), in [0, 1], blind to a shape's complex scale."""
+    Mb = (M @ b.T).T
+    ab = np.abs(Mb @ np.conj(a)) ** 2
+    aa = float(np.real(np.conj(a) @ (M @ a)))
+    bb = np.real(np.einsum("ij,ij->i", np.conj(b), Mb))
+    return ab / np.maximum(aa * bb, 1e-300)
 
-    def __init__(self, asm, dK, speed, max_frequency, min_lateral):
-        self.asm, self.dK = asm, dK
-        self.speed, self.max_frequency, self.min_lateral = speed, max_frequency, min_lateral
-        self.cache: dict[float, tuple[float, dict]] = {}
 
-    def eval(self, q: float) -> tuple[float, dict]:
+def _shaft_amplitudes(res: ModalResult, i: int) -> NDArray:
+    """Σ |x|² + |y|² over each shaft's nodes of mode i."""
+    phi = res.mode_shapes[i]
+    offsets = res.assembly.node_offset
+    return np.array([float(np.sum(np.abs(phi[o]) ** 2 + np.abs(phi[o + 1]) ** 2)) for o in offsets])
+
+
+def first_forward_mode(
+    res: ModalResult,
+    shaft: int,
+    min_lateral: float = 0.5,
+    max_frequency: float | None = None,
+    among: NDArray | None = None,
+) -> int | None:
+    """Index of the first forward mode of shaft ``shaft`` (index into the train's shafts): the
+    lowest-frequency mode (up to ``max_frequency``, rad/s) that is not over-damped, has at least
+    ``min_lateral`` of its kinetic energy in lateral motion, whirls forward on that shaft and
+    moves it more than any other shaft; None if there is none."""
+    for i in range(len(res)):  # modes are sorted by damped frequency
+        if max_frequency is not None and res.damped_frequency[i] > max_frequency:
+            break
+        if res.overdamped[i] or res.energy_fractions[i, 0] < min_lateral:
+            continue
+        if res.whirl_per_shaft[i][shaft] != "F":
+            continue
+        if int(np.argmax(_shaft_amplitudes(res, i))) != shaft:
+            continue
+        return i
+    return None
+
+
+@dataclass
+class _Point:
+    q: float
+    eigenvalue: complex
+    shape: NDArray
+    mode: dict  # _mode_summary of the followed mode
+    least_log_dec: float | None  # least log dec of the forward lateral modes (see _store)
+    halvings: int
+    least_mode: dict | None = None  # _mode_summary of that least-damped forward mode
+
+    @property
+    def stability(self) -> float:
+        """The log dec that decides Q_0: the followed mode's, or a forward lateral mode's that
+        is weaker (:attr:`least_log_dec`), whichever is less."""
+        d = self.mode["log_dec"]
+        return d if self.least_log_dec is None else min(d, self.least_log_dec)
+
+    @property
+    def weakest_mode(self) -> dict:
+        """The mode whose log dec is :attr:`stability`."""
+        if self.least_log_dec is None or self.mode["log_dec"] <= self.least_log_dec:
+            return self.mode
+        return self.least_mode
+
+
+class _Follower:
+    """The first forward mode of the loaded shaft at Q = 0, followed over Q by continuation
+    (see the module docstring); every solve cached by Q."""
+
+    def __init__(self, asm, dK, speed, window, shaft, min_lateral, q_scale):
+        self.asm, self.dK, self.speed = asm, dK, speed
+        self.window, self.shaft, self.min_lateral = window, shaft, min_lateral
+        self.points: dict[float, _Point] = {}
+        self.n_solves = 0
+        self.n_unresolved = 0  # steps that stayed ambiguous after MAX_HALVINGS (degenerate)
+        res = self._solve(0.0, 2.0 * window)
+        i = first_forward_mode(res, shaft, min_lateral, window)
+        if i is None:
+            raise ModelError(
+                "no forward lateral mode of the loaded shaft to follow",
+                field="at",
+                value=asm.train.shafts[shaft].name,
+                expected="a shaft with a forward lateral mode below 3x its speed at Q = 0 "
+                "(check the sites and the bearings)",
+            )
+        lam0 = res.eigenvalues[i]
+        cluster = np.abs(res.eigenvalues - lam0) <= DEGENERATE * abs(lam0)
+        if np.count_nonzero(cluster) > 1:
+            # a degenerate eigenvalue at Q = 0 (an isotropic rigid rotor's forward and backward
+            # cylindrical modes, identical shafts): its eigenvectors are any basis of the
+            # cluster. The mode followed is the first forward mode of the limit Q -> 0+: chosen
+            # at a small Q that splits the cluster, with the eigenvalue of Q = 0.
+            q_s = START_FRACTION * q_scale
+            res_s = self._solve(q_s, 2.0 * window)
+            dist = np.abs(res_s.eigenvalues - lam0)  # the cluster's members moved ∝ q_s
+            n_c = min(np.count_nonzero(cluster), len(dist))
+            near = dist <= 2.0 * np.sort(dist)[n_c - 1] + DEGENERATE * abs(lam0)
+            j = first_forward_mode(res_s, shaft, min_lateral, window, among=near)
+            if j is not None:
+                self._store(0.0, res, i, 0)
+                p0 = self.points[0.0]
+                p0.shape = res_s.mode_shapes[j]
+                self._store(q_s, res_s, j, 0)
+                return
+        self._store(0.0, res, i, 0)
+
+    def _solve(self, q: float, fmax: float) -> ModalResult:
+        self.n_solves += 1
+        a = dataclasses.replace(self.asm, K0=(self.asm.K0 + q * self.dK).tocsr())
+        return modal(a, speed=self.speed, max_frequency=fmax)
+
+    def _store(self, q: float, res: ModalResult, i: int, halvings: int) -> None:
+        # least log dec of the forward lateral modes below the window (3x the fastest shaft
+        # speed, as Level II), and of any unstable one found beyond it
+        fwd = forward_lateral_modes(res, self.min_lateral)
+        d = res.log_dec[fwd]
+        judged = fwd[(res.damped_frequency[fwd] <= self.window) | (d < 0)]
+        k = int(judged[np.argmin(res.log_dec[judged])]) if len(judged) else None
+        self.points[q] = _Point(
+            q,
+            complex(res.eigenvalues[i]),
+            res.mode_shapes[i],
+            _mode_summary(res, i),
+            None if k is None else float(res.log_dec[k]),
+            halvings,
+            None if k is None else _mode_summary(res, k),
+        )
+
+    def _predict(self, qa: float, qb: float) -> complex:
+        """The followed eigenvalue at qb, extrapolated linearly from the last two path points
+        at or below qa."""
+        below = sorted(k for k in self.points if k <= qa)
+        pa = self.points[below[-1]]
+        if len(below) < 2:
+            return pa.eigenvalue
+        pp = self.points[below[-2]]
+        return pa.eigenvalue + (pa.eigenvalue - pp.eigenvalue) * (qb - qa) / (qa - pp.q)
+
+    def _match(self, qa: float, qb: float, res: ModalResult, last: bool) -> int | None:
+        """The mode of ``res`` (at qb) that continues the followed mode from qa: the one nearest
+        the predicted eigenvalue when it is clearly nearest (4× nearer than the next) with a
+        similar shape, or the one whose shape clearly matches; None when neither is clear (or,
+        on the ``last`` halving, the nearest eigenvalue: a persisting tie is a degenerate
+        eigenvalue, where either choice has the same log dec)."""
+        if not len(res):
+            return None
+        prev = self.points[qa]
+        lam = np.asarray(res.eigenvalues)
+        mac = _mass_mac(self.asm.M, prev.shape, np.asarray(res.mode_shapes))
+        d = np.abs(lam - self._predict(qa, qb))
+        by_d = np.argsort(d)
+        k1 = int(by_d[0])
+        d2 = float(d[by_d[1]]) if len(by_d) > 1 else np.inf
+        if mac[k1] >= 0.5 and d[k1] <= 0.25 * d2:
+            return k1
+        by_m = np.argsort(mac)[::-1]
+        m1 = int(by_m[0])
+        m2 = float(mac[by_m[1]]) if len(by_m) > 1 else 0.0
+        if mac[m1] >= MAC_MIN and m2 <= mac[m1] - MAC_MIN_GAP:
+            return m1
+        if last:
+            self.n_unresolved += 1
+            return k1
+        return None
+
+    def _step(self, qa: float, qb: float, depth: int) -> None:
+        """Continue the followed mode from qa (known) to qb, halving the step while the match
+        is ambiguous."""
+        prev = self.points[qa]
+        res = self._solve(qb, max(2.0 * self.window, 3.0 * abs(prev.eigenvalue)))
+        k = self._match(qa, qb, res, depth >= MAX_HALVINGS)
+        if k is not None:
+            self._store(qb, res, k, depth)
+            return
+        mid = 0.5 * (qa + qb)
+        self._step(qa, mid, depth + 1)
+        self._step(mid, qb, depth + 1)
+
+    def at(self, q: float) -> _Point:
         q = float(q)
-        if q not in self.cache:
-            a = dataclasses.replace(self.asm, K0=(self.asm.K0 + q * self.dK).tocsr())
-            res = modal(a, speed=self.speed, max_frequency=self.max_frequency)
-            idx = forward_lateral_modes(res, self.min_lateral)
-            if not len(idx):
-                raise ModelError(
-                    "no forward lateral mode below max_frequency to judge the stability by",
-                    field="max_frequency",
-                    value=f"{self.max_frequency * RPM:.6g} rpm",
-                    expected="a limit above the rotor's first forward lateral mode",
-                )
-            i = idx[int(np.argmin(res.log_dec[idx]))]
-            self.cache[q] = (float(res.log_dec[i]), _mode_summary(res, i))
-        return self.cache[q]
+        if q not in self.points:
+            q_prev = max(k for k in self.points if k <= q)
+            self._step(q_prev, q, 0)
+        return self.points[q]
 
     def __call__(self, q: float) -> float:
-        return self.eval(q)[0]
+        return self.at(q).stability
+
+    def first_crossing(self, q_hi: float) -> tuple[float, float] | None:
+        """The first interval (a, b) of the known path within [0, q_hi] where the deciding log
+        dec (:attr:`_Point.stability`) goes from > 0 to <= 0."""
+        qs = sorted(k for k in self.points if k <= q_hi)
+        for a, b in itertools.pairwise(qs):
+            if self.points[a].stability > 0 >= self.points[b].stability:
+                return a, b
+        return None
+
+
+def _mode_key(m: dict, shaft: str, min_lateral: float) -> tuple:
+    """What the chart calls the followed mode's character: the shaft it mostly moves, its whirl
+    on the loaded shaft, and whether it is a lateral mode (lateral kinetic energy at least
+    ``min_lateral``). Its type letters are not part of it: a share crossing the 5 % naming
+    threshold (L-T to L-T-A) is no change of mode."""
+    return (m["shaft"], m["whirl_per_shaft"].get(shaft, "-"), m["energy_lateral"] >= min_lateral)
+
+
+def _mode_label(m: dict, shaft: str) -> str:
+    return (
+        f"{m['type']} ({m['energy_lateral']:.0%} lateral), mostly {m['shaft']}, whirl "
+        f"{m['whirl_per_shaft'].get(shaft, '-')} on {shaft}"
+    )
 
 
 def level1(
@@ -585,6 +930,7 @@ def level1(
     min_lateral: float = 0.5,
     rtol: float = 1e-4,
     n_curve: int = 11,
+    edition: str | Edition | None = None,
 ) -> Level1Result:
     """API 617 Level I stability analysis (see the module docstring).
 
@@ -601,13 +947,19 @@ def level1(
     operating_speed : rad/s, reference-shaft normal operating speed N_r of the q_A formula
         (default: the model's nominal ``speed``); each stage uses its own shaft's speed
     average_density : kg/m³, average of suction and discharge gas densities, for the screening
-    exclude_bearings : names of ``[[bearings]]`` entries (seals) left out of Level I
+    exclude_bearings : names of ``[[bearings]]`` entries (seals given as bearings) left out of
+        Level I; a ``[[seals]]`` entry's name is accepted too (seals are always left out)
     ratio_limit : Q_0 is searched up to ``ratio_limit × Q_A``
-    max_frequency : rad/s, modes above it are not judged (default 3× the fastest shaft speed)
+    max_frequency : rad/s, the first forward mode is sought below it at Q = 0, and the least
+        log dec of every forward lateral mode is taken below it (default 3× the fastest shaft
+        speed), with any unstable forward lateral mode up to twice that (or 3× the followed
+        mode's frequency) too; the followed mode is traced wherever it goes
     min_lateral : lateral kinetic-energy fraction of a mode to be judged
     rtol : relative tolerance of Q_0
     n_curve : points of the log dec curve from 0 to beyond max(Q_A, Q_0) (the plot; 0: none)
+    edition : ``"8th"`` (default) or ``"9th"`` (:func:`edition`)
     """
+    ed = _edition(edition)
     train = _train(model)
     stages = tuple(stages)
     if (qa is None) == (not stages):
@@ -671,28 +1023,56 @@ def level1(
             raise ModelError("bearings are excluded by name", field="exclude_bearings", value=e)
     bare, excluded = _level1_train(train, exclude_bearings)
     asm = assemble(bare)
-    fmax = max_frequency if max_frequency is not None else 3 * w * np.max(np.abs(asm.speed_ratio))
+    window = max_frequency if max_frequency is not None else 3 * w * np.max(np.abs(asm.speed_ratio))
     sense = 1.0 if train.speed >= 0 else -1.0
-    f = _LogDec(asm, _unit_coupling(asm, sites), sense * w, fmax, min_lateral)
+    share: dict[str, float] = {}
+    for s in sites:
+        share[s.shaft] = share.get(s.shaft, 0.0) + s.weight
+    loaded = max(share, key=share.__getitem__)
+    si_loaded = train.shaft_index(loaded, "at")
+    f = _Follower(asm, _unit_coupling(asm, sites), sense * w, window, si_loaded, min_lateral, qa)
 
+    # Q_0: the first zero of the followed log dec, on both sides of Q_A
     q_max = ratio_limit * qa
-    f0, fa = f(0.0), f(qa)
+    f0 = f(0.0)
     q0 = None
     if f0 <= 0:
         q0 = 0.0
     else:
-        bracket = (0.0, qa) if fa <= 0 else _bracket(f, qa, f0, fa, q_max)
+        for k in range(1, 5):  # the path from 0 to Q_A, at least by quarters
+            f.at(qa * k / 4)
+        bracket = f.first_crossing(qa)
+        if bracket is None:
+            bracket = _bracket(f, qa, f(qa * 0.75), f(qa), q_max)
         if bracket is not None:
             q0 = float(brentq(f, *bracket, xtol=1e-9 * qa, rtol=rtol))
-    threshold_mode = f.eval(q0)[1] if q0 is not None else None
+    fa = f.at(qa).mode["log_dec"]
+    threshold_mode = f.at(q0).weakest_mode if q0 is not None else None
 
     if n_curve:
         q_hi = min(q_max, 1.25 * max(qa, q0 or 0.0))
         for q in np.linspace(0.0, q_hi, n_curve):
-            f(q)
-    pts = sorted(f.cache.items())
-    curve_q = np.array([p[0] for p in pts])
-    curve_d = np.array([p[1][0] for p in pts])
+            f.at(q)
+    pts = [f.points[q] for q in sorted(f.points)]
+    curve_q = np.array([p.q for p in pts])
+    curve_d = np.array([p.mode["log_dec"] for p in pts])
+    curve_least = np.array([np.nan if p.least_log_dec is None else p.least_log_dec for p in pts])
+    changes = []
+    for p, r in itertools.pairwise(pts):
+        if _mode_key(p.mode, loaded, min_lateral) != _mode_key(r.mode, loaded, min_lateral):
+            changes.append(
+                {
+                    "q_from_N_per_m": p.q,
+                    "q_to_N_per_m": r.q,
+                    "from": _mode_label(p.mode, loaded),
+                    "to": _mode_label(r.mode, loaded),
+                }
+            )
+    m0 = f.points[0.0].mode
+    followed = (
+        f"the first forward mode of shaft '{loaded}' at Q = 0 ({m0['frequency_rpm']:.0f} rpm, "
+        f"{_mode_label(m0, loaded)}), followed over Q by continuation of its shape"
+    )
 
     # critical speed ratio per loaded shaft
     rigid = rigid_support_criticals(bare)
@@ -715,8 +1095,17 @@ def level1(
     )
 
     ratio = None if q0 is None else q0 / qa
+    pa = f.at(qa)
+    least = pa.least_log_dec
     crit = [
         Criterion("log dec at Q_A", fa, f">= {LOG_DEC_MIN:g}", bool(fa >= LOG_DEC_MIN)),
+        Criterion(
+            "least log dec of every forward lateral mode at Q_A",
+            least,
+            f">= {LOG_DEC_MIN:g} below 3x the fastest shaft speed, none unstable above "
+            "(gearrotor's addition: the standard judges the first forward mode)",
+            None if least is None else bool(least >= LOG_DEC_MIN),
+        ),
         Criterion(
             "Q_0 / Q_A", ratio, f">= {RATIO_MIN:g}", bool(ratio is None or ratio >= RATIO_MIN)
         ),
@@ -739,14 +1128,15 @@ def level1(
         )
     verdict = "pass" if all(c.ok is not False for c in crit) else "level II required"
     return Level1Result(
-        edition=EDITION,
+        edition=ed.name,
+        edition_key=ed.key,
         speed=sense * w,
         operating_speed=n_r,
         qa=qa,
         sites=sites,
         stage_q=stage_q,
         log_dec_at_qa=fa,
-        mode_at_qa=f.eval(qa)[1],
+        mode_at_qa=pa.mode,
         threshold_q=q0,
         q_max=q_max,
         threshold_mode=threshold_mode,
@@ -758,24 +1148,30 @@ def level1(
         region=region,
         criteria=tuple(crit),
         verdict=verdict,
-        n_solves=len(f.cache),
+        n_solves=f.n_solves,
         rtol=rtol,
         excluded=excluded,
+        followed_mode=followed,
+        loaded_shaft=loaded,
+        curve_least_log_dec=curve_least,
+        least_log_dec_at_qa=pa.least_log_dec,
+        mode_changes=tuple(changes),
     )
 
 
-def _bracket(f, qa, f0, fa, q_max):
+def _bracket(f, qa, d_prev_q, fa, q_max):
     """A bracket (a, b) with f(a) > 0 >= f(b) beyond Q_A, by secant steps on the log dec
-    (about linear in Q while the mode keeps its identity), each step at least ×1.2 and at most
-    ×4 the last Q; None when f stays positive up to q_max."""
-    q_prev, d_prev, q, d = 0.0, f0, qa, fa
+    (about linear in Q while the mode keeps its identity) from the last two points of the path
+    (0.75 Q_A, Q_A), each step at least ×1.2 and at most ×4 the last Q; None when f stays
+    positive up to q_max. Each new point is reached by continuation from the last."""
+    q_prev, d_prev, q, d = 0.75 * qa, d_prev_q, qa, fa
     while q < q_max:
         slope = (d - d_prev) / (q - q_prev)
         guess = q - 1.05 * d / slope if slope < 0 else 4 * q
         guess = min(max(guess, 1.2 * q), 4 * q, q_max)
         dg = f(guess)
         if dg <= 0:
-            return q, guess
+            return f.first_crossing(guess) or (q, guess)
         q_prev, d_prev, q, d = q, d, guess, dg
     return None
 
@@ -786,12 +1182,15 @@ def level2(
     speeds: float | Sequence[float] | None = None,
     max_frequency: float | None = None,
     min_lateral: float = 0.5,
+    edition: str | Edition | None = None,
 ) -> Level2Result:
     """API 617 Level II stability: damped modes of the model as given (every modelled
     destabiliser) at reference-shaft ``speeds`` (rad/s; default the model's
     ``max_continuous_speed``); acceptance: log dec >= 0.1 for every forward lateral mode
     (:func:`forward_lateral_modes`) below ``max_frequency`` (rad/s, default 3× the fastest shaft
-    speed at each speed) and no unstable mode."""
+    speed at each speed) and no unstable mode. ``edition``: ``"8th"`` (default) or ``"9th"``
+    (the same acceptance; the result names it)."""
+    ed = _edition(edition)
     asm = model if isinstance(model, Assembly) else assemble(model)
     train = asm.train
     if speeds is None:
@@ -830,7 +1229,7 @@ def level2(
         )
         fmaxes.append(float(fmax))
     return Level2Result(
-        edition=EDITION,
+        edition=ed.name,
         evaluations=tuple(evals),
         shaft_names=tuple(s.name for s in train.shafts),
         max_frequency=tuple(fmaxes),

@@ -6,6 +6,7 @@ order of ``gearrotor --help``):
 ==================  ==========================  ==============================================
 command             module                      calls
 ==================  ==========================  ==============================================
+``show``            :mod:`.show`                :func:`gearrotor.analyses.model_summary.summarize`
 ``modal``           :mod:`.modal`               :func:`gearrotor.analyses.modal`
 ``campbell``        :mod:`.campbell`            :func:`gearrotor.analyses.campbell`
 ``unbalance``       :mod:`.unbalance`           :func:`gearrotor.analyses.unbalance_response`
@@ -40,6 +41,7 @@ from .errors import EXIT_CODES_HELP, OneLineGroup
 from .floquet import floquet_command
 from .modal import modal_command
 from .report import report_command
+from .show import show_command
 from .stability import stability_command
 from .static import static_command
 from .study import study_app
@@ -61,6 +63,9 @@ app = typer.Typer(
     no_args_is_help=True,
     add_completion=False,
     pretty_exceptions_enable=False,
+    # help text is printed as written: rich markup would take '[[operating_points]]' or
+    # '[default]' for tags and drop them
+    rich_markup_mode=None,
     cls=OneLineGroup,  # parser errors are one line, like every other error
 )
 
@@ -80,6 +85,7 @@ def _command(name: str, fn) -> None:
     app.command(name, help=reflow(fn.__doc__), epilog=EXIT_CODES_HELP)(fn)
 
 
+_command("show", show_command)
 _command("modal", modal_command)
 _command("campbell", campbell_command)
 _command("unbalance", unbalance_command)

@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import json
+import math
 from pathlib import Path
 from typing import Annotated
 
@@ -21,19 +22,51 @@ from .options import (
     check_format,
     check_operating_point,
     count,
+    option_fields,
     rpm,
     speed_grid,
+    sweep_range,
 )
 
-__all__ = ["campbell_command"]
+__all__ = ["campbell_command", "parse_orders"]
+
+
+def parse_orders(text: str | None) -> tuple[float, ...]:
+    """``--orders '10,42'`` -> (10.0, 42.0): multiples of the reference shaft's speed, each
+    finite and positive."""
+    if text is None:
+        return ()
+    try:
+        values = tuple(float(x) for x in text.split(","))
+    except ValueError:
+        values = ()
+    if not values or not all(math.isfinite(v) and v > 0 for v in values):
+        raise ModelError(
+            "cannot read the orders",
+            field="--orders",
+            value=text,
+            expected="comma-separated positive multiples of the reference shaft speed, "
+            "e.g. '10,42'",
+        )
+    return values
 
 
 @cli_errors()
 def campbell_command(
     model: Annotated[Path, typer.Argument(help="TOML model file")],
-    min_speed: Annotated[float, typer.Option(parser=rpm(0), help="rpm")] = 0.0,
+    min_speed: Annotated[
+        float | None,
+        typer.Option(
+            parser=rpm(0),
+            help="rpm (default 0, or the lowest speed of the model's bearing tables)",
+        ),
+    ] = None,
     max_speed: Annotated[
-        float | None, typer.Option(parser=rpm(0, strict=True), help="rpm (default 1.25 × nominal)")
+        float | None,
+        typer.Option(
+            parser=rpm(0, strict=True),
+            help="rpm (default 1.25 × nominal, at most the highest speed of the bearing tables)",
+        ),
     ] = None,
     n_speeds: Annotated[
         int, typer.Option(parser=count(2, MAX_SPEEDS), help="number of speeds")
@@ -60,32 +93,23 @@ def campbell_command(
         check_output(plot, "file", field="--plot", parents=True)
     train = load_model(model, parse_overrides(set_))
     check_operating_point(train, operating_point)
-    hi = max_speed if max_speed is not None else 1.25 * abs(train.speed) / RPM
-    speeds = speed_grid(min_speed, hi, n_speeds, "--min-speed/--max-speed")
+    lo, hi = sweep_range(train, min_speed, max_speed, 0.0, 1.25 * abs(train.speed) / RPM)
+    speeds = speed_grid(lo, hi, n_speeds, "--min-speed/--max-speed")
     fmax = (max_frequency if max_frequency is not None else 3 * hi) * RPM
-    extra = ()
-    if orders:
-        try:
-            extra = tuple(float(x) for x in orders.split(","))
-        except ValueError:
-            raise ModelError(
-                "cannot read the orders",
-                field="--orders",
-                value=orders,
-                expected="comma-separated numbers, e.g. '10,42'",
-            ) from None
-    res = run_campbell(
-        train,
-        speeds=speeds,
-        max_frequency=fmax,
-        extra_orders=extra,
-        operating_point=operating_point,
-    )
+    extra = parse_orders(orders)
+    with option_fields(max_frequency="--max-frequency"):
+        res = run_campbell(
+            train,
+            speeds=speeds,
+            max_frequency=fmax,
+            extra_orders=extra,
+            operating_point=operating_point,
+        )
     if format == "json":
         typer.echo(json.dumps(res.to_dict(), indent=1))
     else:
         typer.echo(
-            f"{train.name}: Campbell {min_speed:.0f}..{hi:.0f} rpm, "
+            f"{train.name}: Campbell {lo:.0f}..{hi:.0f} rpm, "
             f"{res.damped_frequency.shape[1]} modes tracked; crossings:"
         )
         typer.echo(res.table())

@@ -168,6 +168,12 @@ class OneLineGroup(TyperGroup):
     """The ``gearrotor`` group: parser errors of the group and of every command below it (the
     ``study`` group's too) are one line (:func:`one_line_usage_errors`)."""
 
+    def __init__(self, *args, **kwargs):
+        from .options import show_units_in_help
+
+        super().__init__(*args, **kwargs)
+        show_units_in_help(self)
+
     def make_context(self, *args, **kwargs):
         with one_line_usage_errors():
             return super().make_context(*args, **kwargs)

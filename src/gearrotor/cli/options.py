@@ -8,6 +8,7 @@ The parsers check an option's value when the command line is read, before anythi
 
 from __future__ import annotations
 
+import contextlib
 import math
 from collections.abc import Callable
 from pathlib import Path
@@ -33,11 +34,15 @@ __all__ = [
     "parse_range",
     "MAX_SPEEDS",
     "choice",
+    "option_fields",
     "count",
     "duration",
     "number",
     "rpm",
+    "show_units_in_help",
     "speed_grid",
+    "sweep_range",
+    "table_speed_range",
 ]
 
 RPM = np.pi / 30  # rpm -> rad/s
@@ -85,10 +90,31 @@ McsOpt = Annotated[
     typer.Option(
         "--mcs",
         parser=lambda text: rpm(0, strict=True)(text),  # rpm() is defined below
+        metavar="SPEED",
         help="maximum continuous speed of the reference shaft, rpm (overrides the model's "
         "max_continuous_speed)",
     ),
 ]
+
+
+@contextlib.contextmanager
+def option_fields(**options: str):
+    """Name command-line options in the errors of an analysis called with them: a
+    :class:`ModelError` whose field is an analysis argument (``excitations[0].shaft``) is
+    re-raised naming the option (``--torque[0].shaft``). Keywords: argument name -> option."""
+    try:
+        yield
+    except ModelError as exc:
+        field = exc.field or ""
+        for arg, option in options.items():
+            if field == arg or field.startswith((arg + "[", arg + ".")):
+                raise ModelError(
+                    exc.message,
+                    field=option + field[len(arg) :],
+                    value=exc.value,
+                    expected=exc.expected,
+                ) from None
+        raise
 
 
 def check_format(fmt: str) -> None:
@@ -109,6 +135,61 @@ def speed_grid(lo: float, hi: float, n: int, field: str) -> np.ndarray:
             expected="max > min and at least 2 points",
         )
     return np.linspace(lo, hi, n) * RPM
+
+
+def table_speed_range(train) -> tuple[float, float, str | None, str | None]:
+    """(lowest, highest, bearing setting the lowest, bearing setting the highest): the
+    reference-shaft speeds (rpm) at which every bearing and seal with a coefficient table
+    (a table, a table file or fluid-film coefficients over ``speeds``) has coefficients; a
+    table with ``extrapolate = "hold"`` limits nothing. ``(0, inf, None, None)`` without
+    tables."""
+    from ..assembly import assemble
+
+    asm = assemble(train)  # cached by value: the analysis that follows reuses it
+    lo, hi, lo_name, hi_name = 0.0, math.inf, None, None
+    for b in asm.bearings:
+        table = b.element.table
+        ratio = abs(asm.speed_ratio[b.shaft])
+        if table is None or table.extrapolate == "hold" or len(table.speed) < 2 or ratio == 0:
+            continue
+        b_lo, b_hi = table.speed[0] / ratio / RPM, table.speed[-1] / ratio / RPM
+        if b_lo > lo:
+            lo, lo_name = b_lo, b.name
+        if b_hi < hi:
+            hi, hi_name = b_hi, b.name
+    return lo, hi, lo_name, hi_name
+
+
+def sweep_range(
+    train, min_speed: float | None, max_speed: float | None, default_min: float, default_max: float
+) -> tuple[float, float]:
+    """(lowest, highest) speed (rpm) of a speed sweep: ``--min-speed`` / ``--max-speed`` when
+    given, else the defaults clipped to the speeds the model's bearing tables cover
+    (:func:`table_speed_range`: a steam turbine with tables from 2,000 to 16,000 rpm sweeps
+    2,000 .. min(default, 16,000) rpm). A speed given outside the tables is an input error that
+    names the option and the bearing."""
+    lo_t, hi_t, lo_name, hi_name = table_speed_range(train)
+    tol = 1e-6
+    hint = 'leave the option out, or extend the table or set its extrapolate = "hold"'
+    if min_speed is not None and min_speed < lo_t * (1 - tol):
+        raise ModelError(
+            f"below the speed range of bearing '{lo_name}'",
+            field="--min-speed",
+            value=f"{min_speed:g} rpm",
+            expected=f"at least {lo_t:.6g} rpm of the reference shaft, where the bearing's "
+            f"coefficient table starts ({hint})",
+        )
+    if max_speed is not None and max_speed > hi_t * (1 + tol):
+        raise ModelError(
+            f"above the speed range of bearing '{hi_name}'",
+            field="--max-speed",
+            value=f"{max_speed:g} rpm",
+            expected=f"at most {hi_t:.6g} rpm of the reference shaft, where the bearing's "
+            f"coefficient table ends ({hint})",
+        )
+    lo = min_speed if min_speed is not None else max(default_min, lo_t)
+    hi = max_speed if max_speed is not None else min(default_max, hi_t)
+    return lo, hi
 
 
 def operating_range_from_options(train, operating_range: str | None, mcs: float | None):
@@ -192,6 +273,7 @@ def rpm(minimum: float | None = None, *, strict: bool = False) -> Callable[[str]
             raise _bad(text, "out of range", f"{'>' if strict else '>='} {minimum:g} rpm")
         return value
 
+    parse.metavar = "SPEED"  # the help shows SPEED, not <float> (show_units_in_help)
     return parse
 
 
@@ -229,6 +311,7 @@ def duration(maximum: float | None = None) -> Callable[[str], float]:
             raise _bad(text, "too long", f"at most {maximum:g} s")
         return value
 
+    parse.metavar = "TIME"
     return parse
 
 
@@ -281,3 +364,30 @@ def parse_range(text: str, field: str = "--operating-range") -> tuple[float, flo
             expected="MIN,MAX with 0 < MIN <= MAX rpm, e.g. 5800,7200",
         )
     return lo * RPM, hi * RPM
+
+
+#: What the help's SPEED and TIME stand for (the epilog of a command that has such options).
+UNITS_HELP = {
+    "SPEED": "SPEED: rpm, or a value with units ('6500rpm', '680 rad/s', '108 Hz')",
+    "TIME": "TIME: s, or a value with units ('250 ms')",
+}
+
+
+def show_units_in_help(command) -> None:
+    """Help of ``command`` and the commands below it: an option parsed by :func:`rpm` or
+    :func:`duration` shows SPEED or TIME instead of ``<float>``, and the command's epilog
+    says what they accept. Called once on the ``gearrotor`` group when it is built."""
+    for sub in getattr(command, "commands", {}).values():
+        show_units_in_help(sub)
+    used = []
+    for param in getattr(command, "params", []):
+        info = getattr(getattr(param, "type_descriptor", None), "parameter_info", None)
+        metavar = getattr(getattr(info, "parser", None), "metavar", None) or param.metavar
+        if metavar in UNITS_HELP:
+            param.metavar = metavar
+            if metavar not in used:
+                used.append(metavar)
+    if used and not getattr(command, "_units_help", False):
+        note = "; ".join(UNITS_HELP[m] for m in used) + "."
+        command.epilog = f"{note}\n\n{command.epilog}" if command.epilog else note
+        command._units_help = True

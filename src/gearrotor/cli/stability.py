@@ -5,7 +5,8 @@ Level I inputs come from the model's ``[api_audit]`` table; the options replace 
 (Q_A directly) or the formula's inputs (``--power``, ``--diameter``, ``--height``,
 ``--density-ratio``, ``--kind``: one stage, at the first ``--at`` node; or ``--stage``, repeated,
 one impeller or blade row each), ``--at`` (where Q acts, split by the weights),
-``--average-density``, ``--operating-speed``, ``--exclude-bearing``. Level I runs at the
+``--average-density``, ``--operating-speed``, ``--exclude-bearing``, ``--edition`` (API 617 8th or
+9th; default the table's, else the 8th). Level I runs at the
 maximum continuous speed, Level II at the operating range's ends and the MCS (``--mcs``,
 ``--operating-range`` override the model's).
 """
@@ -197,7 +198,14 @@ def stability_command(
     ] = None,
     exclude_bearing: Annotated[
         list[str] | None,
-        typer.Option(help="a bearing (seal) left out of Level I, by name (repeatable)"),
+        typer.Option(help="a bearing or seal left out of Level I, by name (repeatable)"),
+    ] = None,
+    edition: Annotated[
+        str | None,
+        typer.Option(
+            help="API 617 edition: 8th (2014) or 9th (2022); default: the model's "
+            "[api_audit] edition, else 8th"
+        ),
     ] = None,
     operating_range: OperatingRangeOpt = None,
     mcs: McsOpt = None,
@@ -216,11 +224,14 @@ def stability_command(
     Level II (log dec of every forward lateral mode with the model's destabilisers)."""
     from ..analyses.audit import stability_audit
     from ..analyses.stability import Stage
+    from ..analyses.stability import edition as pick_edition
     from ..io import load_model, parse_overrides
     from ..model import NodeRef
 
     check_format(format)
     check_png(plot)
+    if edition is not None:
+        edition = pick_edition(edition, "--edition").key
     sites = [parse_site(a) for a in at or ()]
     stages = [parse_stage(s) for s in stage or ()]
     q = _positive(qa, "stiffness", "--qa")
@@ -308,10 +319,11 @@ def stability_command(
             )
         ]
     names = [b.name or f"bearings[{k}]" for k, b in enumerate(train.bearings)]
+    names += [sl.name or f"seals[{k}]" for k, sl in enumerate(train.seals)]
     for e in exclude_bearing or ():
         if e not in names:
             raise ModelError(
-                "no such bearing to exclude",
+                "no such bearing or seal to exclude",
                 field="--exclude-bearing",
                 value=e,
                 expected=f"one of {names}",
@@ -325,12 +337,13 @@ def stability_command(
         average_density=rho,
         exclude_bearings=exclude_bearing or None,
         operating_point=operating_point,
+        edition=edition,
     )
     if format == "json":
         typer.echo(json.dumps({"model": train.name, **res.to_dict()}, indent=1))
     else:
         at = f" at operating point {operating_point}" if operating_point else ""
-        typer.echo(f"{train.name}: API 617 stability audit{at}")
+        typer.echo(f"{train.name}: {res.level1.edition} stability audit{at}")
         typer.echo(res.table())
     if plot is not None:
         import matplotlib.pyplot as plt

@@ -26,6 +26,7 @@ import math
 from pathlib import Path
 from typing import Annotated
 
+import numpy as np
 import typer
 
 from ..errors import ModelError
@@ -40,6 +41,7 @@ from .options import (
     count,
     duration,
     number,
+    option_fields,
     rpm,
     speed_grid,
 )
@@ -50,6 +52,7 @@ __all__ = [
     "campbell_command",
     "response_command",
     "transient_command",
+    "parse_hold",
     "parse_orders",
     "parse_torque",
 ]
@@ -69,6 +72,14 @@ MeshOpt = Annotated[
     typer.Option("--mesh", help="'flexible' (mesh spring on the line of action) or 'rigid'"),
 ]
 PlotOpt = Annotated[Path | None, typer.Option("--plot", help="directory for PNG figures")]
+HoldOpt = Annotated[
+    list[str] | None,
+    typer.Option(
+        "--hold",
+        help="hold a node at θ = 0, SHAFT:NODE (a locked rotor, a brake, a test-rig clamp); "
+        "repeatable",
+    ),
+]
 HZ = 2 * math.pi
 
 
@@ -97,6 +108,32 @@ def check_output_file(path: Path | None, suffixes: tuple[str, ...]) -> None:
             expected=" or ".join(f"a {s} file" for s in suffixes),
         )
     check_output(path, "file", field="--output")
+
+
+def parse_hold(items: list[str] | None) -> list[dict]:
+    """``--hold motor:0`` (repeatable) → [{"shaft": "motor", "node": 0}, ...]."""
+    out = []
+    for text in items or []:
+        shaft, sep, node = text.strip().rpartition(":")
+        if not sep or not shaft or not node.strip().isdigit():
+            raise ModelError(
+                "cannot read the held node",
+                field="--hold",
+                value=text,
+                expected="SHAFT:NODE with a node index, e.g. 'motor:0'",
+            )
+        out.append({"shaft": shaft, "node": int(node)})
+    return out
+
+
+def _torsional_model(train, mesh: str, hold: list[dict]):
+    """The torsional model with the ``--hold`` nodes held (checked against the train)."""
+    from ..analyses.torsional import torsional_model
+    from ..model import NodeRef
+
+    for k, ref in enumerate(hold):
+        train.node_index(NodeRef.model_validate(ref), f"--hold[{k}]")
+    return torsional_model(train, mesh=mesh, fixed=hold)
 
 
 def parse_orders(text: str | None) -> list[tuple[str, float]]:
@@ -163,10 +200,15 @@ def parse_torque(text: str, k: int):
     try:
         return HarmonicTorque.model_validate(data)
     except ValidationError as exc:
-        err = exc.errors()[0]
+        # an unknown key first (it explains a "missing" one), in the option's words
+        errors = sorted(exc.errors(), key=lambda e: e["type"] != "extra_forbidden")
+        err = errors[0]
         loc = ".".join(str(x) for x in err["loc"])
+        msg = {"missing": "required key is missing", "extra_forbidden": "unknown key"}.get(
+            err["type"], err["msg"].removeprefix("Value error, ")
+        )
         raise ModelError(
-            err["msg"],
+            msg,
             field=f"{field}.{loc}" if loc else field,
             value=text,
             expected="shaft, node, amplitude (N*m) and one of order / frequency",
@@ -206,6 +248,7 @@ def modes_command(
         int | None, typer.Option("--n-modes", parser=count(1), help="keep the lowest N")
     ] = 12,
     shapes: Annotated[bool, typer.Option(help="JSON: add each mode's twist per shaft")] = False,
+    hold: HoldOpt = None,
     format: FormatOpt = "table",
     plot: PlotOpt = None,
     set_: SetOpt = None,
@@ -216,10 +259,10 @@ def modes_command(
     check_format(format)
     _check_mesh(mesh)
     check_plot_dir(plot)
+    held = parse_hold(hold)
     train = _load(model, set_)
     res = torsional_modes(
-        train,
-        mesh=mesh,
+        _torsional_model(train, mesh, held),
         max_frequency=None if max_frequency is None else max_frequency * HZ,
         n_modes=n_modes,
     )
@@ -273,6 +316,7 @@ def campbell_command(
         ),
     ] = None,
     mesh: MeshOpt = "flexible",
+    hold: HoldOpt = None,
     format: FormatOpt = "table",
     plot: PlotOpt = None,
     set_: SetOpt = None,
@@ -284,6 +328,7 @@ def campbell_command(
     _check_mesh(mesh)
     check_plot_dir(plot)
     extra = parse_orders(orders)
+    held = parse_hold(hold)
     vfd = _floats(vfd_harmonics, "--vfd-harmonics", "6,12")
     if not 0 <= margin < 1:
         raise ModelError(
@@ -300,16 +345,16 @@ def campbell_command(
             value=f"{lo:g}..{hi:g} rpm",
             expected="0 < min ≤ max",
         )
-    res = interference(
-        train,
-        speed_range=(lo * RPM, hi * RPM),
-        margin=margin,
-        mesh=mesh,
-        line_frequency=None if line_frequency is None else line_frequency * HZ,
-        orders=extra,
-        vfd_harmonics=vfd,
-        max_frequency=None if max_frequency is None else max_frequency * HZ,
-    )
+    with option_fields(orders="--orders"):
+        res = interference(
+            _torsional_model(train, mesh, held),
+            speed_range=(lo * RPM, hi * RPM),
+            margin=margin,
+            line_frequency=None if line_frequency is None else line_frequency * HZ,
+            orders=extra,
+            vfd_harmonics=vfd,
+            max_frequency=None if max_frequency is None else max_frequency * HZ,
+        )
     if format == "json":
         _echo_json(res.to_dict())
     else:
@@ -340,31 +385,59 @@ def response_command(
         float | None, typer.Option(parser=rpm(0, strict=True), help="rpm (default 1.2 × nominal)")
     ] = None,
     n_speeds: Annotated[
-        int, typer.Option(parser=count(2, MAX_SPEEDS), help="number of speeds")
-    ] = 200,
+        int | None,
+        typer.Option(parser=count(2, MAX_SPEEDS), help="number of speeds [default: 200]"),
+    ] = None,
+    speed: Annotated[
+        float | None,
+        typer.Option(
+            parser=rpm(0),
+            help="rpm: the response at this one speed instead of a sweep (each torque at its "
+            "one frequency: its order of this speed, or its fixed frequency)",
+        ),
+    ] = None,
     mesh: MeshOpt = "flexible",
+    hold: HoldOpt = None,
     format: FormatOpt = "table",
     plot: PlotOpt = None,
     set_: SetOpt = None,
 ) -> None:
     """Forced torsional response: alternating shaft torque and stress, coupling torque, mesh
-    load reversal (tooth separation) over a speed sweep."""
+    load reversal (tooth separation) over a speed sweep, or at one speed (``--speed``)."""
     from ..analyses.torsional import torsional_response
 
     check_format(format)
     _check_mesh(mesh)
     check_plot_dir(plot)
+    if speed is not None and (min_speed, max_speed, n_speeds) != (None, None, None):
+        raise ModelError(
+            "give either one --speed or a sweep",
+            field="--speed",
+            value=f"{speed:g} rpm with --min-speed/--max-speed/--n-speeds",
+            expected="--speed alone, or --min-speed/--max-speed/--n-speeds",
+        )
     exc = [parse_torque(t, k) for k, t in enumerate(torque)]
+    held = parse_hold(hold)
     train = _load(model, set_)
-    nominal = abs(train.speed) / RPM
-    lo = 0.5 * nominal if min_speed is None else min_speed
-    hi = 1.2 * nominal if max_speed is None else max_speed
-    speeds = speed_grid(lo, hi, n_speeds, "--min-speed/--max-speed")
-    res = torsional_response(train, excitations=exc, speeds=speeds, mesh=mesh)
+    if speed is not None:
+        lo = hi = speed
+        speeds = np.array([speed * RPM])
+    else:
+        nominal = abs(train.speed) / RPM
+        lo = 0.5 * nominal if min_speed is None else min_speed
+        hi = 1.2 * nominal if max_speed is None else max_speed
+        speeds = speed_grid(
+            lo, hi, 200 if n_speeds is None else n_speeds, "--min-speed/--max-speed"
+        )
+    with option_fields(excitations="--torque"):
+        res = torsional_response(
+            _torsional_model(train, mesh, held), excitations=exc, speeds=speeds
+        )
     if format == "json":
         _echo_json(res.to_dict())
     else:
-        typer.echo(f"{train.name}: torsional forced response {lo:.0f}..{hi:.0f} rpm")
+        where = f"at {lo:.0f} rpm" if speed is not None else f"{lo:.0f}..{hi:.0f} rpm"
+        typer.echo(f"{train.name}: torsional forced response {where}")
         typer.echo(res.table())
     if plot is not None:
         from ..plots.torsional import plot_torsional_response

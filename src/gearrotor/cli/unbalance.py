@@ -26,6 +26,7 @@ from .options import (
     operating_range_from_options,
     rpm,
     speed_grid,
+    sweep_range,
 )
 
 __all__ = ["unbalance_command"]
@@ -34,9 +35,19 @@ __all__ = ["unbalance_command"]
 @cli_errors()
 def unbalance_command(
     model: Annotated[Path, typer.Argument(help="TOML model file")],
-    min_speed: Annotated[float, typer.Option(parser=rpm(0), help="rpm")] = 100.0,
+    min_speed: Annotated[
+        float | None,
+        typer.Option(
+            parser=rpm(0),
+            help="rpm (default 100, or the lowest speed of the model's bearing tables)",
+        ),
+    ] = None,
     max_speed: Annotated[
-        float | None, typer.Option(parser=rpm(0, strict=True), help="rpm (default 1.5 × nominal)")
+        float | None,
+        typer.Option(
+            parser=rpm(0, strict=True),
+            help="rpm (default 1.5 × nominal, at most the highest speed of the bearing tables)",
+        ),
     ] = None,
     n_speeds: Annotated[
         int, typer.Option(parser=count(2, MAX_SPEEDS), help="number of speeds")
@@ -68,8 +79,8 @@ def unbalance_command(
     # --operating-range / --mcs override the model's; the response takes the range from the
     # train (model_operating_range; the nominal speed when the model states none)
     train = operating_range_from_options(train, operating_range, mcs)
-    hi = max_speed if max_speed is not None else 1.5 * abs(train.speed) / RPM
-    speeds = speed_grid(min_speed, hi, n_speeds, "--min-speed/--max-speed")
+    lo, hi = sweep_range(train, min_speed, max_speed, 100.0, 1.5 * abs(train.speed) / RPM)
+    speeds = speed_grid(lo, hi, n_speeds, "--min-speed/--max-speed")
     # the operating range's ends (the nominal speed without one) are sweep points: the orbits
     # are drawn at the maximum continuous speed itself, not at the nearest grid speed (7211 rpm
     # for a range to 7200)
@@ -93,7 +104,7 @@ def unbalance_command(
         ]
         typer.echo(json.dumps(d, indent=1))
     else:
-        typer.echo(f"{train.name}: unbalance response {min_speed:.0f}..{hi:.0f} rpm")
+        typer.echo(f"{train.name}: unbalance response {lo:.0f}..{hi:.0f} rpm")
         for u in unb:
             typer.echo(
                 f"  unbalance {u.amount * 1e6:.1f} g·mm at {u.shaft} "

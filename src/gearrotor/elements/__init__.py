@@ -5,6 +5,7 @@ from .coupling import CouplingElement
 from .disk import DiskElement
 from .mesh import MeshGeometry, buckingham_stiffness, iso6336_stiffness
 from .shaft import ShaftElement, shear_coefficient
+from .torsional_support import TorsionalSupportElement
 
 __all__ = [
     "CoefficientTable",
@@ -15,6 +16,7 @@ __all__ = [
     "RadialBearing",
     "ShaftElement",
     "ThrustBearing",
+    "TorsionalSupportElement",
     "buckingham_stiffness",
     "iso6336_stiffness",
     "shear_coefficient",

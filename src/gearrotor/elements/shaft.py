@@ -130,6 +130,10 @@ class ShaftElement:
     shear_method : ``"hutchinson"`` or ``"cowper"``; ``shear=False`` gives Euler–Bernoulli (Φ = 0)
     alpha : 1/s, beta : s, material damping ``C = α M + β K``; ``rotating_damping`` makes it
         act in the spinning frame (adds the circulatory stiffness :meth:`Kc`)
+    torsional_stiffness : N·m/rad, polar_mass : kg·m², torsional_damping : N·m·s/rad — the
+        torsional rod given directly (this element's: stiffness k, polar inertia J spread as
+        the consistent rod mass J/6 [[2, 1], [1, 2]], a dashpot c between its nodes) instead of
+        GJ/L and ρ J_p L; the bending, axial and gyroscopic parts keep the diameters
     """
 
     length: float
@@ -146,6 +150,9 @@ class ShaftElement:
     alpha: float = 0.0
     beta: float = 0.0
     rotating_damping: bool = False
+    torsional_stiffness: float | None = None
+    polar_mass: float | None = None
+    torsional_damping: float | None = None
 
     # --- section properties -------------------------------------------------------------
     @property
@@ -190,6 +197,21 @@ class ShaftElement:
     def mass(self) -> float:
         return self.density * self._mass_section()[0] * self.length
 
+    @property
+    def rod_stiffness(self) -> float:
+        """Torsional stiffness of the element (N·m/rad): given, or G J_p / L."""
+        if self.torsional_stiffness is not None:
+            return self.torsional_stiffness
+        return self.shear_modulus * 2 * self.inertia / self.length
+
+    @property
+    def rod_inertia(self) -> float:
+        """Polar mass moment of inertia of the element (kg·m²): given, or ρ J_p L of the mass
+        section."""
+        if self.polar_mass is not None:
+            return self.polar_mass
+        return self.density * 2 * self._mass_section()[1] * self.length
+
     # --- plane-beam matrices (w1, φ1, w2, φ2) ---------------------------------------------
     @cached_property
     def _plane(self) -> dict[str, NDArray]:
@@ -219,7 +241,13 @@ class ShaftElement:
         self._scatter_bending(out, self._plane["k"])
         A, J = self.area, 2 * self.inertia
         _scatter_rod(out, Z, self.E * A / self.length)
-        _scatter_rod(out, TZ, self.shear_modulus * J / self.length)
+        _scatter_rod(
+            out,
+            TZ,
+            self.shear_modulus * J / self.length
+            if self.torsional_stiffness is None
+            else self.torsional_stiffness,
+        )
         return out
 
     def M(self) -> NDArray:
@@ -231,7 +259,10 @@ class ShaftElement:
         m_rod = np.array([[2.0, 1.0], [1.0, 2.0]]) * self.length / 6
         for dof, coef in ((Z, self.density * A_m), (TZ, self.density * 2 * I_m)):
             idx = [dof, 6 + dof]
-            out[np.ix_(idx, idx)] += coef * m_rod
+            if dof == TZ and self.polar_mass is not None:
+                out[np.ix_(idx, idx)] += self.polar_mass / 6 * np.array([[2.0, 1.0], [1.0, 2.0]])
+            else:
+                out[np.ix_(idx, idx)] += coef * m_rod
         return out
 
     def G(self) -> NDArray:
@@ -252,12 +283,17 @@ class ShaftElement:
 
     @property
     def damped(self) -> bool:
-        """True when the element has material damping (α or β non-zero)."""
-        return self.alpha != 0.0 or self.beta != 0.0
+        """True when the element has material damping (α or β non-zero) or a torsional
+        dashpot."""
+        return self.alpha != 0.0 or self.beta != 0.0 or bool(self.torsional_damping)
 
     def C(self) -> NDArray:
-        """Material damping matrix ``α M + β K`` (12×12, N·s/m, N·s, N·m·s)."""
-        return self.alpha * self.M() + self.beta * self.K()
+        """Damping matrix ``α M + β K`` (material) plus the torsional dashpot (12×12, N·s/m,
+        N·s, N·m·s)."""
+        out = self.alpha * self.M() + self.beta * self.K()
+        if self.torsional_damping:
+            _scatter_rod(out, TZ, self.torsional_damping)
+        return out
 
     def Kc(self) -> NDArray:
         """Circulatory stiffness per unit spin speed of rotating damping (12×12, skew, N·s/m,

@@ -9,12 +9,14 @@ Unknown keys are errors. Every error names the file, the field, the value and wh
 from __future__ import annotations
 
 import copy
+import difflib
 import re
 import tomllib
+import typing
 from pathlib import Path
 from typing import Any
 
-from pydantic import ValidationError
+from pydantic import BaseModel, ValidationError
 
 from ..errors import ModelError
 from ..inputs import MAX_LISTED, read_table, read_toml
@@ -26,6 +28,7 @@ __all__ = [
     "model_from_dict",
     "apply_overrides",
     "format_validation_error",
+    "model_field_paths",
     "parse_overrides",
 ]
 
@@ -260,16 +263,114 @@ def model_from_file_data(data: dict, path: str | Path, overrides: dict | None = 
                 file=name,
                 expected="a model file with [[shafts]] (see docs/model_format.md)",
             )
+    original = data
     try:
         data = apply_overrides(data, overrides)
+        if not overrides:  # apply_overrides copies only when it changes something
+            data = copy.deepcopy(data)
+        _resolve_paths(data, path.parent)
+        train = model_from_dict(data, file=name)
     except ModelError as exc:
-        raise exc.with_file(name) from None
-    if not overrides:  # apply_overrides copies only when it changes something
-        data = copy.deepcopy(data)
-    _resolve_paths(data, path.parent)
-    train = model_from_dict(data, file=name)
+        hint = override_path_error(original, overrides)
+        raise (hint or exc).with_file(name) from None
     _check_files(train, name)
     return train
+
+
+def _canonical(parts: list[str | int]) -> str:
+    out = ""
+    for part in parts:
+        out += f"[{part}]" if isinstance(part, int) else (f".{part}" if out else part)
+    return out
+
+
+def _field_models(annotation: Any) -> list[tuple[str, type[BaseModel]]]:
+    """The model classes a field annotation holds, each with how it is reached: ``""``
+    (directly or in a union), ``"[]"`` (items of a list) or ``"{}"`` (values of a table)."""
+    if isinstance(annotation, type) and issubclass(annotation, BaseModel):
+        return [("", annotation)]
+    origin, out = typing.get_origin(annotation), []
+    for arg in typing.get_args(annotation):
+        kind = "[]" if origin in (list, tuple) else "{}" if origin is dict else ""
+        out += [(kind or k, m) for k, m in _field_models(arg)]
+    return out
+
+
+def model_field_paths(data: dict, cls: type[BaseModel] = Train) -> set[str]:
+    """Every dotted path ``--set`` can name in a model given as nested dicts: the fields of
+    ``cls`` (recursively, also those of optional tables the data leaves out), with the list
+    indices and table keys the data has (``meshes[0].variation.ka_ratio``,
+    ``materials.steel.E``). A field that is a table or a number (``meshes[0].stiffness``) is a
+    path itself."""
+    paths: set[str] = set()
+
+    def walk(model: type[BaseModel], value: Any, prefix: str, depth: int) -> None:
+        if depth > 12:
+            return
+        for name, field in model.model_fields.items():
+            path = f"{prefix}.{name}" if prefix else name
+            paths.add(path)
+            sub = value.get(name) if isinstance(value, dict) else None
+            for kind, inner in _field_models(field.annotation):
+                if kind == "[]":
+                    items = sub if isinstance(sub, list) else []
+                    for k, item in enumerate(items):
+                        paths.add(f"{path}[{k}]")
+                        walk(inner, item, f"{path}[{k}]", depth + 1)
+                elif kind == "{}":
+                    for key, item in (sub if isinstance(sub, dict) else {}).items():
+                        paths.add(f"{path}.{key}")
+                        walk(inner, item, f"{path}.{key}", depth + 1)
+                else:
+                    walk(inner, sub, path, depth + 1)
+
+    walk(cls, data, "", 0)
+    return paths
+
+
+def override_path_error(data: dict, overrides: dict[str, Any] | None) -> ModelError | None:
+    """The error of the first ``--set`` path that names no field of the model ``data``, with
+    the closest field paths (``did you mean``), or ``None`` when every path names one. An index
+    past the end of a list names the list's length instead."""
+    if not overrides:
+        return None
+    valid = model_field_paths(data)
+    for path, value in overrides.items():
+        try:
+            parts = _parse_path(path)
+        except ModelError:
+            return None  # apply_overrides already says so
+        canonical = _canonical(parts)
+        if canonical in valid:
+            continue
+        # a list index past the end of a list the model has
+        for k, part in enumerate(parts):
+            if isinstance(part, int) and _canonical(parts[:k]) in valid:
+                if _canonical(parts[: k + 1]) in valid:
+                    continue
+                entry = re.compile(re.escape(_canonical(parts[:k])) + r"\[\d+\]")
+                n = sum(1 for p in valid if entry.fullmatch(p))
+                return ModelError(
+                    "override index out of range",
+                    field=path,
+                    value=value,
+                    expected=f"an index 0..{n - 1} (the model has {n})"
+                    if n
+                    else "a list the model has (this one is empty)",
+                )
+        depth = len(parts)
+        same = sorted(p for p in valid if len(_parse_path(p)) == depth)
+        close = difflib.get_close_matches(canonical, same, n=1, cutoff=0.7)
+        close = close or difflib.get_close_matches(canonical, sorted(valid), n=1, cutoff=0.7)
+        if not close:
+            continue
+        return ModelError(
+            "no such field in the model",
+            field=path,
+            value=value,
+            expected=f"a field of the model: did you mean {close[0]!r}?",
+        )
+    return None
 
 
 def _check_files(train: Train, file: str) -> None:

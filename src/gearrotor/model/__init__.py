@@ -23,6 +23,7 @@ from .components import (
     Shaft,
     Support,
     ThrustBearing,
+    TorsionalSupport,
     Unbalance,
 )
 from .drives import (
@@ -37,6 +38,7 @@ from .drives import (
     StressConcentration,
     SynchronousMotor,
     TorqueDrive,
+    TorqueHistory,
     Torsional,
     VoltageProfile,
 )
@@ -78,6 +80,7 @@ __all__ = [
     "ShaftLayout",
     "ShortCircuit",
     "SpeedTorqueTable",
+    "TorqueHistory",
     "StartTable",
     "StressConcentration",
     "Support",
@@ -85,6 +88,7 @@ __all__ = [
     "ThrustBearing",
     "TorqueDrive",
     "Torsional",
+    "TorsionalSupport",
     "Train",
     "Unbalance",
     "VoltageProfile",

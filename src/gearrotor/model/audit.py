@@ -7,12 +7,12 @@ can run the audit from the file alone. The analysis is
 .. code-block:: toml
 
     [api_audit]
-    edition = "8th"                      # API 617 8th edition (2014), the one implemented
+    edition = "8th"                      # API 617 8th edition (2014) or "9th" (2022)
     qa = "5.68e7 N/m"                    # Q_A given directly, or [[api_audit.stages]]
     at = [{ shaft = "pinion", node = 1 }]  # where Q acts ("mid_span": middle of the span)
     # operating_speed = "10800 rpm"      # N_r of the formula (default: the model's speed)
     # suction_density / discharge_density, or average_density (kg/m^3): the screening chart
-    # exclude_bearings = ["seal"]        # bearings (seals) left out of Level I
+    # exclude_bearings = ["seal"]        # bearings or seals left out of Level I
 
     [[api_audit.stages]]                 # one impeller / blade row
     shaft = "rotor"
@@ -36,8 +36,17 @@ from .components import Int, NodeRef, Spec
 
 __all__ = ["ApiAudit", "AuditSite", "AuditStage", "EDITIONS"]
 
-#: the ``edition`` values accepted: the API 617 8th edition (2014) is the one implemented
-EDITIONS = ("8", "8th", "API 617 8th edition", "API 617 8th edition (2014)")
+#: the ``edition`` values accepted (any case): the API 617 8th edition (2014) or 9th (2022)
+EDITIONS = (
+    "8",
+    "8th",
+    "API 617 8th edition",
+    "API 617 8th edition (2014)",
+    "9",
+    "9th",
+    "API 617 9th edition",
+    "API 617 9th edition (2022)",
+)
 
 
 def _positive(v, what: str):
@@ -100,8 +109,10 @@ class ApiAudit(Spec):
     @field_validator("edition")
     @classmethod
     def _edition(cls, v):
-        if v not in EDITIONS:
-            raise ValueError("expected '8th' (API 617 8th edition, 2014: the edition implemented)")
+        if str(v).strip().lower() not in {e.lower() for e in EDITIONS}:
+            raise ValueError(
+                "expected '8th' (API 617 8th edition, 2014) or '9th' (API 617 9th edition, 2022)"
+            )
         return v
 
     @field_validator("qa", "average_density", "suction_density", "discharge_density")
@@ -149,10 +160,11 @@ class ApiAudit(Spec):
         for k, st in enumerate(self.stages):
             train.node_index(NodeRef(shaft=st.shaft, node=st.node), f"api_audit.stages[{k}]")
         names = [b.name or f"bearings[{k}]" for k, b in enumerate(train.bearings)]
+        names += [sl.name or f"seals[{k}]" for k, sl in enumerate(train.seals)]
         for k, e in enumerate(self.exclude_bearings):
             if e not in names:
                 raise ModelError(
-                    "no such bearing to exclude",
+                    "no such bearing or seal to exclude",
                     field=f"api_audit.exclude_bearings[{k}]",
                     value=e,
                     expected=f"one of {names}",

@@ -56,6 +56,7 @@ __all__ = [
     "Bearing",
     "Seal",
     "ThrustBearing",
+    "TorsionalSupport",
     "CrossCoupling",
     "Coupling",
     "GearSide",
@@ -178,8 +179,20 @@ class Material(Spec):
         return self.E / (2 * (1 + self.poisson))
 
 
+_SECTION_TORSION = ("torsional_stiffness", "polar_inertia", "torsional_damping")
+
+
 class Section(Spec):
-    """A uniform stretch of shaft, split into ``elements`` equal Timoshenko elements."""
+    """A uniform stretch of shaft, split into ``elements`` equal Timoshenko elements.
+
+    The torsional rod may be given directly instead of from the diameters and the material:
+    ``torsional_stiffness`` (N·m/rad) and ``polar_inertia`` (kg·m²) of the whole section (a
+    quill shaft, a spline or a flexible element of known stiffness, an inertia from a data
+    sheet; the section's ``elements`` are springs in series, each ``n k``, with ``J / n`` of
+    consistent rod mass), and ``torsional_damping`` (N·m·s/rad, a dashpot across the whole
+    section, ``n c`` per element). The lateral beam, the axial bar, the gyroscopic matrix and
+    the surface shear stress still come from the diameters.
+    """
 
     length: Length = Field(gt=0)
     outer_diameter: Length = Field(gt=0)
@@ -188,6 +201,20 @@ class Section(Spec):
     material: str | None = None
     mass_outer_diameter: Length | None = Field(default=None, gt=0)
     mass_inner_diameter: Length | None = Field(default=None, ge=0)
+    # the torsional rod given directly (whole section; lateral beam and stress from diameters)
+    torsional_stiffness: RotStiffness | None = Field(default=None, gt=0)
+    polar_inertia: Inertia | None = Field(default=None, gt=0)
+    torsional_damping: RotDamping | None = Field(default=None, ge=0)
+
+    @model_serializer(mode="wrap")
+    def _without_absent_torsion(self, handler):
+        # a section without the torsional values serialises as before they existed (model
+        # JSON: study case keys, checkpoint fingerprints)
+        out = handler(self)
+        for key in _SECTION_TORSION:
+            if getattr(self, key) is None:
+                out.pop(key, None)
+        return out
 
     @model_validator(mode="after")
     def _hollow(self) -> Section:
@@ -402,6 +429,24 @@ class Seal(NodeRef):
     def coefficients(self) -> tuple[float, ...]:
         """The constant coefficients kxx kxy kyx kyy cxx cxy cyx cyy (isotropic shortcuts added)."""
         return _eight(self)
+
+
+class TorsionalSupport(NodeRef):
+    """Torsional spring ``k`` (N·m/rad) and damper ``c`` (N·m·s/rad) from a node's θz to ground:
+    a held or elastically restrained end, propeller or windage damping (the slope dT/dΩ of
+    the load curve at the operating speed). In a transient ``c`` is a torque ``−c θ̇`` on the
+    absolute speed (a viscous brake); a spring to ground holds the shaft, so the transients
+    refuse it."""
+
+    name: str | None = None
+    k: RotStiffness = Field(default=0.0, ge=0)
+    c: RotDamping = Field(default=0.0, ge=0)
+
+    @model_validator(mode="after")
+    def _something(self) -> TorsionalSupport:
+        if self.k == 0 and self.c == 0:
+            raise ValueError("a torsional support needs k > 0 or c > 0 (both are 0)")
+        return self
 
 
 class ThrustBearing(NodeRef):

@@ -28,8 +28,9 @@ Drive types (``type = ...``):
     into step: from then on ``T = T_avg(s) + T_po sin(δ − δ_p)`` (pull-out torque ``T_po``,
     δ_p the angle at pull-in, so the synchronous torque starts from zero).
 ``"torque"``
-    a prescribed torque: a constant ``value`` or a ``table`` against speed (a turbine, a
-    measured motor curve without electrical model).
+    a prescribed torque: a constant ``value``, a ``table`` against speed (a turbine, a
+    measured motor curve without electrical model) or a ``history`` against time (a measured
+    or computed air-gap torque, an engine's torque record, a test-rig drive).
 
 Events on an electric drive: ``voltage`` (a voltage factor v(t) against time, e.g. a dip
 during start-up: asynchronous torques scale with v², the synchronous torque with v),
@@ -53,8 +54,10 @@ three-phase fault). The amplitudes and time constants are inputs: they come from
 sub-transient reactances and time constants.
 
 Loads (``type = ...``): ``"constant"`` (``torque``), ``"quadratic"`` (``torque`` at ``speed``,
-T ∝ Ω², a centrifugal compressor or fan) or ``"table"`` (torque against speed); ``steps``
-multiply the load torque by a factor from a time on (load rejection: factor 0).
+T ∝ Ω², a centrifugal compressor or fan), ``"table"`` (torque against speed) or ``"history"``
+(torque against time: a recorded process load, a propeller's ice impacts); ``steps`` multiply
+the load torque by a factor from a time on (load rejection: factor 0). In the linear analyses
+(the rated operating point) a history acts with its last value.
 
 Tables are interpolated linearly and held constant beyond their ends.
 """
@@ -64,7 +67,7 @@ from __future__ import annotations
 from typing import Annotated, Literal
 
 import numpy as np
-from pydantic import Field, model_validator
+from pydantic import Field, model_serializer, model_validator
 
 from ..errors import ModelError
 from ..units import (
@@ -81,6 +84,7 @@ from .components import Int, NodeRef, Spec
 
 __all__ = [
     "SpeedTorqueTable",
+    "TorqueHistory",
     "EquivalentCircuit",
     "StartTable",
     "VoltageProfile",
@@ -119,6 +123,20 @@ class SpeedTorqueTable(Spec):
                 f"'speed' has {len(self.speed)} values, 'torque' has {len(self.torque)}"
             )
         _strictly_increasing(self.speed, "speed")
+        return self
+
+
+class TorqueHistory(Spec):
+    """Torque (N·m) against time (s): interpolated linearly, held beyond its ends."""
+
+    time: list[Time] = Field(min_length=2)
+    torque: list[Torque] = Field(min_length=2)
+
+    @model_validator(mode="after")
+    def _check(self) -> TorqueHistory:
+        if len(self.time) != len(self.torque):
+            raise ValueError(f"'time' has {len(self.time)} values, 'torque' has {len(self.torque)}")
+        _strictly_increasing(self.time, "time")
         return self
 
 
@@ -303,16 +321,28 @@ class SynchronousMotor(_ElectricDrive):
 
 
 class TorqueDrive(_DriveBase):
-    """A prescribed drive torque: constant ``value`` or a ``table`` against speed."""
+    """A prescribed drive torque: constant ``value``, a ``table`` against speed or a
+    ``history`` against time."""
 
     type: Literal["torque"]
     value: Torque | None = None
     table: SpeedTorqueTable | None = None
+    history: TorqueHistory | None = None
+
+    @model_serializer(mode="wrap")
+    def _without_absent_history(self, handler):
+        out = handler(self)  # a drive without a history serialises as before it existed
+        if self.history is None:
+            out.pop("history", None)
+        return out
 
     @model_validator(mode="after")
     def _one_law(self) -> TorqueDrive:
-        if (self.value is None) == (self.table is None):
-            raise ValueError("give exactly one of 'value' (constant torque) or 'table'")
+        if sum(x is not None for x in (self.value, self.table, self.history)) != 1:
+            raise ValueError(
+                "give exactly one of 'value' (constant torque), 'table' (against speed) or "
+                "'history' (against time)"
+            )
         if self.rated_speed is None:
             raise ValueError("a 'torque' drive needs 'rated_speed' (for its rated torque)")
         return self
@@ -332,15 +362,28 @@ class Load(NodeRef):
     """A load torque against the rotation (module docstring)."""
 
     name: str | None = None
-    type: Literal["constant", "quadratic", "table"]
+    type: Literal["constant", "quadratic", "table", "history"]
     torque: Torque | None = Field(default=None, ge=0)
     speed: AngularSpeed | None = Field(default=None, gt=0)
     table: SpeedTorqueTable | None = None
+    history: TorqueHistory | None = None
     steps: list[LoadStep] = Field(default_factory=list)
+
+    @model_serializer(mode="wrap")
+    def _without_absent_history(self, handler):
+        out = handler(self)  # a load without a history serialises as before it existed
+        if self.history is None:
+            out.pop("history", None)
+        return out
 
     @model_validator(mode="after")
     def _law(self) -> Load:
-        if self.type == "table":
+        if self.type != "history" and self.history is not None:
+            raise ValueError(f"a '{self.type}' load takes no 'history' (type = 'history' does)")
+        if self.type == "history":
+            if self.history is None or self.torque is not None or self.table is not None:
+                raise ValueError("a 'history' load needs 'history' (and no 'torque' or 'table')")
+        elif self.type == "table":
             if self.table is None or self.torque is not None:
                 raise ValueError("a 'table' load needs 'table' (and no 'torque')")
         else:
@@ -357,6 +400,8 @@ class Load(NodeRef):
             return self.torque
         if self.type == "quadratic":
             return self.torque * speed * abs(speed) / self.speed**2
+        if self.type == "history":
+            return float(self.history.torque[-1])  # held beyond its end: the steady value
         return float(np.interp(speed, self.table.speed, self.table.torque))
 
 

@@ -32,6 +32,7 @@ from .components import (
     Shaft,
     Spec,
     ThrustBearing,
+    TorsionalSupport,
     Unbalance,
 )
 from .drives import Torsional
@@ -43,7 +44,7 @@ _REL_TOL = 1e-6
 # optional Train fields left out of the model JSON when absent
 _OMIT_WHEN_ABSENT = ("torsional", "operating_speed_range", "max_continuous_speed", "api_audit")
 # optional Train lists left out of the model JSON when empty
-_OMIT_WHEN_EMPTY = ("operating_points", "seals")
+_OMIT_WHEN_EMPTY = ("operating_points", "seals", "torsional_supports")
 
 
 @dataclass(frozen=True)
@@ -89,6 +90,8 @@ class Train(Spec):
     bearings: list[Bearing] = Field(default_factory=list)
     seals: list[Seal] = Field(default_factory=list)  # annular seals: like bearings, any sign
     thrust_bearings: list[ThrustBearing] = Field(default_factory=list)
+    # torsional springs / dampers to ground (held ends, propeller damping)
+    torsional_supports: list[TorsionalSupport] = Field(default_factory=list)
     cross_couplings: list[CrossCoupling] = Field(default_factory=list)
     couplings: list[Coupling] = Field(default_factory=list)
     meshes: list[Mesh] = Field(default_factory=list)
@@ -369,6 +372,7 @@ class Train(Spec):
             "bearings",
             "seals",
             "thrust_bearings",
+            "torsional_supports",
             "cross_couplings",
             "couplings",
             "meshes",
@@ -406,6 +410,7 @@ class Train(Spec):
             ("bearings", self.bearings),
             ("seals", self.seals),
             ("thrust_bearings", self.thrust_bearings),
+            ("torsional_supports", self.torsional_supports),
             ("cross_couplings", self.cross_couplings),
             ("unbalances", self.unbalances),
             ("probes", self.probes),

@@ -88,14 +88,22 @@ def plot_interference(result, path=None):
     modes_hz = result.modes.frequency_hz[result.modes.elastic]
     ytop = 1.1 * result.max_frequency / (2 * np.pi)
     m = result.required_margin
-    for f in modes_hz:
+    for k, f in enumerate(modes_hz):
         if f > ytop:
             break
-        ax.axhline(f, color="k", lw=1.0)
+        ax.axhline(f, color="k", lw=1.0, label="natural frequency" if k == 0 else None)
         ax.axhspan(f / (1 + m), f / (1 - m) if m < 1 else f * 2, color="0.5", alpha=0.12)
         ax.annotate(f"{f:.1f} Hz", (top * RPM, f), fontsize=7, ha="right", va="bottom")
-    ax.axvspan(lo * RPM * (1 - m), hi * RPM * (1 + m), color="C2", alpha=0.08)
-    ax.axvspan(lo * RPM, hi * RPM * 1.0005, color="C2", alpha=0.25, label="operating range")
+    # a line through the origin crossing a mode at speed s_c fails the margin when
+    # |s_c / s − 1| < m somewhere in the range: s_c in (lo (1 − m), hi (1 + m))
+    ax.axvspan(
+        lo * RPM * (1 - m),
+        hi * RPM * (1 + m),
+        color="C2",
+        alpha=0.08,
+        label=f"crossings here fail the ±{m:.0%} margin",
+    )
+    ax.axvspan(lo * RPM, hi * RPM * 1.0005, color="C2", alpha=0.35, label=result.range_label)
     for c in result.crossings:
         if c.speed is None:
             continue
@@ -209,11 +217,10 @@ def plot_torsional_transient(result, path=None, elements=None):
     labels = tm.element_labels()
     rated = result.rated_element_torque
     for e in elements:
-        r = (
-            abs(rated[e])
-            if rated is not None and abs(rated[e]) > 1e-6 * np.abs(rated).max()
-            else None
-        )
+        # per unit of the signed rated torque: +1 is the rated torque in every shaft, whichever
+        # way the shaft turns and whichever end the power enters (the sign of GJ/L Δθ about
+        # +z depends on both)
+        r = rated[e] if rated is not None and abs(rated[e]) > 1e-6 * np.abs(rated).max() else None
         y = result.element_torque[:, e] / r if r else result.element_torque[:, e] / 1e3
         ax.plot(t, y, lw=0.8, label=f"{labels[e]}" + (" / rated" if r else " (kN·m)"))
     ax.set_ylabel("shaft torque\n(p.u. of rated)")

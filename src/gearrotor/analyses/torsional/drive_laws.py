@@ -38,9 +38,10 @@ __all__ = [
     "advance_states",
     "evaluate",
     "check_load_paths",
+    "check_transient_supports",
 ]
 
-KIND_CONSTANT, KIND_TABLE, KIND_QUADRATIC, KIND_INDUCTION, KIND_SYNCHRONOUS = range(5)
+KIND_CONSTANT, KIND_TABLE, KIND_QUADRATIC, KIND_INDUCTION, KIND_SYNCHRONOUS, KIND_HISTORY = range(6)
 (
     P_KIND,
     P_SIGN,
@@ -144,6 +145,9 @@ def pack_laws(train: Train) -> TorqueLaws:
             if d.table is not None:
                 p[P_KIND] = KIND_TABLE
                 tab = (np.asarray(d.table.speed), np.asarray(d.table.torque), np.zeros(0))
+            elif d.history is not None:
+                p[P_KIND] = KIND_HISTORY
+                tab = (np.asarray(d.history.time), np.asarray(d.history.torque), np.zeros(0))
             else:
                 p[P_KIND] = KIND_CONSTANT
                 p[P_VALUE] = d.value
@@ -206,6 +210,10 @@ def pack_laws(train: Train) -> TorqueLaws:
             p[P_VALUE] = ld.torque
             p[P_SPEED] = ld.speed
             p[P_RATED] = ld.torque
+        elif ld.type == "history":
+            p[P_KIND] = KIND_HISTORY
+            tab = (np.asarray(ld.history.time), np.asarray(ld.history.torque), np.zeros(0))
+            p[P_RATED] = float(np.max(np.abs(ld.history.torque)))
         else:
             p[P_KIND] = KIND_TABLE
             tab = (np.asarray(ld.table.speed), np.asarray(ld.table.torque), np.zeros(0))
@@ -286,6 +294,8 @@ def law_torque(j, t, th, om, state, par, t_ptr, t_x, t_y, t_z, v_ptr, v_t, v_f, 
         out = par[j, P_VALUE]
     elif kind == KIND_TABLE:
         out = np.interp(om, t_x[lo:hi], t_y[lo:hi]) * v ** par[j, P_VEXP]
+    elif kind == KIND_HISTORY:
+        out = np.interp(t, t_x[lo:hi], t_y[lo:hi])
     elif kind == KIND_QUADRATIC:
         out = par[j, P_VALUE] * om * abs(om) / (par[j, P_SPEED] * par[j, P_SPEED])
     elif kind == KIND_INDUCTION:
@@ -364,4 +374,20 @@ def check_load_paths(laws: TorqueLaws, component_of: NDArray, node_dof) -> None:
                 field=f"torsional.drives[{j}]",
                 value=laws.names[j],
                 expected="a [[torsional.loads]] entry on a shaft torsionally connected to it",
+            )
+
+
+def check_transient_supports(train: Train) -> None:
+    """A transient turns the train (θz is the absolute angle): a torsional spring to ground
+    would wind up with it, so it is refused (:class:`ModelError` naming the support); a damper
+    to ground is a torque ``−c θ̇`` on the absolute speed, a viscous brake, and is kept."""
+    for k, t in enumerate(train.torsional_supports):
+        if t.k > 0:
+            raise ModelError(
+                "a torsional spring to ground holds the shaft, but a transient turns the train "
+                "(θz is the absolute angle)",
+                field=f"torsional_supports[{k}].k",
+                value=f"{t.k:.6g} N·m/rad",
+                expected="k = 0 in a transient (a damper c acts on the absolute speed); a held "
+                "end belongs to the linear analyses (modes, response)",
             )

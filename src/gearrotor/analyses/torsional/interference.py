@@ -106,6 +106,14 @@ class InterferenceResult:
     def failures(self) -> tuple[InterferenceCrossing, ...]:
         return tuple(c for c in self.crossings if not c.passes)
 
+    @property
+    def range_label(self) -> str:
+        """Label of the operating band: "operating speed N rpm" or "operating range A–B rpm"."""
+        lo, hi = (s * RPM for s in self.speed_range)
+        if abs(hi - lo) <= 1e-9 * hi:
+            return f"operating speed {lo:.0f} rpm"
+        return f"operating range {lo:.0f}–{hi:.0f} rpm"
+
     def line_frequency(self, line: ExcitationLine, speeds: NDArray) -> NDArray:
         return line.at(speeds, self.modes.model.speed_ratio)
 
@@ -147,14 +155,12 @@ class InterferenceResult:
         }
 
     def table(self) -> str:
-        lo, hi = (s * RPM for s in self.speed_range)
         head = (
             f"{'mode':>4} {'freq Hz':>9} {'excitation':<28} {'speed rpm':>10} "
             f"{'margin':>8}  {'result':<6} where"
         )
         rows = [
-            f"operating range {lo:.0f}-{hi:.0f} rpm (reference shaft), required separation "
-            f"{self.required_margin:.0%}",
+            f"{self.range_label} (reference shaft), required separation {self.required_margin:.0%}",
             head,
             "-" * len(head),
         ]

@@ -6,7 +6,9 @@ path as every other analysis, keeping only the torsional DOF θz of every node:
 * shaft elements: the torsional rod of :class:`~gearrotor.elements.ShaftElement` (consistent
   mass ρJ L/6 [[2, 1], [1, 2]], stiffness GJ/L, material damping α M + β K with the assembly's
   correction that keeps the mass-proportional part from braking the spin);
-* disks: their polar inertia; couplings: ``ktz``, ``ctz``;
+* disks: their polar inertia; couplings: ``ktz``, ``ctz``; torsional supports (springs and
+  dampers to ground); sections whose rod is given directly (``torsional_stiffness``,
+  ``polar_inertia``, ``torsional_damping``);
 * gear meshes, ``mesh="flexible"``: the mesh element ``k w wᵀ`` (and ``c w wᵀ``) restricted to
   the two gears' θz, i.e. a torsional spring ``k (r_i cos β cos αn)²`` per side with the sign
   pattern of the kinematic vector w (:class:`~gearrotor.elements.MeshGeometry`), the base-circle
@@ -72,8 +74,10 @@ class TorsionalModel:
     node_index: NDArray  # (n_full,) node index on its shaft
     node_z: NDArray  # (n_full,) m
     shaft_names: tuple[str, ...]
-    speed_ratio: NDArray  # (n_shafts,) Ω_s / Ω_ref, signed
+    speed_ratio: NDArray  # (n_shafts,) Ω_s / Ω_ref, signed (tooth counts)
     rotation: NDArray  # (n_shafts,) ±1, sense of rotation of each shaft
+    kinematic: NDArray  # (n_full,) rotation of each node per unit rotation of the reference
+    # shaft when the train turns as a whole through its connections (meshes: their radii)
     # shaft elements
     el_shaft: NDArray
     el_number: NDArray  # element index along its shaft
@@ -88,6 +92,11 @@ class TorsionalModel:
     cp_dofs: NDArray  # (nc, 2)
     cp_stiffness: NDArray
     cp_damping: NDArray
+    # torsional supports: springs / dampers from a node to ground
+    gs_names: tuple[str, ...]
+    gs_dofs: NDArray  # (ng,) full DOF
+    gs_stiffness: NDArray  # N·m/rad
+    gs_damping: NDArray  # N·m·s/rad
     # meshes
     mesh_names: tuple[str, ...]
     mesh_dofs: NDArray  # (nm, 2) full DOFs of gear i and gear j
@@ -97,6 +106,10 @@ class TorsionalModel:
     mesh_backlash: NDArray  # one-side b, m
     mesh_teeth: NDArray  # (nm, 2)
     mesh_shafts: NDArray  # (nm, 2)
+    # a mesh's damping_ratio and the mode it refers to (NaN where the mesh gives none)
+    mesh_damping_ratio: NDArray  # (nm,)
+    mesh_mode_frequency: NDArray  # (nm,) rad/s, undamped natural frequency of the mesh mode
+    mesh_mode_fraction: NDArray  # (nm,) share of that mode's strain energy in the mesh
 
     # ---- sizes and maps --------------------------------------------------------------------
     @property
@@ -212,10 +225,11 @@ class TorsionalModel:
         w = abs(train.speed if speed is None else speed)
         f = np.zeros(self.n_full)
         power = 0.0
+        ratio = np.abs(self.kinematic_ratio)  # the speeds at which the torques balance exactly
         for k, ld in enumerate(tors.loads):
             i = self.node_dof(ld, f"torsional.loads[{k}]")
             s = self.node_shaft[i]
-            ws = abs(self.speed_ratio[s]) * w
+            ws = ratio[s] * w
             tq = ld.torque_at(ws)
             f[i] -= self.rotation[s] * tq
             power += tq * ws
@@ -223,9 +237,20 @@ class TorsionalModel:
         for k, d in enumerate(tors.drives):
             i = self.node_dof(d, f"torsional.drives[{k}]")
             s = self.node_shaft[i]
-            ws = abs(self.speed_ratio[s]) * w
+            ws = ratio[s] * w
             f[i] += self.rotation[s] * power * d.rated_power / rated / ws
         return f
+
+    @property
+    def kinematic_ratio(self) -> NDArray:
+        """(n_shafts,) rotation of each shaft per unit rotation of the reference shaft when the
+        train turns as a whole, from the mesh kinematics (the radii the meshes use: δ = w·θ = 0)
+        rather than the tooth counts; equal to :attr:`speed_ratio` when the pitch radii are in
+        the tooth ratio. A shaft not connected to the reference shaft keeps its tooth ratio."""
+        first = np.array(
+            [np.flatnonzero(self.node_shaft == s)[0] for s in range(len(self.shaft_names))]
+        )
+        return self.kinematic[first]
 
     @property
     def torque_arm(self) -> NDArray:
@@ -235,13 +260,16 @@ class TorsionalModel:
     # ---- static torque flow ----------------------------------------------------------------
     def rigid_modes(self) -> NDArray:
         """(n, r) M-orthonormal rigid-body rotations of the reduced model, one per torsionally
-        free part of the train: every node of a part turning at its shaft's speed ratio (a
-        part held by a fixed node or whose rotation strains something has none). Built from
-        the connectivity rather than picked from the eigenvalues, whose zeros round-off can
-        lift well above any fixed threshold in a stiff, light model."""
-        pattern = sp.csr_array(np.abs(self.K) + np.abs(self.C) > 0)
+        free part of the train (parts joined by stiffness): every node of a part turning as
+        the mesh kinematics make it turn (:attr:`kinematic`: the radii the meshes use, so a
+        rigid rotation strains no mesh whatever the tooth counts say); a part held by a fixed
+        node or a spring to ground, or whose rotation strains something (a loop of meshes
+        whose ratios do not close), has none. Built from the connectivity rather than picked
+        from the eigenvalues, whose zeros round-off can lift well above any fixed threshold in
+        a stiff, light model."""
+        pattern = sp.csr_array(np.abs(self.K) > 0)
         n_parts, part = connected_components(pattern, directed=False)
-        r_all = self.speed_ratio[self.node_shaft[self.roots]]
+        r_all = self.kinematic[self.roots]
         scale = np.abs(self.K).max() if self.K.size else 1.0
         modes = []
         for c in range(n_parts):
@@ -413,7 +441,7 @@ def torsional_model(
             el["num"].append(e)
             el["sec"].append(sec)
             el["dofs"].append((base + e, base + e + 1))
-            el["k"].append(element.shear_modulus * jp / element.length)
+            el["k"].append(element.rod_stiffness)
             el["r"].append(element.outer_diameter / 2)
             el["J"].append(jp)
             el["scf"].append(scf.get((si, int(sec)), 1.0))
@@ -428,8 +456,25 @@ def torsional_model(
         cp["k"].append(c.ktz)
         cp["c"].append(c.ctz)
 
+    # ---- torsional supports (springs / dampers to ground) -----------------------------------
+    gs = {k: [] for k in ("name", "dof", "k", "c")}
+    for k, t in enumerate(train.torsional_supports):
+        si, ni = train.node_index(t, f"torsional_supports[{k}]")
+        gs["name"].append(t.name or f"torsional_supports[{k}]")
+        gs["dof"].append(pos[asm.node_offset[si][ni] + 5])
+        gs["k"].append(t.k)
+        gs["c"].append(t.c)
+
     ratios = np.array([sl.speed_ratio for sl in layout.shafts])
     sense = np.sign(ratios * train.speed) if train.speed != 0 else np.sign(ratios)
+    links = [(int(a), int(b), 1.0) for a, b in el["dofs"]]
+    links += [(int(a), int(b), 1.0) for a, b in cp["dofs"]]
+    links += [
+        (int(mesh_dofs[k, 0]), int(mesh_dofs[k, 1]), -mesh_w[k, 0] / mesh_w[k, 1])
+        for k in range(nm)
+    ]
+    ref = train.shaft_index(train.reference, "reference_shaft")
+    kinematic = _kinematic_rotation(n_full, links, node_shaft, ratios, ref)
     out = TorsionalModel(
         train=train,
         assembly=asm,
@@ -449,6 +494,7 @@ def torsional_model(
         shaft_names=tuple(s.name for s in train.shafts),
         speed_ratio=ratios,
         rotation=sense,
+        kinematic=kinematic,
         el_shaft=np.array(el["shaft"], int),
         el_number=np.array(el["num"], int),
         el_section=np.array(el["sec"], int),
@@ -461,6 +507,10 @@ def torsional_model(
         cp_dofs=np.array(cp["dofs"], int).reshape(-1, 2),
         cp_stiffness=np.array(cp["k"], float),
         cp_damping=np.array(cp["c"], float),
+        gs_names=tuple(gs["name"]),
+        gs_dofs=np.array(gs["dof"], int),
+        gs_stiffness=np.array(gs["k"], float),
+        gs_damping=np.array(gs["c"], float),
         mesh_names=tuple(m.name for m in asm.meshes),
         mesh_dofs=mesh_dofs,
         mesh_w=mesh_w,
@@ -469,15 +519,52 @@ def torsional_model(
         mesh_backlash=backlash,
         mesh_teeth=np.array([m.teeth for m in asm.meshes], int).reshape(nm, 2),
         mesh_shafts=np.array([m.shafts for m in asm.meshes], int).reshape(nm, 2),
+        mesh_damping_ratio=np.full(nm, np.nan),
+        mesh_mode_frequency=np.full(nm, np.nan),
+        mesh_mode_fraction=np.full(nm, np.nan),
     )
     return _with_mesh_damping_ratios(out)
 
 
+def _kinematic_rotation(
+    n_full: int, links: list, node_shaft: NDArray, ratios: NDArray, ref: int
+) -> NDArray:
+    """(n_full,) rotation of every node when the train turns as a whole: propagated along the
+    links ``(i, j, c)``, θ_j = c θ_i (shaft elements and couplings c = 1, meshes
+    c = −w_i / w_j from the kinematic vector), from the reference shaft at 1; a part not joined
+    to it starts from its first shaft's tooth ratio. Where a loop's ratios do not close the
+    first path wins (such a part has no rigid rotation: :meth:`TorsionalModel.rigid_modes`
+    checks K r = 0)."""
+    adj: list[list[tuple[int, float]]] = [[] for _ in range(n_full)]
+    for i, j, c in links:
+        adj[i].append((j, c))
+        adj[j].append((i, 1.0 / c))
+    out = np.full(n_full, np.nan)
+    starts = np.concatenate([np.flatnonzero(node_shaft == ref), np.arange(n_full)])
+    for s0 in starts:
+        if not np.isnan(out[s0]):
+            continue
+        out[s0] = ratios[node_shaft[s0]]
+        stack = [int(s0)]
+        while stack:
+            i = stack.pop()
+            for j, c in adj[i]:
+                if np.isnan(out[j]):
+                    out[j] = c * out[i]
+                    stack.append(j)
+    return out
+
+
 def _with_mesh_damping_ratios(tm: TorsionalModel) -> TorsionalModel:
     """Resolve ``Mesh.damping_ratio`` on the torsional model: the mesh damper ``c w wᵀ`` that
-    gives the mode with the largest mesh strain-energy fraction the damping ratio ζ,
-    ``c = 2 ζ ω / (w·φ)²`` (φ mass-normalised), as the 6-DOF transient does on its own model.
-    Rigid meshes carry no damping (their deflection is zero)."""
+    gives the mode with the largest mesh strain-energy fraction (the *mesh mode*,
+    ``Kg (w·φ)² / ω²``) the damping ratio ζ, ``c = 2 ζ ω / (w·φ)²`` (φ mass-normalised): the
+    damper alone adds ``2 ζ ω`` to that mode's modal damping, and ``c (w·φ_j)²`` to every
+    other mode's. The 6-DOF analyses resolve the same ratio on their own (lateral–torsional)
+    mesh mode (:func:`gearrotor.assembly.assemble`), so the coefficient differs between the
+    two models; give ``damping`` for one coefficient in both. Rigid meshes carry no damping
+    (their deflection is zero). The mesh mode's frequency and strain-energy share are kept
+    (``mesh_mode_frequency``, ``mesh_mode_fraction``) for the reports."""
     train = tm.train
     specs = [train.meshes[m.spec_index] for m in tm.assembly.meshes]
     if tm.mesh == "rigid" or all(s.damping_ratio is None for s in specs):
@@ -494,6 +581,7 @@ def _with_mesh_damping_ratios(tm: TorsionalModel) -> TorsionalModel:
     C = tm.C.copy()
     Cf = tm.C_full.copy()
     damping = tm.mesh_damping.copy()
+    zeta, freq, share = (tm.mesh_damping_ratio.copy() for _ in range(3))
     T = tm.T
     for k, s in enumerate(specs):
         if s.damping_ratio is None:
@@ -505,8 +593,17 @@ def _with_mesh_damping_ratios(tm: TorsionalModel) -> TorsionalModel:
         frac = np.where(elastic, tm.mesh_stiffness[k] * wphi**2 / np.where(elastic, w2, 1.0), 0.0)
         i = int(np.argmax(frac))
         c = 2.0 * s.damping_ratio * np.sqrt(w2[i]) / wphi[i] ** 2
+        zeta[k], freq[k], share[k] = s.damping_ratio, np.sqrt(w2[i]), frac[i]
         dc = c - damping[k]  # C and C_full hold the assembly's (6-DOF model's) mesh damper
         damping[k] = c
         C += dc * np.outer(wr, wr)
         Cf[np.ix_(tm.mesh_dofs[k], tm.mesh_dofs[k])] += dc * np.outer(tm.mesh_w[k], tm.mesh_w[k])
-    return replace(tm, C=C, C_full=Cf, mesh_damping=damping)
+    return replace(
+        tm,
+        C=C,
+        C_full=Cf,
+        mesh_damping=damping,
+        mesh_damping_ratio=zeta,
+        mesh_mode_frequency=freq,
+        mesh_mode_fraction=share,
+    )

@@ -11,6 +11,15 @@ Rigid-body modes (a free train turns as a whole; one per torsionally free part, 
 model's connectivity, :meth:`TorsionalModel.rigid_modes`) are the lowest eigenpairs; they are
 listed with frequency 0 and ``rigid_body`` set.
 
+Where the damping comes from: per mode the modal damping ``φᵀ C_s φ`` of each source s (each
+coupling's ``ctz``, each mesh damper ``c w wᵀ``, each torsional support's ``c``, and the shafts'
+material damping and torsional dashpots together) as the damping ratio it alone would give,
+``ζ_s = φᵀ C_s φ / (2 ω φᵀ M φ)`` (``damping_sources``; for light damping they add up to ζ). A
+mesh's ``damping_ratio`` is defined on its *mesh mode* (the mode with the largest share of its
+strain energy in the mesh, :func:`.model._with_mesh_damping_ratios`): that mode's
+``damping_sources`` give the mesh exactly the ratio asked for, and :attr:`TorsionalModes.mesh_modes`
+says which mode that is, whether or not it is among the modes kept.
+
 Mode shapes are the angles of every node, normalised to a largest |θ| of 1 rad (positive).
 Per mode the shaft torques GJ/L Δθ and surface shear stresses τ = T r / J_p · SCF follow for
 that normalisation (N·m and Pa per rad of the largest twist angle), and the element with the
@@ -30,7 +39,7 @@ from ...assembly import Assembly
 from ...model import Train
 from .model import TorsionalModel, torsional_model
 
-__all__ = ["TorsionalModes", "torsional_modes"]
+__all__ = ["TorsionalModes", "damping_source_matrices", "torsional_modes"]
 
 RPM = 30 / np.pi
 
@@ -42,7 +51,12 @@ class TorsionalModes:
     natural_frequency, damped_frequency : (m,) rad/s; damping_ratio : (m,);
     rigid_body : (m,) bool; shapes : (m, n_full) node angles (rad, max |θ| = 1);
     element_torque : (m, ne) N·m, element_stress : (m, ne) Pa (per the normalisation);
-    max_stress_element : (m,) element index (−1 for rigid-body modes).
+    max_stress_element : (m,) element index (−1 for rigid-body modes);
+    source_names, damping_sources : (m, n_sources) the damping ratio each damping source alone
+    gives each mode (module docstring); mesh_modes : per mesh with a ``damping_ratio``, the
+    mode the ratio refers to (``mesh``, ``damping_ratio``, ``damping_N_s_per_m``,
+    ``frequency_hz``, ``index`` among all the model's modes, ``listed``,
+    ``mesh_strain_energy_fraction``, ``mesh_damping_ratio_of_mode``).
     """
 
     model: TorsionalModel = field(repr=False)
@@ -54,6 +68,9 @@ class TorsionalModes:
     element_torque: NDArray
     element_stress: NDArray
     max_stress_element: NDArray
+    source_names: tuple[str, ...] = ()
+    damping_sources: NDArray | None = None  # (m, n_sources) ζ each source alone gives
+    mesh_modes: tuple[dict, ...] = ()  # per mesh with a damping_ratio: the mode it refers to
 
     def __len__(self) -> int:
         return len(self.natural_frequency)
@@ -114,6 +131,7 @@ class TorsionalModes:
                 "rigid_body": bool(self.rigid_body[i]),
                 "max_stress_element": self._stress_entry(i),
             }
+            d["damping_sources"] = self._sources(i)
             if shapes:
                 d["shape"] = self.shaft_twist(i)
             modes.append(d)
@@ -122,16 +140,42 @@ class TorsionalModes:
             "n_dof": int(self.model.n),
             "n_rigid_body_modes": int(np.sum(self.rigid_body)),
             "modes": modes,
+            "mesh_damping": [dict(m) for m in self.mesh_modes],
         }
+
+    def _sources(self, i: int) -> dict[str, float]:
+        """{source: ζ it alone gives mode i}, largest first, sources below 1e-6 left out."""
+        if self.damping_sources is None or self.rigid_body[i]:
+            return {}
+        z = self.damping_sources[i]
+        order = np.argsort(-z)
+        return {self.source_names[k]: float(z[k]) for k in order if z[k] > 1e-6}
+
+    def mesh_mode_notes(self) -> list[str]:
+        """One line per mesh ``damping_ratio``: the mode it refers to and what it gives there."""
+        out = []
+        for m in self.mesh_modes:
+            where = "" if m["listed"] else f"; not listed: --n-modes {m['index'] + 1}"
+            out.append(
+                f"mesh {m['mesh']!r}: damping_ratio {m['damping_ratio']:g} is the mesh damper's ζ "
+                f"on its mesh mode, mode {m['index']} at {m['frequency_hz']:.4g} Hz "
+                f"({m['mesh_strain_energy_fraction']:.0%} of its strain energy in the mesh"
+                f"{where}): "
+                f"c = {m['damping_N_s_per_m']:.4g} N·s/m, ζ from the mesh there "
+                f"{m['mesh_damping_ratio_of_mode']:.4f}; other modes get c (w·φ)² in proportion"
+            )
+        return out
 
     def table(self) -> str:
         head = (
-            f"{'#':>3} {'freq Hz':>10} {'freq cpm':>11} {'zeta':>8}  "
+            f"{'#':>3} {'freq Hz':>10} {'freq cpm':>11} {'zeta':>8}  {'damped mostly by':<24}"
             f"{'largest stress (element, MPa per rad)':<40}"
         )
         rows = [head, "-" * len(head)]
         labels = self.model.element_labels()
         for i in range(len(self)):
+            src = self._sources(i)
+            by = next(iter(src), "-") if src else "-"
             if self.rigid_body[i]:
                 note = "rigid-body rotation"
             else:
@@ -139,8 +183,9 @@ class TorsionalModes:
                 note = f"{labels[e]}  {self.element_stress[i, e] / 1e6:.4g}"
             rows.append(
                 f"{i:>3} {self.frequency_hz[i]:>10.3f} {self.frequency_rpm[i]:>11.1f} "
-                f"{self.damping_ratio[i]:>8.4f}  {note}"
+                f"{self.damping_ratio[i]:>8.4f}  {by[:23]:<24}{note}"
             )
+        rows.extend(self.mesh_mode_notes())
         return "\n".join(rows)
 
 
@@ -178,6 +223,73 @@ def _damping(tm: TorsionalModel, w: NDArray, V: NDArray, elastic: NDArray):
     return wd, zeta
 
 
+def damping_source_matrices(tm: TorsionalModel) -> tuple[tuple[str, ...], list[NDArray]]:
+    """(names, reduced damping matrices (n, n)) of every damping source of the model: each
+    coupling with ``ctz``, each mesh damper, each torsional support with ``c``, and the rest of
+    C (the shafts' material damping and torsional dashpots) as ``"shaft damping"``."""
+    T = tm.T
+    names: list[str] = []
+    mats: list[NDArray] = []
+    rest = tm.C.copy()
+
+    def add(name: str, dofs, vec, c: float) -> None:
+        nonlocal rest
+        v = np.zeros(tm.n_full)
+        np.add.at(v, np.asarray(dofs), np.asarray(vec, float))
+        r = T.T @ v
+        Cs = c * np.outer(r, r)
+        names.append(name)
+        mats.append(Cs)
+        rest = rest - Cs
+
+    for k, n in enumerate(tm.cp_names):
+        if tm.cp_damping[k] != 0:
+            add(f"coupling {n}", tm.cp_dofs[k], (-1.0, 1.0), tm.cp_damping[k])
+    for k, n in enumerate(tm.mesh_names):
+        if tm.mesh == "flexible" and tm.mesh_damping[k] != 0:
+            add(f"mesh {n}", tm.mesh_dofs[k], tm.mesh_w[k], tm.mesh_damping[k])
+    for k, n in enumerate(tm.gs_names):
+        if tm.gs_damping[k] != 0:
+            add(f"support {n}", [tm.gs_dofs[k]], (1.0,), tm.gs_damping[k])
+    scale = np.abs(tm.C).max() if tm.C.size else 0.0
+    if np.abs(rest).max(initial=0.0) > 1e-12 * scale:
+        names.append("shaft damping")
+        mats.append(rest)
+    return tuple(names), mats
+
+
+def _sources(tm: TorsionalModel, w: NDArray, V: NDArray, rigid: NDArray):
+    names, mats = damping_source_matrices(tm)
+    out = np.zeros((len(w), len(names)))
+    m = np.einsum("ij,ij->j", V, tm.M @ V)
+    for s, Cs in enumerate(mats):
+        q = np.einsum("ij,ij->j", V, Cs @ V)
+        out[:, s] = np.where(rigid, 0.0, q / (2 * np.where(rigid, 1.0, w) * m))
+    return names, out
+
+
+def _mesh_modes(tm: TorsionalModel, w_all: NDArray, kept: NDArray, zeta_src, names) -> tuple:
+    out = []
+    for k, n in enumerate(tm.mesh_names):
+        if np.isnan(tm.mesh_mode_frequency[k]):
+            continue
+        i = int(np.argmin(np.abs(w_all - tm.mesh_mode_frequency[k])))
+        listed = bool(kept[i])
+        out.append(
+            {
+                "mesh": n,
+                "damping_ratio": float(tm.mesh_damping_ratio[k]),
+                "damping_N_s_per_m": float(tm.mesh_damping[k]),
+                "frequency_hz": float(tm.mesh_mode_frequency[k] / (2 * np.pi)),
+                "index": i,
+                "listed": listed,
+                "mesh_strain_energy_fraction": float(tm.mesh_mode_fraction[k]),
+                "mesh_damping_ratio_of_mode": float(zeta_src[i, names.index(f"mesh {n}")]),
+            }
+        )
+    return tuple(out)
+
+
 def torsional_modes(
     model: Train | Assembly | TorsionalModel,
     *,
@@ -210,7 +322,9 @@ def torsional_modes(
         keep &= w <= max_frequency
     if n_modes is not None:
         keep &= np.arange(len(w)) < n_modes
-    w, V, rigid = w[keep], V[:, keep], rigid[keep]
+    names, zeta_src = _sources(tm, w, V, rigid)
+    mesh_modes = _mesh_modes(tm, w, keep, zeta_src, names)
+    w, V, rigid, zeta_src = w[keep], V[:, keep], rigid[keep], zeta_src[keep]
     wd, zeta = _damping(tm, w, V, ~rigid)
     shapes = tm.expand(V.T)
     k = np.argmax(np.abs(shapes), axis=1)
@@ -228,4 +342,7 @@ def torsional_modes(
         element_torque=torque,
         element_stress=stress,
         max_stress_element=np.asarray(worst, int),
+        source_names=names,
+        damping_sources=zeta_src,
+        mesh_modes=mesh_modes,
     )

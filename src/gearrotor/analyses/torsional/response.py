@@ -96,6 +96,55 @@ class TorsionalResponse:
             return np.zeros(0)
         return self.speeds[self.contact_loss[:, mesh]]
 
+    def excitation_frequencies(self) -> NDArray:
+        """(n_excitations, ns) rad/s: each excitation's frequency at each reference speed."""
+        tm = self.model
+        out = np.zeros((len(self.excitations), len(self.speeds)))
+        for k, e in enumerate(self.excitations):
+            if e.order is None:
+                out[k] = e.frequency
+                continue
+            s = (
+                tm.node_shaft[tm.node_dof(e, f"excitations[{k}]")]
+                if e.order_shaft is None
+                else tm.train.shaft_index(e.order_shaft, f"excitations[{k}].order_shaft")
+            )
+            out[k] = e.order * abs(tm.speed_ratio[s]) * np.abs(self.speeds)
+        return out
+
+    def curves(self) -> dict:
+        """The response curves over the speeds (JSON-ready, zero-to-peak amplitudes): every
+        element's torque and stress, every coupling's torque, every mesh's dynamic force, and
+        each excitation's frequency."""
+        tm = self.model
+        labels = tm.element_labels()
+        freq = self.excitation_frequencies() / (2 * np.pi)
+        return {
+            "speeds_rpm": (self.speeds * RPM).tolist(),
+            "excitation_frequency_hz": {
+                self._label(k): freq[k].tolist() for k in range(len(self.excitations))
+            },
+            "element_torque_Nm": {
+                labels[k]: self.element_torque[:, k].tolist() for k in range(len(labels))
+            },
+            "element_stress_Pa": {
+                labels[k]: self.element_stress[:, k].tolist() for k in range(len(labels))
+            },
+            "coupling_torque_Nm": {
+                n: self.coupling_torque[:, k].tolist() for k, n in enumerate(tm.cp_names)
+            },
+            "mesh_force_N": {
+                n: self.mesh_force[:, k].tolist() for k, n in enumerate(tm.mesh_names)
+            },
+        }
+
+    def _label(self, k: int) -> str:
+        e = self.excitations[k]
+        if e.name:
+            return e.name
+        law = f"{e.order:g}x" if e.order is not None else f"{e.frequency / (2 * np.pi):g} Hz"
+        return f"excitations[{k}] ({e.shaft}[{e.node if e.node is not None else e.at}], {law})"
+
     def to_dict(self) -> dict:
         tm = self.model
         labels = tm.element_labels()
@@ -103,6 +152,7 @@ class TorsionalResponse:
         out = {
             "mesh_model": tm.mesh,
             "speeds_rpm": (self.speeds * RPM).tolist(),
+            "curves": self.curves(),
             "peak": None
             if e < 0
             else {

@@ -60,7 +60,14 @@ from ...assembly import Assembly
 from ...errors import ModelError, SolverError
 from ...model import Train
 from ..jit import configure_cache
-from .drive_laws import TorqueLaws, advance_states, check_load_paths, law_torque, pack_laws
+from .drive_laws import (
+    TorqueLaws,
+    advance_states,
+    check_load_paths,
+    check_transient_supports,
+    law_torque,
+    pack_laws,
+)
 from .model import TorsionalModel, torsional_model
 
 configure_cache()  # before the first @njit(cache=True): numba's cache outside the package
@@ -800,6 +807,7 @@ def torsional_transient(
         )
     if t_end <= 0:
         raise ModelError("t_end must be positive", field="t_end", value=t_end)
+    check_transient_supports(train)  # dampers to ground act on the absolute speed
     laws = pack_laws(train)
     if len(laws) == 0:
         raise ModelError(

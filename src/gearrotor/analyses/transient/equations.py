@@ -61,6 +61,7 @@ from scipy.sparse.csgraph import connected_components
 from ...assembly import Assembly, assemble
 from ...errors import ModelError
 from ...model import Train
+from ..torsional.drive_laws import check_transient_supports
 from .mesh import MeshLaw, mesh_laws
 
 __all__ = ["TransientSystem", "build_system", "mesh_damping_from_ratio"]
@@ -206,6 +207,7 @@ def build_system(
     """
     asm = model if isinstance(model, Assembly) else assemble(model)
     train = asm.train
+    check_transient_supports(train)  # no torsional spring to ground on the absolute angle
     n_all = asm.n_dof
     kind = asm.dof_kind()
     speeds = asm.shaft_speeds(train.speed)

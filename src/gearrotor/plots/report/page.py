@@ -1,13 +1,12 @@
 """The HTML page: header (model, versions, command), navigation, the summary with the verdicts
-and notes, the model, the sections' parts, the list of files; the plotly.js bundle inline."""
+and notes, the sections' parts (the first one the model, sections/model.py), the list of files;
+the plotly.js bundle inline."""
 
 from __future__ import annotations
 
 import datetime as _dt
 
-import numpy as np
-
-from .blocks import RPM, _badge, _e
+from .blocks import _badge, _e
 
 _CSS = """
 body { font-family: system-ui, -apple-system, 'Segoe UI', sans-serif; margin: 0; color: #222; }
@@ -52,26 +51,12 @@ def _page(train, sections, summary, figures, notes, *, source, command) -> str:
     vt.append("</table>")
     if not verdicts:
         vt = ["<p>No stability or API check was requested.</p>"]
-    shafts = train.layout().shafts
-    model_rows = "".join(
-        f"<tr><td class='l'>{_e(s.name)}</td><td>{len(s.z)}</td><td>{np.ptp(s.z):.4g}</td>"
-        f"<td>({s.position[0]:.4g}, {s.position[1]:.4g})</td>"
-        f"<td>{s.speed_ratio * train.speed * RPM:.1f}</td></tr>"
-        for s in shafts
-    )
-    model_html = (
-        "<table><tr><th class='l'>shaft</th><th>nodes</th><th>length (m)</th>"
-        "<th>centre x, y (m)</th><th>nominal speed (rpm)</th></tr>" + model_rows + "</table>"
-        f"<p>{len(train.bearings)} bearings, {len(train.meshes)} gear meshes, "
-        f"{len(train.unbalances)} unbalances, {len(train.probes)} probes.</p>"
-    )
     secs = [
         (
             "summary",
             "Summary",
             "".join(vt) + "".join(f"<p class='note'>{_e(n)}</p>" for n in notes),
         ),
-        ("model", "Model", model_html),
         *sections,
     ]
     files = "".join(f"<li><a href='{_e(p.name)}'>{_e(p.name)}</a></li>" for p in figures)

@@ -10,6 +10,7 @@ from ..base import Section
 from .audit import AuditSection
 from .bearings import BearingsSection
 from .campbell import CampbellSection
+from .model import ModelSection
 from .modes import ModesSection
 from .stability import StabilitySection
 from .static import OperatingPointsSection
@@ -20,6 +21,7 @@ from .unbalance import UnbalanceSection
 __all__ = ["SECTIONS"]
 
 SECTIONS: tuple[Section, ...] = (
+    ModelSection(),
     ModesSection(),
     StabilitySection(),
     CampbellSection(),

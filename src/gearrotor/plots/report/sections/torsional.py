@@ -196,9 +196,9 @@ def _modes_html(modes) -> str:
 
 
 def _interference_html(inter) -> str:
-    lo, hi = (s * RPM for s in inter.speed_range)
+    label = inter.range_label
     rows = [
-        f"<h3>Interference diagram</h3><p>Operating range {lo:.0f}–{hi:.0f} rpm (reference "
+        f"<h3>Interference diagram</h3><p>{label[0].upper() + label[1:]} (reference "
         f"shaft), required separation {inter.required_margin:.0%} (API 617 / API RP 684); modes "
         f"up to {inter.max_frequency / HZ:.0f} Hz checked.</p>",
         "<table><tr><th>mode</th><th>frequency (Hz)</th><th class='l'>excitation</th>"
