@@ -47,18 +47,22 @@ def _ucs_panel(plt, ax, result, s, k) -> None:
         lab = "rigid supports" if i == 0 else None
         ax.axhline(r, color="0.45", ls=(0, (1, 2)), lw=1.0, label=lab)
     shown.append(rigid)
-    curves: dict[tuple, list[str]] = {}
+    curves: dict[tuple, list[tuple[str, str]]] = {}
     for b in result.bearings:
         if b.shaft != s.name:
             continue
         for d, kv in (("Kxx", b.kxx), ("Kyy", b.kyy)):
-            key = (d, None if b.speeds is None else tuple(b.speeds), tuple(kv))
-            curves.setdefault(key, []).append(b.name)
-    for bi, ((d, speeds, kv), owners) in enumerate(curves.items()):
+            key = (None if b.speeds is None else tuple(b.speeds), tuple(kv))
+            curves.setdefault(key, []).append((b.name, d))
+    groups: dict[str, int] = {}  # one colour per set of bearings sharing a curve
+    for (speeds, kv), owners in curves.items():
         kv = np.asarray(kv)
-        lab = f"{', '.join(owners)} {d}"
-        ls = "-" if d == "Kxx" else "--"
-        colour = "0.15" if speeds is None else plt.get_cmap("Dark2")((bi // 2) % 8)
+        dirs = list(dict.fromkeys(d for _, d in owners))
+        who = ", ".join(dict.fromkeys(n for n, _ in owners))
+        lab = f"{who} {' = '.join(dirs)}"
+        ls = "-" if "Kxx" in dirs else "--"
+        bi = groups.setdefault(who, len(groups))
+        colour = "0.15" if speeds is None else plt.get_cmap("Dark2")(bi % 8)
         if speeds is None:
             if kv[0] > 0:
                 ax.axvline(kv[0], color=colour, ls=ls, lw=1.0, label=lab)
