@@ -1,7 +1,34 @@
+import os
 import sys
 from pathlib import Path
 
 import pytest
+
+
+def _one_thread_per_worker() -> None:
+    """Under pytest-xdist (``-n N``) every worker runs its BLAS/OpenMP libraries on its share
+    of the cores (one thread on 2 cores with ``-n 2``): the workers would otherwise each start
+    a pool of as many threads as cores and spin against each other. The environment variables
+    reach the processes the tests start (command-line runs, study workers); threadpoolctl sets
+    the libraries this worker has already loaded (numpy's and SciPy's OpenBLAS)."""
+    workers = int(os.environ.get("PYTEST_XDIST_WORKER_COUNT") or 0)
+    if not os.environ.get("PYTEST_XDIST_WORKER") or workers < 1:
+        return
+    try:
+        cores = len(os.sched_getaffinity(0))
+    except (AttributeError, OSError):
+        cores = os.cpu_count() or 1
+    n = str(max(1, cores // workers))
+    for var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "GEARROTOR_THREADS"):
+        os.environ.setdefault(var, n)
+    import numpy  # noqa: F401  (the BLAS libraries the tests use, loaded now to be limited)
+    import scipy.linalg  # noqa: F401
+    from threadpoolctl import threadpool_limits
+
+    threadpool_limits(int(os.environ["OPENBLAS_NUM_THREADS"]))
+
+
+_one_thread_per_worker()
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLES = ROOT / "examples"

@@ -309,6 +309,36 @@ def _solve_film_table(file: str, mtime_ns: int, load: tuple, rpm: tuple):
     return speed, vals
 
 
+def _seal_table(sl, field: str, shaft, train_speed: float) -> CoefficientTable:
+    """Synchronous coefficients of a seal file (``gearrotor.seals``) at the seal's speeds."""
+    mtime = Path(sl.file).stat().st_mtime_ns if Path(sl.file).exists() else 0
+    # the rotor surface turns with its shaft: about −z when the shaft's nominal speed is negative
+    spin = shaft.speed_ratio * (train_speed if train_speed else 1.0)
+    sign = 1.0 if spin >= 0 else -1.0
+    try:
+        speed, vals = _solve_seal_table(sl.file, mtime, tuple(sl.speeds), sign)
+    except ModelError as exc:
+        raise ModelError(
+            exc.message,
+            field=f"{field}.file" + (f" ({exc.field})" if exc.field else ""),
+            value=exc.value,
+            expected=exc.expected,
+            file=exc.file,
+        ) from None
+    return CoefficientTable(speed, vals, sl.extrapolate)
+
+
+@functools.lru_cache(maxsize=64)
+def _solve_seal_table(file: str, mtime_ns: int, speeds: tuple, sign: float):
+    """A seal's table once per (file version, speeds, sense of rotation)."""
+    from .seals import load_seal, seal_table
+
+    speed, vals = seal_table(load_seal(file), speeds, sign)
+    speed.setflags(write=False)
+    vals.setflags(write=False)
+    return speed, vals
+
+
 def _flank(train: Train, mesh, si: int, sj: int) -> int:
     """+1 (SPEC 2.3 normal) or −1 so that the contact force opposes the driver's rotation."""
     if mesh.driver is None:
@@ -404,6 +434,8 @@ def assemble(train: Train) -> Assembly:
             el = RadialBearing(table=CoefficientTable(np.asarray(t.speed), vals, t.extrapolate))
         elif sl.table_file is not None:
             el = RadialBearing(table=_film_table(sl, f"seals[{k}]", layout.shafts[si]))
+        elif sl.file is not None:
+            el = RadialBearing(table=_seal_table(sl, f"seals[{k}]", layout.shafts[si], train.speed))
         else:
             el = RadialBearing(*sl.coefficients())
         info = BearingInfo(sl.name or f"seals[{k}]", si, dofs, None, el, kind="seal")

@@ -41,6 +41,9 @@ __all__ = [
     "Resistance",
     "Stress",
     "Acceleration",
+    "Pressure",
+    "Temperature",
+    "MolarMass",
     "rpm_to_rad_s",
     "rad_s_to_rpm",
 ]
@@ -91,6 +94,10 @@ KINDS: dict[str, tuple[str, str, str]] = {
     "resistance": ("ohm", "a resistance or reactance", "0.64 ohm"),
     "stress": ("Pa", "a stress", "120 MPa"),
     "acceleration": ("m/s^2", "an acceleration", "9.80665 m/s^2"),
+    "pressure": ("Pa", "a pressure", "3.08 bar"),
+    "temperature": ("K", "an absolute temperature", "283.15 K"),
+    # plain numbers of a molar mass are kg/kmol (= g/mol), as gas tables give them
+    "molar_mass": ("kg/kmol", "a molar mass", "28.97 kg/kmol"),
 }
 
 
@@ -219,7 +226,7 @@ def to_si(value: Any, kind: str) -> float:
     _check_expression(text)
     ureg = registry()
     try:
-        q = ureg.Quantity(text)
+        q = _temperature(text) if kind == "temperature" else ureg.Quantity(text)
     except Exception as exc:  # pint raises several unrelated types
         msg = str(exc).splitlines()[0][:120] if str(exc) else type(exc).__name__
         raise ValueError(f"cannot read {value!r} as {name} (e.g. '{example}'): {msg}") from None
@@ -228,6 +235,18 @@ def to_si(value: Any, kind: str) -> float:
     except OverflowError:
         x = math.inf
     return _finite(x, value, name, example)
+
+
+_NUMBER_UNIT = re.compile(r"([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(.*)")
+
+
+def _temperature(text: str):
+    """A temperature such as "10 degC", "283.15 K" or "50 degF": a number and one unit (pint
+    cannot multiply a number by an offset unit such as degC inside an expression)."""
+    m = _NUMBER_UNIT.fullmatch(text)
+    if m is None:
+        return registry().Quantity(text)
+    return registry().Quantity(float(m.group(1)), m.group(2) or "kelvin")
 
 
 def _convert(q: Any, value: Any, kind: str) -> float:
@@ -280,6 +299,9 @@ Voltage = _quantity("voltage")
 Resistance = _quantity("resistance")
 Stress = _quantity("stress")
 Acceleration = _quantity("acceleration")
+Pressure = _quantity("pressure")
+Temperature = _quantity("temperature")
+MolarMass = _quantity("molar_mass")
 
 
 def rpm_to_rad_s(rpm: float) -> float:

@@ -61,3 +61,31 @@ def test_level2_figure(rotor, tmp_path):
     fwd = next(ln for ln in fig.axes[0].get_lines() if ln.get_label() == label)
     expect = [m.frequency * RPM for m in r.evaluations[0].modes if m.forward]
     np.testing.assert_allclose(fwd.get_xdata(), expect)
+
+
+def test_screening_chart_shows_the_machine_without_a_density(rotor, tmp_path):
+    """Q_A given directly, no gas density (a gearbox, a steam turbine): the machine's CSR is
+    drawn across the chart (it was left off: the chart was empty, and its CSR below the axis
+    range), and the legend says the region is not evaluated."""
+    r = level1(rotor, qa=2e5, at=[("s", 5)], n_curve=3)
+    fig = plot_screening(r, path=tmp_path / "scr.png")
+    ax = fig.axes[0]
+    line = next(ln for ln in ax.get_lines() if ln.get_label().startswith("CSR"))
+    assert np.all(np.asarray(line.get_ydata()) == r.csr)
+    assert "not evaluated" in line.get_label()
+    lo, hi = ax.get_ylim()
+    assert lo < r.csr < hi
+
+
+def test_level1_chart_draws_the_least_forward_log_dec(tmp_path):
+    """When another forward mode is weaker than the followed one, its log dec is drawn."""
+    from test_stability import disk_rotor
+
+    r = level1(disk_rotor(), qa=1e4, at=[("s", 2)])
+    fig = plot_level1(r, path=tmp_path / "l1.png")
+    ax = fig.axes[0]
+    least = next(ln for ln in ax.get_lines() if ln.get_label().startswith("least"))
+    np.testing.assert_allclose(least.get_ydata(), r.curve_least_log_dec)
+    followed = ax.get_lines()[0]
+    assert followed.get_label() == "first forward mode of s (followed)"
+    assert r.edition in ax.get_title()

@@ -130,6 +130,13 @@ def test_doc_audit_numbers(
     assert d["level1"]["curve"]["log_dec"][0] == pytest.approx(at_zero, abs=0.01)
     assert d["threshold_mode"]["whirl_per_shaft"]["pinion"] == "F"
     assert (d["level2_verdict"], d["verdict"], d["decided_by"]) == (l2, verdict, "Level II")
+    # one verdict line per check, in one vocabulary: Level I sends the train to Level II (not a
+    # failure), Level II decides
+    assert [(c["check"], c["status"], c["decides"]) for c in d["checks"]] == [
+        ("API 617 Level I stability", "level II required", False),
+        ("API 617 Level II stability", l2, True),
+    ]
+    assert [c["ok"] for c in d["checks"]] == [None, l2 == "pass"]
     speeds = {round(e["speed_rpm"]): e["min_forward_log_dec"] for e in d["level2"]["speeds"]}
     assert set(speeds) == {10800, 11340}  # the model's operating range and MCS
     assert speeds[11340] == pytest.approx(log_dec, abs=0.002)

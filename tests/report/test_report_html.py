@@ -325,14 +325,24 @@ def test_failed_write_leaves_nothing_behind(single, tmp_path, monkeypatch):
     assert list(tmp_path.iterdir()) == []
 
 
-def test_existing_directory_is_updated(single, tmp_path):
+def test_existing_directory_is_replaced_as_a_whole(single, tmp_path):
+    """Issue 23: an earlier report's folder is replaced as a whole (no file of the earlier
+    report survives into the new one); a folder holding other files is refused, so that they
+    do not go with it."""
     out = tmp_path / "out"
     out.mkdir()
-    (out / "notes.txt").write_text("mine")
+    rep = make_report(single, out, analyses="modal")  # an empty folder is fine
+    (out / "stale.png").write_text("a figure the next report does not make")
     rep = make_report(single, out, analyses="modal")
-    assert (out / "notes.txt").read_text() == "mine"
     assert rep.html.exists() and (out / "modes_1.png").exists()
+    assert not (out / "stale.png").exists()
     assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]
+    mine = tmp_path / "mine"
+    mine.mkdir()
+    (mine / "notes.txt").write_text("mine")
+    with pytest.raises(ModelError, match="not a gearrotor report"):
+        make_report(single, mine, analyses="modal")
+    assert (mine / "notes.txt").read_text() == "mine"
 
 
 # ---- the command --------------------------------------------------------------------------------

@@ -27,6 +27,7 @@ import numpy as np
 from ..assembly import Assembly
 from ..errors import ModelError
 from ..model import Train
+from ..threads import managed
 from .operating import model_max_continuous_speed
 from .stability import (
     RPM,
@@ -224,6 +225,7 @@ def level1_inputs(
     }
 
 
+@managed
 def stability_audit(
     model: Train | Assembly,
     *,

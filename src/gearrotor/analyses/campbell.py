@@ -21,6 +21,7 @@ from scipy.optimize import linear_sum_assignment
 from ..assembly import Assembly, assemble
 from ..errors import ModelError
 from ..model import Train
+from ..threads import managed
 from .modal import (
     SPARSE_FRACTION,
     TYPE_THRESHOLD,
@@ -170,6 +171,7 @@ def default_orders(asm: Assembly, extra: tuple[float, ...] = ()) -> tuple[Excita
     return tuple(out)
 
 
+@managed
 def campbell(
     model: Train | Assembly,
     *,

@@ -37,6 +37,7 @@ from scipy.optimize import linear_sum_assignment
 
 from ..errors import ModelError, SolverError
 from ..model import Train
+from ..threads import managed
 from .transient.equations import TransientSystem, build_system
 from .transient.mesh import fourier_coefficients, stiffness
 
@@ -181,6 +182,7 @@ def _common_period(rates: list[float]) -> float:
     return float(2 * np.pi / base * mult)
 
 
+@managed
 def floquet(
     model: Train | TransientSystem,
     *,

@@ -78,6 +78,7 @@ from scipy.optimize import linear_sum_assignment
 from ..assembly import Assembly, assemble
 from ..errors import ModelError, SolverError
 from ..model import Train
+from ..threads import limit, managed
 
 __all__ = [
     "ModalResult",
@@ -350,7 +351,8 @@ def _solve_dense(M, Cg, K, asm) -> tuple[NDArray, NDArray]:
             "the state matrix M⁻¹[K, C + G] overflows (non-finite entries): a stiffness or "
             "damping value is far beyond the physical range (check the model's largest values)"
         )
-    lam, V = la.eig(A, overwrite_a=True, check_finite=False)
+    with limit(2 * n, "eig"):  # more threads only for large state matrices on free cores
+        lam, V = la.eig(A, overwrite_a=True, check_finite=False)
     return lam, V[:n]
 
 
@@ -757,6 +759,7 @@ def _classify(lam, V, asm, speeds, K, *, rigid_tol, overdamped_zeta, type_thresh
     )
 
 
+@managed
 def modal(
     model: Train | Assembly,
     *,

@@ -102,6 +102,7 @@ from scipy.optimize import brentq
 from ..assembly import Assembly, assemble
 from ..errors import ModelError
 from ..model import NodeRef, Train
+from ..threads import managed
 from ..units import to_si
 from .modal import ModalResult, modal
 from .operating import model_max_continuous_speed
@@ -915,6 +916,7 @@ def _mode_label(m: dict, shaft: str) -> str:
     )
 
 
+@managed
 def level1(
     model: Train | Assembly,
     *,
@@ -1176,6 +1178,7 @@ def _bracket(f, qa, d_prev_q, fa, q_max):
     return None
 
 
+@managed
 def level2(
     model: Train | Assembly,
     *,

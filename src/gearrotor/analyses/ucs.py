@@ -88,6 +88,7 @@ from ..assembly import Assembly, _Triplets, assemble
 from ..elements import RadialBearing
 from ..errors import ModelError, SolverError
 from ..model import Train
+from ..threads import managed
 
 __all__ = [
     "UCSResult",
@@ -866,6 +867,7 @@ def _rigid(prob, ratio, members, n_modes, min_share, method) -> tuple[dict, floa
     return pad, top
 
 
+@managed
 def ucs_map(
     model: Train | Assembly,
     *,

@@ -28,6 +28,7 @@ from numpy.typing import NDArray
 from ..assembly import Assembly, assemble
 from ..errors import ModelError, SolverError
 from ..model import Train
+from ..threads import managed
 from .operating import model_operating_range
 
 __all__ = [
@@ -215,6 +216,7 @@ def _force_vectors(asm, unbalances, shaft_speeds, groups, n_groups):
     return F
 
 
+@managed
 def unbalance_response(
     model: Train | Assembly,
     *,
@@ -314,6 +316,7 @@ def _ellipse(X: NDArray, Y: NDArray) -> tuple[NDArray, NDArray]:
     return fwd + bwd, fwd - bwd
 
 
+@managed
 def critical_speeds(
     speeds: NDArray, amplitude: NDArray, ratio: float, operating_range: tuple[float, float]
 ) -> tuple[CriticalSpeed, ...]:

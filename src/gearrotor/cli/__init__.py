@@ -7,22 +7,28 @@ order of ``gearrotor --help``):
 command             module                      calls
 ==================  ==========================  ==============================================
 ``show``            :mod:`.show`                :func:`gearrotor.analyses.model_summary.summarize`
+``view``            :mod:`.view`                a live model view on 127.0.0.1
 ``modal``           :mod:`.modal`               :func:`gearrotor.analyses.modal`
 ``campbell``        :mod:`.campbell`            :func:`gearrotor.analyses.campbell`
 ``unbalance``       :mod:`.unbalance`           :func:`gearrotor.analyses.unbalance_response`
 ``static``          :mod:`.static`              :func:`gearrotor.analyses.static.static`
 ``bearing``         :mod:`.bearing`             :func:`gearrotor.bearings.coefficients`
+``seal``            :mod:`.seal`                :func:`gearrotor.seals.seal_coefficients`
 ``transient``,      :mod:`.transient`           :func:`gearrotor.analyses.transient.transient`
 ``transient-plot``
 ``report``          :mod:`.report`              :func:`gearrotor.plots.report.make_report`
 ``floquet``         :mod:`.floquet`             :func:`gearrotor.analyses.floquet.floquet`
 ``ucs``             :mod:`.ucs`                 :func:`gearrotor.analyses.ucs.ucs_map`
 ``stability``       :mod:`.stability`           :func:`gearrotor.analyses.audit.stability_audit`
+``import-ross``     :mod:`.ross`                :func:`gearrotor.interop.import_ross`
+``export``          :mod:`.ross`                :func:`gearrotor.interop.ross_script`
 ``study ...``       :mod:`.study`               :mod:`gearrotor.studies`
 ``torsional ...``   :mod:`.torsional`           :mod:`gearrotor.analyses.torsional`
 ==================  ==========================  ==============================================
 
-Shared options (``--set``, ``--format``, rpm) are in :mod:`.options`; every command maps errors
+Shared options (``--set``, ``--format``, rpm) are in :mod:`.options`; every command also gets
+``--threads`` there (:func:`common_options`: it runs in a
+:func:`gearrotor.threads.scope`); every command maps errors
 to exit statuses through :func:`.errors.cli_errors`: input errors print one clear message (file,
 field, value, expectation) and exit with status 2, without a traceback; solver failures exit
 with status 3 (see :mod:`.errors`). The analyses are imported inside the command functions, so
@@ -31,16 +37,22 @@ with status 3 (see :mod:`.errors`). The analyses are imported inside the command
 
 from __future__ import annotations
 
+import functools
+import inspect
 import sys
+from collections.abc import Callable
 
 import typer
 
 from .bearing import bearing_cli
 from .campbell import campbell_command
-from .errors import EXIT_CODES_HELP, OneLineGroup
+from .errors import EXIT_CODES_HELP, OneLineGroup, cli_errors
 from .floquet import floquet_command
 from .modal import modal_command
+from .options import ThreadsOpt
 from .report import report_command
+from .ross import export_command, import_ross_command
+from .seal import seal_command
 from .show import show_command
 from .stability import stability_command
 from .static import static_command
@@ -49,6 +61,7 @@ from .torsional import torsional_app
 from .transient import plot_command, transient_command
 from .ucs import ucs_command
 from .unbalance import unbalance_command
+from .view import view_command
 
 __all__ = ["app", "main"]
 
@@ -81,22 +94,56 @@ def reflow(doc: str | None) -> str | None:
     return "\n\n".join(" ".join(p.split()) for p in paras)
 
 
+def common_options(fn: Callable) -> Callable:
+    """Give a command function the options every command has (``--threads``), keeping the
+    parameters Typer reads: the command then runs in a :func:`gearrotor.threads.scope` with
+    that setting (a bad ``GEARROTOR_THREADS`` is an input error, before anything runs)."""
+    sig = inspect.signature(fn, eval_str=True)
+    if "threads" in sig.parameters:
+        return fn
+    extra = inspect.Parameter(
+        "threads", inspect.Parameter.KEYWORD_ONLY, default=None, annotation=ThreadsOpt
+    )
+
+    @functools.wraps(fn)
+    def command(*args, threads: str | None = None, **kwargs):
+        from .. import threads as threads_
+
+        with threads_.using(threads):
+            with cli_errors():
+                threads_.setting()  # GEARROTOR_THREADS is read (and checked) before anything runs
+            with threads_.scope():
+                return fn(*args, **kwargs)
+
+    params = list(sig.parameters.values())
+    command.__signature__ = sig.replace(parameters=[*params, extra])
+    command.__annotations__ = {**fn.__annotations__, "threads": ThreadsOpt}
+    return command
+
+
 def _command(name: str, fn) -> None:
-    app.command(name, help=reflow(fn.__doc__), epilog=EXIT_CODES_HELP)(fn)
+    app.command(name, help=reflow(fn.__doc__), epilog=EXIT_CODES_HELP)(common_options(fn))
 
 
 _command("show", show_command)
+_command("view", view_command)
 _command("modal", modal_command)
 _command("campbell", campbell_command)
 _command("unbalance", unbalance_command)
 _command("static", static_command)
 _command("bearing", bearing_cli)
+_command("seal", seal_command)
 _command("transient", transient_command)
 _command("transient-plot", plot_command)
 _command("report", report_command)
 _command("floquet", floquet_command)
 _command("ucs", ucs_command)
 _command("stability", stability_command)
+_command("import-ross", import_ross_command)
+_command("export", export_command)
+for _group in (study_app, torsional_app):  # the options every command has, also in the groups
+    for _info in _group.registered_commands:
+        _info.callback = common_options(_info.callback)
 app.add_typer(study_app, name="study")
 app.add_typer(torsional_app, name="torsional")
 

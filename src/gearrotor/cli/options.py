@@ -25,6 +25,7 @@ __all__ = [
     "FormatOpt",
     "OperatingPointOpt",
     "SetOpt",
+    "ThreadsOpt",
     "check_format",
     "check_operating_point",
     "McsOpt",
@@ -55,6 +56,30 @@ SetOpt = Annotated[
     ),
 ]
 FormatOpt = Annotated[str, typer.Option("--format", help="table or json")]
+
+
+def _threads(text: str) -> str:
+    """``--threads``: ``auto`` or a positive integer (checked when the command line is read)."""
+    from ..threads import parse_setting
+
+    try:
+        return str(parse_setting(text, "--threads"))
+    except ModelError:
+        raise _bad(text, "invalid number of threads", "'auto' or an integer >= 1") from None
+
+
+ThreadsOpt = Annotated[
+    str | None,
+    typer.Option(
+        "--threads",
+        parser=_threads,
+        metavar="N|auto",
+        help="BLAS/LAPACK threads: 'auto' (one, more only for large dense solves on free "
+        "cores) or N; default: the GEARROTOR_THREADS environment variable, else auto",
+    ),
+]
+
+
 OperatingPointOpt = Annotated[
     str | None,
     typer.Option(

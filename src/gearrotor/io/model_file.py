@@ -387,6 +387,12 @@ def _check_files(train: Train, file: str) -> None:
                     read_toml(ff.file, "bearing")
             except ModelError as exc:
                 raise ModelError(str(exc), field=field, file=file) from None
+            seal_file = getattr(b, "file", None)
+            if seal_file is not None:  # a seal file: read here, its fields checked at assembly
+                try:
+                    read_toml(seal_file, "seal")
+                except ModelError as exc:
+                    raise ModelError(str(exc), field=f"{group}[{k}].file", file=file) from None
 
 
 def _resolve_paths(data: dict, base: Path) -> None:
@@ -401,6 +407,8 @@ def _resolve_paths(data: dict, base: Path) -> None:
             continue
         if isinstance(b.get("table_file"), str):
             b["table_file"] = str((base / b["table_file"]).resolve())
+        if isinstance(b.get("file"), str):  # a [[seals]] seal file
+            b["file"] = str((base / b["file"]).resolve())
         ff = b.get("fluid_film")
         if isinstance(ff, dict) and isinstance(ff.get("file"), str):
             ff["file"] = str((base / ff["file"]).resolve())

@@ -396,10 +396,12 @@ def _eight(b) -> tuple[float, ...]:
 class Seal(NodeRef):
     """An annular seal (labyrinth, damper, hole-pattern) between a shaft node and ground: 8
     coefficients, constant (``k``/``c`` isotropic shortcuts or kxx..cyy) or a ``table`` against
-    speed, or a saved ``table_file``. Unlike a bearing's, its direct stiffness and damping may
-    be negative (a labyrinth seal's direct stiffness often is). It assembles like a bearing to
-    ground in every analysis; API 617 Level I analyses and undamped critical speed maps leave
-    seals out, as they leave out the cross-coupling destabilisers."""
+    speed, or a saved ``table_file``, or a seal ``file`` (``docs/seals.md``: the seal computed
+    from its geometry, tabulated at the absolute shaft ``speeds`` at synchronous whirl). Unlike
+    a bearing's, its direct stiffness and damping may be negative (a labyrinth seal's direct
+    stiffness often is). It assembles like a bearing to ground in every analysis; API 617 Level
+    I analyses and undamped critical speed maps leave seals out, as they leave out the
+    cross-coupling destabilisers."""
 
     name: str | None = None
     k: Stiffness | None = None
@@ -414,6 +416,8 @@ class Seal(NodeRef):
     cyy: Damping = 0.0
     table: BearingTable | None = None
     table_file: str | None = None
+    file: str | None = None
+    speeds: list[AngularSpeed] | None = Field(default=None, min_length=1)
     extrapolate: Literal["error", "hold"] = "error"
 
     @model_validator(mode="after")
@@ -422,8 +426,16 @@ class Seal(NodeRef):
             getattr(self, n)
             for n in ("k", "c", "kxx", "kxy", "kyx", "kyy", "cxx", "cxy", "cyx", "cyy")
         )
-        if (self.table is not None) + (self.table_file is not None) + constant > 1:
-            raise ValueError("give one coefficient source: constants, 'table' or 'table_file'")
+        sources = (self.table is not None) + (self.table_file is not None)
+        if sources + (self.file is not None) + constant > 1:
+            raise ValueError(
+                "give one coefficient source: constants, 'table', 'table_file' or 'file'"
+            )
+        if (self.file is None) != (self.speeds is None):
+            raise ValueError(
+                "a seal 'file' goes with 'speeds', the shaft speeds at which its coefficients "
+                "are tabulated (e.g. speeds = ['4000 rpm', '8000 rpm', '12000 rpm'])"
+            )
         return self
 
     def coefficients(self) -> tuple[float, ...]:
@@ -463,23 +475,25 @@ class CrossCoupling(NodeRef):
 
 
 class Coupling(Spec):
-    """Flexible coupling between two shaft nodes (shafts at the same speed)."""
+    """Flexible coupling between two shaft nodes (shafts at the same speed). Stiffness and
+    damping are ≥ 0 (a negative spring or damper between two hubs is no coupling; 0: the
+    direction is not connected)."""
 
     name: str | None = None
     node_i: NodeRef
     node_j: NodeRef
-    kx: Stiffness = 0.0
-    ky: Stiffness = 0.0
-    kz: Stiffness = 0.0
-    ktx: RotStiffness = 0.0
-    kty: RotStiffness = 0.0
-    ktz: RotStiffness = 0.0
-    cx: Damping = 0.0
-    cy: Damping = 0.0
-    cz: Damping = 0.0
-    ctx: RotDamping = 0.0
-    cty: RotDamping = 0.0
-    ctz: RotDamping = 0.0
+    kx: Stiffness = Field(default=0.0, ge=0)
+    ky: Stiffness = Field(default=0.0, ge=0)
+    kz: Stiffness = Field(default=0.0, ge=0)
+    ktx: RotStiffness = Field(default=0.0, ge=0)
+    kty: RotStiffness = Field(default=0.0, ge=0)
+    ktz: RotStiffness = Field(default=0.0, ge=0)
+    cx: Damping = Field(default=0.0, ge=0)
+    cy: Damping = Field(default=0.0, ge=0)
+    cz: Damping = Field(default=0.0, ge=0)
+    ctx: RotDamping = Field(default=0.0, ge=0)
+    cty: RotDamping = Field(default=0.0, ge=0)
+    ctz: RotDamping = Field(default=0.0, ge=0)
 
 
 class GearSide(NodeRef):

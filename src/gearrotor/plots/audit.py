@@ -118,12 +118,28 @@ def _ucs_panel(plt, ax, result, s, k) -> None:
 
 
 def plot_level1(result, path=None):
-    """Level I: log dec of the least-stable forward mode against the applied cross-coupling Q,
-    with Q_A, the threshold Q_0 and the 0.1 acceptance line."""
+    """Level I: log dec of the followed mode (the first forward mode of the loaded shaft, see
+    :mod:`gearrotor.analyses.stability`) against the applied cross-coupling Q, the least log dec
+    of every forward lateral mode beside it (dotted, where it is lower), Q_A, the threshold Q_0,
+    the 0.1 acceptance line, and a shaded band where the followed mode's character changes."""
     plt = _plt()
-    fig, ax = plt.subplots(figsize=(7.0, 4.6))
+    fig, ax = plt.subplots(figsize=(7.4, 4.8))
     q, d = result.curve_q, result.curve_log_dec
-    ax.plot(q, d, "C0.-", lw=1.6, label="least-stable forward mode")
+    shaft = getattr(result, "loaded_shaft", "") or "the loaded shaft"
+    ax.plot(q, d, "C0.-", lw=1.6, label=f"first forward mode of {shaft} (followed)")
+    least = np.asarray(getattr(result, "curve_least_log_dec", []), float)
+    if least.size == q.size and np.any(least < d - 1e-9):
+        lab = "least of every forward lateral mode"
+        ax.plot(q, least, "C2:", marker=".", ms=4, lw=1.4, label=lab)
+    for k, c in enumerate(getattr(result, "mode_changes", ())):
+        ax.axvspan(
+            c["q_from_N_per_m"],
+            c["q_to_N_per_m"],
+            color="C4",
+            alpha=0.18,
+            lw=0,
+            label="followed mode changes: " + c["to"] if k == 0 else None,
+        )
     ax.axhline(0.0, color="k", lw=0.8)
     ax.axhline(
         result.criterion_log_dec,
@@ -152,16 +168,18 @@ def plot_level1(result, path=None):
         )
     ax.set_xlabel("applied cross-coupled stiffness Q (N/m)")
     ax.set_ylabel("log decrement")
-    ax.set_title(f"Level I stability: {result.verdict}")
+    ax.set_title(f"Level I stability ({result.edition}): {result.verdict}", fontsize=10)
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=7)
     fig.tight_layout()
     return _save(fig, path)
 
 
 def plot_screening(result, path=None):
     """The critical speed ratio / average gas density screening chart with the machine's point
-    (region A below the boundary, region B above)."""
+    (region A below the boundary, region B above). Without a gas density (a gearbox, a steam
+    turbine given Q_A directly) the machine's CSR is drawn as a line across every density: its
+    point lies on it, and the chart says the region is not evaluated."""
     from ..analyses.stability import SCREENING_DENSITY_LIMIT, csr_boundary
 
     plt = _plt()
@@ -170,9 +188,11 @@ def plot_screening(result, path=None):
     rho = np.linspace(0.0, SCREENING_DENSITY_LIMIT, 200)
     ax.plot(rho, csr_boundary(rho), "k-", lw=1.8, label="region A / B boundary")
     ax.axvline(SCREENING_DENSITY_LIMIT, color="k", lw=1.0, ls=":")
-    ax.text(8, 1.3, "region A", fontsize=11, color="0.35")
-    ax.text(8, 2.9, "region B", fontsize=11, color="0.35")
-    if result.average_density is not None and result.csr is not None:
+    lo = min(1.0, 0.8 * result.csr) if result.csr is not None else 1.0
+    hi = max(3.5, 1.15 * result.csr) if result.csr is not None else 3.5
+    ax.text(8, lo + 0.55 * (2.0 - lo), "region A", fontsize=11, color="0.35")
+    ax.text(8, 2.75 + 0.3 * (hi - 3.5), "region B", fontsize=11, color="0.35")
+    if result.csr is not None and result.average_density is not None:
         ax.plot(
             result.average_density,
             result.csr,
@@ -182,13 +202,22 @@ def plot_screening(result, path=None):
             label=f"CSR {result.csr:.2f} at {result.average_density:.3g} kg/m³ "
             f"(region {result.region})",
         )
+    elif result.csr is not None:
+        ax.axhline(
+            result.csr,
+            color="C3",
+            ls="--",
+            lw=1.2,
+            label=f"CSR {result.csr:.2f}: no gas density given, region not evaluated",
+        )
+        ax.plot(0.0, result.csr, "o", color="C3", ms=8, clip_on=False)
     ax.set_xlim(0, rho_max)
-    ax.set_ylim(1.0, 3.5)
+    ax.set_ylim(lo, hi)
     ax.set_xlabel("average gas density (kg/m³)")
     ax.set_ylabel("critical speed ratio MCS / N_c1,rigid")
-    ax.set_title("Level I screening")
+    ax.set_title(f"Level I screening ({result.edition})", fontsize=10)
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=8, loc="upper right")
     fig.tight_layout()
     return _save(fig, path)
 
@@ -228,7 +257,7 @@ def plot_level2(result, path=None):
         )
     ax.set_xlabel("damped frequency (rpm)")
     ax.set_ylabel("log decrement")
-    ax.set_title(f"Level II stability: {result.verdict}")
+    ax.set_title(f"Level II stability ({result.edition}): {result.verdict}", fontsize=10)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7)
     fig.tight_layout()

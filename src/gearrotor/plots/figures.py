@@ -6,7 +6,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..files import save_figure
+from ..files import make_directory, save_figure
 
 __all__ = ["mode_shape_curves", "plot_mode_shapes", "plot_campbell", "plot_bode", "plot_orbits"]
 
@@ -25,7 +25,7 @@ def _plt():
 def _save(fig, path):
     if path is not None:
         path = Path(path)
-        path.parent.mkdir(parents=True, exist_ok=True)
+        make_directory(path.parent)  # (within an output set: removed with it on failure)
         save_figure(fig, path, dpi=130, bbox_inches="tight")
     return fig
 

@@ -177,6 +177,8 @@ def model_parts(train) -> list[Part]:
             if hasattr(sl, "fluid_film")
             else ("table" if sl.table is not None or sl.table_file is not None else "constant")
         )
+        if getattr(sl, "file", None) is not None:  # a seal file: computed from its geometry
+            kind = f"geometry, {Path(sl.file).name}"
         parts.append(Part("seal", si, n, zn, f"{name}\n(seal, {kind})", detail=f"seal {name}"))
     for k, t in enumerate(train.thrust_bearings):
         si, n, zn = where(t, f"thrust_bearings[{k}]")

@@ -11,10 +11,12 @@ cases, and identical rows run once. The study folder holds::
     cases/<key>.error.json a failed case: error text and traceback
     results.nc             the combined dataset (:func:`gearrotor.studies.collect`)
 
-Workers run one case at a time with one BLAS/numba thread each (OMP_NUM_THREADS,
-OPENBLAS_NUM_THREADS, MKL_NUM_THREADS and NUMBA_NUM_THREADS = 1): local workers are spawned
-processes; a Dask ``LocalCluster`` gets the same environment. A remote Dask cluster must be
-started with these variables set, and every worker must be able to import gearrotor. Results come
+Workers run one case at a time with one BLAS/numba thread each (GEARROTOR_THREADS,
+OMP_NUM_THREADS, OPENBLAS_NUM_THREADS, MKL_NUM_THREADS and NUMBA_NUM_THREADS = 1): local workers
+are spawned processes; a Dask ``LocalCluster`` gets the same environment. Each case also runs
+in a one-thread :func:`gearrotor.threads.scope` (threadpoolctl), so that the workers of a
+remote Dask cluster started without these variables use one BLAS thread too; every worker must
+be able to import gearrotor. Results come
 back to the calling process, which writes the files, so the study folder need not be shared.
 """
 
@@ -65,6 +67,7 @@ __all__ = [
 ]
 
 THREAD_ENV = {
+    "GEARROTOR_THREADS": "1",
     "OMP_NUM_THREADS": "1",
     "OPENBLAS_NUM_THREADS": "1",
     "MKL_NUM_THREADS": "1",
@@ -117,16 +120,19 @@ def run_case(payload: dict) -> dict:
         "pid": os.getpid(),
     }
     try:
+        from .. import threads
         from ..model import Train
 
         train = Train.model_validate_json(payload["model_json"])
         settings = payload["analysis"]
-        if settings["type"] == "transient":
-            ds = _run_transient(
-                train, settings, window=payload["window"], histories=payload["histories"]
-            )
-        else:
-            ds = _run_modal(train, settings)
+        # one BLAS thread per worker, also on a Dask worker started without THREAD_ENV
+        with threads.using(1), threads.scope():
+            if settings["type"] == "transient":
+                ds = _run_transient(
+                    train, settings, window=payload["window"], histories=payload["histories"]
+                )
+            else:
+                ds = _run_modal(train, settings)
         wall = time.perf_counter() - t0
         ds.attrs.update(
             {

@@ -19,7 +19,13 @@ bearings on a shaft converge like Newton's method. Journal solves are cached by 
 speed), so a sweep or an analysis repeating an operating point reuses them.
 
 Left out: cross-coupled destabilisers and the circulatory stiffness of rotating damping
-(dynamic effects that need whirl), unbalance (a rotating load).
+(dynamic effects that need whirl), unbalance (a rotating load), and annular seals
+(``[[seals]]``, constant or tabulated coefficients alike): a seal's coefficients are those of
+small motions about the rotor's running position (computed for a centred rotor), not a support
+that carries load, so the bearing loads are those of the bearings alone, as ROSS and the usual
+bearing-load calculation have them, and a seal's negative direct stiffness (a labyrinth's)
+cannot turn the static problem into a divergence. The seals act in every dynamic analysis about
+the static state (the transient at an operating point holds them centred on it).
 """
 
 from __future__ import annotations
@@ -38,6 +44,7 @@ from ...assembly import Assembly, _shaft_elements, assemble
 from ...elements import CrossCoupling
 from ...errors import ModelError, SolverError
 from ...model import OperatingPoint, Train
+from ...threads import managed
 from .results import (
     OVERLOAD_FILM_FRACTION,
     BearingLoad,
@@ -232,6 +239,7 @@ def _unreacted(asm, R, acc, M, f, op) -> None:
     )
 
 
+@managed
 def static(
     model: Train | Assembly,
     operating_point: str | OperatingPoint | None = None,
@@ -273,8 +281,11 @@ def static(
         K[np.ix_(d, d)] -= CrossCoupling(q.q).K()
     for m in asm.meshes:
         K[np.ix_(m.dofs, m.dofs)] -= m.stiffness * np.outer(m.w, m.w)
+    for info in _seals(asm):  # no static load on seals (module docstring)
+        if not info.element.speed_dependent:  # a constant seal is in K0; a tabulated one never
+            K[np.ix_(info.dofs, info.dofs)] -= info.element.K(0.0)
     films = []
-    for k, (spec, info) in enumerate(zip(train.bearings, asm.bearings, strict=True)):
+    for k, (spec, info) in enumerate(zip(train.bearings, _bearings(asm), strict=True)):
         if spec.fluid_film is not None:
             if speeds[info.shaft] == 0.0:
                 raise ModelError(
@@ -397,7 +408,7 @@ def static(
     # --- results ----------------------------------------------------------------------------
     bearings, reaction = [], np.zeros(3)
     film_of = {k: state[k] for k, _, _ in films}
-    for k, (spec, info) in enumerate(zip(train.bearings, asm.bearings, strict=True)):
+    for k, (spec, info) in enumerate(zip(train.bearings, _bearings(asm), strict=True)):
         si, node = train.node_index(spec, f"bearings[{k}]")
         d = _relative(q, info)
         if k in film_of:
@@ -483,6 +494,15 @@ def static(
     )
 
 
+def _bearings(asm: Assembly) -> list:
+    """The assembly's radial bearings (``asm.bearings`` also holds the seals, after them)."""
+    return [b for b in asm.bearings if b.kind == "bearing"]
+
+
+def _seals(asm: Assembly) -> list:
+    return [b for b in asm.bearings if b.kind == "seal"]
+
+
 def _relative(q: NDArray, info) -> NDArray:
     d = q[info.dofs].copy()
     if info.support_dofs is not None:
@@ -562,6 +582,7 @@ def _shaft_curves(asm: Assembly, q: NDArray, g: NDArray) -> tuple[ShaftStatics, 
     return tuple(out)
 
 
+@managed
 def static_sweep(model: Train | Assembly, operating_points=None) -> StaticSweep:
     """:func:`static` at several operating points (default: all of the model's, in order)."""
     asm = model if isinstance(model, Assembly) else assemble(model)

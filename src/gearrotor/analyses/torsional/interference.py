@@ -39,6 +39,7 @@ from numpy.typing import NDArray
 from ...errors import ModelError
 from ...model import SynchronousMotor, Train
 from ...model.drives import InductionMotor
+from ...threads import managed
 from .model import TorsionalModel
 from .modes import TorsionalModes, torsional_modes
 
@@ -254,6 +255,7 @@ def default_lines(
     return tuple(lines)
 
 
+@managed
 def interference(
     model: Train | TorsionalModel | TorsionalModes,
     *,

@@ -37,6 +37,7 @@ from scipy.optimize import linear_sum_assignment
 
 from ...assembly import Assembly
 from ...model import Train
+from ...threads import managed
 from .model import TorsionalModel, torsional_model
 
 __all__ = ["TorsionalModes", "damping_source_matrices", "torsional_modes"]
@@ -290,6 +291,7 @@ def _mesh_modes(tm: TorsionalModel, w_all: NDArray, kept: NDArray, zeta_src, nam
     return tuple(out)
 
 
+@managed
 def torsional_modes(
     model: Train | Assembly | TorsionalModel,
     *,

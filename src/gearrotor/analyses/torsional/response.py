@@ -32,6 +32,7 @@ from pydantic import Field, model_validator
 from ...assembly import Assembly
 from ...errors import ModelError
 from ...model import ExternalTorque, NodeRef, Train
+from ...threads import managed
 from ...units import Angle, Dimensionless, Frequency, Torque
 from .model import TorsionalModel, torsional_model
 
@@ -224,6 +225,7 @@ class TorsionalResponse:
         return "\n".join(rows)
 
 
+@managed
 def torsional_response(
     model: Train | Assembly | TorsionalModel,
     *,

@@ -11,7 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ...files import save_figure
+from ...files import make_directory, save_figure
 from ...signals import spectrum
 from .results import RPM, spectra_one_x_rpm
 
@@ -208,7 +208,7 @@ def standard_figures(
     """Write the standard PNG figures into ``directory``; returns the paths. ``progress``:
     called with each path as it is written (the command line prints it)."""
     directory = Path(directory)
-    directory.mkdir(parents=True, exist_ok=True)
+    make_directory(directory)
     ds = _ds(result)
     out = []
     for name, fn in (

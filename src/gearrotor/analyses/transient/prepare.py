@@ -14,6 +14,7 @@ from numpy.typing import NDArray
 from scipy.sparse.csgraph import connected_components
 
 from ...errors import ModelError, SolverError
+from ...threads import limit as thread_limit
 from ..torsional.drive_laws import P_WLINE
 from .equations import TransientSystem
 from .forces import _drive_laws, _force_dofs, _pack_forces
@@ -185,7 +186,8 @@ def _prepare_modal(
     # as a force on its few DOFs (kernel: k_idx, k_skew)
     Ks = 0.5 * (K + K.T)
     Ka = K - Ks
-    w2, V = la.eigh(Ks, M)
+    with thread_limit(len(M), "eigh"):
+        w2, V = la.eigh(Ks, M)
     om_all = np.sqrt(np.clip(w2, 0.0, None))
     wcut = (
         2 * np.pi * integ.cutoff
@@ -198,7 +200,8 @@ def _prepare_modal(
         separated = "torsional" if backlash else False
     if separated and system.meshes:
         _, Kf, _ = system.linear_matrices(meshes=False)
-        w2s, Vs = la.eigh(0.5 * (Kf + Kf.T), M)
+        with thread_limit(len(M), "eigh"):
+            w2s, Vs = la.eigh(0.5 * (Kf + Kf.T), M)
         if separated == "torsional":
             # the free shafts' torsional modes: what the speeds do while the teeth are apart
             # (their lateral modes only add Ritz vectors far above the cut-off, issue 16)

@@ -8,6 +8,7 @@ import scipy.linalg as la
 from numpy.typing import NDArray
 
 from ...errors import ModelError, SolverError
+from ...threads import limit
 from .equations import TransientSystem
 
 __all__ = ["rk4_max_step"]
@@ -41,7 +42,8 @@ def _rk4_step_limit(M: NDArray, K: NDArray, C: NDArray) -> tuple[float, complex]
         return la.solve_triangular(L, la.solve_triangular(L, A, lower=True).T, lower=True).T
 
     A = np.block([[np.zeros((n, n)), np.eye(n)], [-scaled(K), -scaled(C)]])
-    lam = la.eigvals(A)
+    with limit(2 * n, "eig"):
+        lam = la.eigvals(A)
     lam = -np.abs(lam.real) + 1j * np.abs(lam.imag)
     lam = lam[np.abs(lam) > 0.0]
     if not len(lam):

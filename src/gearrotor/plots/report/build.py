@@ -3,8 +3,8 @@
 
 from __future__ import annotations
 
+import json
 import math
-import os
 import shutil
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -15,11 +15,11 @@ from ...errors import ModelError
 from ...files import (
     check_output,
     make_temporary_directory,
-    remove_stale_temporaries,
-    temporary_directory_prefix,
+    replace_directory,
     write_json,
     write_text,
 )
+from ...threads import managed
 from .base import Context
 from .blocks import RPM
 from .page import _page
@@ -94,6 +94,7 @@ def _default_max_frequency(asm, w: float, given: float | None) -> tuple[float, s
     return 5 * w, f"default: 5 × the operating speed {w * RPM:,.0f} rpm (no gear mesh)"
 
 
+@managed
 def make_report(
     model,
     output: str | Path,
@@ -115,7 +116,10 @@ def make_report(
     Parameters
     ----------
     model : a :class:`~gearrotor.model.Train` (or its :class:`~gearrotor.assembly.Assembly`)
-    output : directory to write (created; an existing directory is updated file by file)
+    output : directory to write: created, or an earlier report's (or an empty) folder, which
+        is replaced as a whole (:func:`~gearrotor.files.replace_directory`: a reader or a
+        killed run sees the old report or the new one, never a mix); a symbolic link to a
+        folder is followed (the folder it points to is replaced, the link stays)
     analyses : subset of ``("modal", "campbell", "unbalance")``; ``"transient"`` requires
         ``transient`` (the report reads a saved result, it does not run the solver)
     speed : rad/s, magnitude of the reference-shaft operating speed (default: the model's); the
@@ -161,9 +165,9 @@ def make_report(
         )
     if transient is not None and "transient" not in analyses:
         analyses = (*analyses, "transient")
+    # also removes the temporary folders of a report whose process was killed (SIGKILL)
     output = check_output(output, "directory", field="--output")
-    # the temporary folders of a report whose process was killed (SIGKILL, power cut)
-    remove_stale_temporaries(output.parent, temporary_directory_prefix(output), directories=True)
+    _check_replaceable(output)
     base_train = model.train if isinstance(model, Assembly) else model
     if operating_points:
         operating_points = tuple(operating_points)
@@ -270,7 +274,7 @@ def make_report(
         write_json(tmp / "report.json", _clean(summary))
         page = _page(train, parts, summary, ctx.figures, ctx.notes, source=source, command=command)
         write_text(tmp / "report.html", page)
-        _publish(tmp, output)
+        replace_directory(tmp, output)
     except BaseException as exc:
         shutil.rmtree(tmp, ignore_errors=True)
         if isinstance(exc, ModelError) and str(tmp) in str(exc):  # a write error: name the
@@ -290,14 +294,27 @@ def make_report(
     )
 
 
-def _publish(tmp: Path, output: Path) -> None:
-    if not output.exists():
-        os.rename(tmp, output)
+def _check_replaceable(output: Path) -> None:
+    """The report replaces its folder as a whole: refuse, before anything runs, a folder that
+    holds anything but an earlier report (its ``report.json`` says so), so that no file of
+    the user's goes with it."""
+    if not output.is_dir():
         return
-    files = sorted(tmp.iterdir(), key=lambda p: (p.name == "report.html", p.name))
-    for f in files:
-        os.replace(f, output / f.name)
-    tmp.rmdir()
+    content = [p.name for p in output.iterdir()]
+    if not content:
+        return
+    try:
+        earlier = json.loads((output / "report.json").read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        earlier = None
+    if not (isinstance(earlier, dict) and "gearrotor_report" in earlier):
+        raise ModelError(
+            f"the folder holds files that are not a gearrotor report ({sorted(content)[0]!r}"
+            f"{' ...' if len(content) > 1 else ''}), and a report replaces its folder as a whole",
+            field="--output",
+            value=str(output),
+            expected="a new or empty folder, or the folder of an earlier report",
+        )
 
 
 def _clean(x):
