@@ -10,9 +10,10 @@ model, assembling it, planning the study) by a function that fails the test if c
 
 from __future__ import annotations
 
-import contextlib
+import json
 import os
 import re
+import shutil
 import signal
 import subprocess
 import sys
@@ -21,32 +22,27 @@ import uuid
 from pathlib import Path
 
 import pytest
-from typer.testing import CliRunner
 
-from gearrotor.cli import app
+from fault_helpers import (
+    alive,
+    children,
+    dead_pid,
+    env,
+    full_disk_at_fsync,
+    invoke,
+    leftovers,
+    must_not_run,
+    one_line_exit_2,
+    run_signalled,
+    skip_without_proc,
+    tmpfs,
+)
 
 SINGLE = "unity_gearbox_single_shaft.toml"
 UNITY = "unity_gearbox.toml"
 BEARING = "bearings/pinion_3lobe_dam.toml"
 MOTOR = "motor_gearbox_compressor.toml"
 LOAD, ASSEMBLE = "gearrotor.io.load_model", "gearrotor.assembly.assemble"
-
-
-def invoke(*args):
-    return CliRunner().invoke(app, [str(a) for a in args])
-
-
-def one_line_exit_2(r, *needles):
-    assert r.exit_code == 2, (r.exit_code, r.output, r.exception)
-    assert r.stdout == "", r.stdout  # nothing computed, nothing printed
-    lines = r.stderr.strip().splitlines()
-    assert len(lines) == 1 and lines[0].startswith("error: "), r.stderr
-    for n in needles:
-        assert n in lines[0], (n, lines[0])
-
-
-def _must_not_run(*args, **kwargs):
-    raise AssertionError("the computation started before the output location was checked")
 
 
 #: (command line with OUT for the output, option, kind, the first step of the computation)
@@ -131,7 +127,7 @@ def test_output_location_checked_before_anything_runs(
     cmd, option, kind, first_step, examples, tmp_path, monkeypatch
 ):
     if first_step is not None:
-        monkeypatch.setattr(first_step, _must_not_run)
+        monkeypatch.setattr(first_step, must_not_run)
     for out, needle in _bad_outputs(kind, tmp_path):
         r = invoke(*_args(cmd, examples, out, tmp_path))
         one_line_exit_2(r, option, needle, str(out))
@@ -150,17 +146,14 @@ def test_transient_removes_the_temporaries_of_a_killed_run(examples, tmp_path, m
         raise ModelError("stopped after the output checks")
 
     monkeypatch.setattr(LOAD, stop)
-    dead = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"], **_OUT)
-    planted = tmp_path / f"x.nc.tmp-{int(dead.stdout)}-a1b2c3"
-    unrelated = tmp_path / f"y.nc.tmp-{int(dead.stdout)}"
+    dead = dead_pid()
+    planted = tmp_path / f"x.nc.tmp-{dead}-a1b2c3"
+    unrelated = tmp_path / f"y.nc.tmp-{dead}"
     planted.write_bytes(b"partial")
     unrelated.write_bytes(b"not ours to remove")
     r = invoke("transient", examples / SINGLE, "--output", tmp_path / "x.nc")
     assert r.exit_code == 2 and "stopped after the output checks" in r.stderr
     assert not planted.exists() and unrelated.exists()
-
-
-_OUT = {"capture_output": True, "text": True, "check": True}
 
 
 STUDY = """
@@ -201,11 +194,11 @@ def _study(tmp_path, examples, *, folder="faults.study", rows=(360, 720), t_end=
 
 
 def test_study_outputs_checked_before_anything_runs(examples, tmp_path, monkeypatch):
-    monkeypatch.setattr("gearrotor.studies.execute.plan", _must_not_run)
+    monkeypatch.setattr("gearrotor.studies.execute.plan", must_not_run)
     # both names of collect (studies.plots binds it when imported: importing it here, under the
     # patch, left the patched one in it for every later test of the process)
-    monkeypatch.setattr("gearrotor.studies.plots.collect", _must_not_run)  # imports it first
-    monkeypatch.setattr("gearrotor.studies.collection.collect", _must_not_run)
+    monkeypatch.setattr("gearrotor.studies.plots.collect", must_not_run)  # imports it first
+    monkeypatch.setattr("gearrotor.studies.collection.collect", must_not_run)
     (tmp_path / "afile").write_text("")
     bad = _study(tmp_path, examples, folder=(tmp_path / "afile").as_posix())
     one_line_exit_2(invoke("study", "run", bad), "output", "existing file")
@@ -216,28 +209,6 @@ def test_study_outputs_checked_before_anything_runs(examples, tmp_path, monkeypa
 
 
 # ---- full disk, read-only file system (a small tmpfs where mounting is allowed) ------------------
-@contextlib.contextmanager
-def tmpfs(base: Path, size: str, *options: str):
-    mnt = base / f"mnt-{uuid.uuid4().hex[:6]}"
-    mnt.mkdir()
-    opts = ",".join((f"size={size}", "mode=0777", *options))
-    r = subprocess.run(
-        ["mount", "-t", "tmpfs", "-o", opts, "tmpfs", str(mnt)], capture_output=True, text=True
-    )
-    if r.returncode != 0:
-        mnt.rmdir()
-        pytest.skip(f"cannot mount a tmpfs here (not root / no CAP_SYS_ADMIN): {r.stderr.strip()}")
-    try:
-        yield mnt
-    finally:
-        subprocess.run(["umount", "-l", str(mnt)], check=False)
-        mnt.rmdir()
-
-
-def _leftovers(d: Path) -> list[str]:
-    return sorted(str(p.relative_to(d)) for p in d.rglob("*") if ".tmp-" in p.name)
-
-
 def test_transient_output_on_a_full_disk(examples, tmp_path):
     """The result (~0.5 MB) does not fit a 64 kB file system: before the atomic writer, libhdf5
     crashed the process (SIGSEGV, exit 139) and left ``x.nc.tmp``."""
@@ -248,11 +219,11 @@ def test_transient_output_on_a_full_disk(examples, tmp_path):
         )
         assert r.exit_code == 2, (r.output, r.exception)
         assert r.stderr.strip() == f"error: no space left on device writing {out}"
-        assert not out.exists() and _leftovers(mnt) == []
+        assert not out.exists() and leftovers(mnt) == []
 
 
 def test_transient_output_on_a_read_only_file_system(examples, tmp_path, monkeypatch):
-    monkeypatch.setattr(LOAD, _must_not_run)
+    monkeypatch.setattr(LOAD, must_not_run)
     with tmpfs(tmp_path, "64k", "ro") as mnt:
         r = invoke("transient", examples / SINGLE, "--output", mnt / "x.nc")
         one_line_exit_2(r, "--output", "read-only file system", str(mnt / "x.nc"))
@@ -285,41 +256,18 @@ def test_study_run_on_a_full_disk(examples, tmp_path):
         assert r.exit_code == 2, (r.output, r.exception)
         line = r.stderr.strip()
         assert re.fullmatch(r"error: no space left on device writing \S+/cases/\w+\.nc", line), line
-        assert _leftovers(mnt) == []
+        assert leftovers(mnt) == []
         assert (mnt / "faults.study" / "study.json").stat().st_size > 0
 
 
 def test_study_run_on_a_read_only_file_system(examples, tmp_path, monkeypatch):
-    monkeypatch.setattr("gearrotor.studies.execute.plan", _must_not_run)
+    monkeypatch.setattr("gearrotor.studies.execute.plan", must_not_run)
     with tmpfs(tmp_path, "64k", "ro") as mnt:
         study = _study(tmp_path, examples, folder=(mnt / "s.study").as_posix())
         one_line_exit_2(invoke("study", "run", study), "output", "read-only file system")
 
 
 # ---- signals -------------------------------------------------------------------------------------
-skip_without_proc = pytest.mark.skipif(
-    not Path("/proc/self/stat").exists(), reason="reads the process table from Linux /proc"
-)
-
-
-def _children(pid: int) -> list[int]:
-    out = []
-    for stat in Path("/proc").glob("[0-9]*/stat"):
-        with contextlib.suppress(OSError, IndexError, ValueError):
-            fields = stat.read_text().rsplit(")", 1)[1].split()
-            if int(fields[1]) == pid:
-                out.append(int(stat.parent.name))
-    return out
-
-
-def _alive(pid: int) -> bool:
-    try:
-        state = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0]
-    except OSError:
-        return False
-    return state != "Z"
-
-
 def _start_study(study: Path, *extra: str, settle: float = 4.0) -> subprocess.Popen:
     """``python -m gearrotor study run`` in its own session (a terminal's Ctrl-C goes to the
     whole group: ``os.killpg``), waiting until two workers are computing (``settle`` s after
@@ -330,13 +278,13 @@ def _start_study(study: Path, *extra: str, settle: float = 4.0) -> subprocess.Po
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,
-        env={**os.environ, "PYTHONPATH": str(Path(__file__).resolve().parents[1] / "src")},
+        env=env(),
     )
     deadline = time.time() + 60
     while time.time() < deadline:
         assert proc.poll() is None, proc.communicate()
         # the resource tracker and two workers; the workers have been running a moment
-        if len([c for c in _children(proc.pid) if _alive(c)]) >= 3:
+        if len([c for c in children(proc.pid) if alive(c)]) >= 3:
             time.sleep(settle)
             return proc
         time.sleep(0.1)
@@ -349,15 +297,15 @@ def _start_study(study: Path, *extra: str, settle: float = 4.0) -> subprocess.Po
 def test_sigkill_of_study_run_leaves_no_worker(examples, tmp_path):
     study = _study(tmp_path, examples, rows=(360, 720, 1080, 1440), t_end=30.0)
     proc = _start_study(study, "--no-progress")
-    workers = _children(proc.pid)
+    workers = children(proc.pid)
     proc.kill()  # the parent only, as the OOM killer would
     proc.wait(timeout=30)  # not communicate(): surviving workers would hold its pipes open
     proc.stdout.close()
     proc.stderr.close()
     deadline = time.time() + 10
-    while any(_alive(w) for w in workers) and time.time() < deadline:
+    while any(alive(w) for w in workers) and time.time() < deadline:
         time.sleep(0.1)
-    assert not [w for w in workers if _alive(w)], "workers outlived their parent"
+    assert not [w for w in workers if alive(w)], "workers outlived their parent"
     # the next run removes the temporaries a killed run leaves (one is planted: the kill above
     # may or may not have hit a write)
     cases = tmp_path / "faults.study" / "cases"
@@ -366,7 +314,7 @@ def test_sigkill_of_study_run_leaves_no_worker(examples, tmp_path):
     planted.write_bytes(b"partial")
     r = invoke("study", "run", study, "--cases", "0", "--no-progress")
     assert r.exit_code == 0, (r.output, r.exception)
-    assert not planted.exists() and _leftovers(tmp_path / "faults.study") == []
+    assert not planted.exists() and leftovers(tmp_path / "faults.study") == []
 
 
 @pytest.mark.slow
@@ -380,7 +328,7 @@ def test_interrupted_study_run_is_one_line(examples, tmp_path, sig, code, how):
     # reaches a run that is writing its results)
     study = _study(tmp_path, examples, rows=(360, 720, 1080, 1440), t_end=30.0)
     proc = _start_study(study, "--no-progress")
-    workers = _children(proc.pid)
+    workers = children(proc.pid)
     if sig == signal.SIGINT:
         os.killpg(proc.pid, sig)  # what a terminal does: the whole foreground group
     else:
@@ -394,10 +342,10 @@ def test_interrupted_study_run_is_one_line(examples, tmp_path, sig, code, how):
     # the workers get SIGKILL when their parent ends (PR_SET_PDEATHSIG): delivered
     # asynchronously, so allow the kernel a moment, as the SIGKILL test does
     deadline = time.time() + 10
-    while any(_alive(w) for w in workers) and time.time() < deadline:
+    while any(alive(w) for w in workers) and time.time() < deadline:
         time.sleep(0.05)
-    assert not [w for w in workers if _alive(w)], "workers outlived their parent"
-    assert _leftovers(tmp_path / "faults.study") == []
+    assert not [w for w in workers if alive(w)], "workers outlived their parent"
+    assert leftovers(tmp_path / "faults.study") == []
 
 
 @pytest.mark.slow
@@ -420,17 +368,17 @@ def test_ctrl_c_of_study_run_with_its_workers_starting_or_computing(
     study = _study(tmp_path, examples, rows=(360, 720, 1080, 1440), t_end=30.0)
     extra = ("--scheduler", "local") if backend == "dask" else ()
     proc = _start_study(study, "--no-progress", *extra, settle=settle)
-    processes = _children(proc.pid)
+    processes = children(proc.pid)
     os.killpg(proc.pid, signal.SIGINT)  # a terminal's Ctrl-C: the whole foreground group
     _, err = proc.communicate(timeout=60)
     assert proc.returncode == 130, err
     lines = err.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("interrupted (Ctrl-C)"), err
     deadline = time.time() + 10
-    while any(_alive(w) for w in processes) and time.time() < deadline:
+    while any(alive(w) for w in processes) and time.time() < deadline:
         time.sleep(0.05)
-    assert not [w for w in processes if _alive(w)], "processes outlived the study"
-    assert _leftovers(tmp_path / "faults.study") == []
+    assert not [w for w in processes if alive(w)], "processes outlived the study"
+    assert leftovers(tmp_path / "faults.study") == []
 
 
 # ---- a signal at any moment of `study run`, also after its cases have finished ----------------
@@ -522,14 +470,13 @@ def test_signal_at_any_moment_of_study_run_is_one_line(
     shutil.copytree(finished_study, tmp_path, dirs_exist_ok=True)
     folder = tmp_path / "signals.study"
     (folder / "results.nc").unlink()
-    src = Path(__file__).resolve().parents[1] / "src"
     r = subprocess.run(
         [sys.executable, "-c", _SIGNAL_AT, point, sig, "study", "run", str(tmp_path / "study.toml")]
         + ["--workers", "1", "--no-progress"],
         capture_output=True,
         text=True,
         timeout=120,
-        env={**os.environ, "PYTHONPATH": str(src)},
+        env=env(),
     )
     assert r.returncode == code, (r.returncode, r.stderr)
     lines = r.stderr.strip().splitlines()
@@ -538,7 +485,7 @@ def test_signal_at_any_moment_of_study_run_is_one_line(
         assert "nothing was run" in lines[0] and r.stdout == ""
     else:
         assert f"stored in {folder}; run the same command again to resume" in lines[0]
-    assert _leftovers(tmp_path) == []  # the half-written results.nc was removed
+    assert leftovers(tmp_path) == []  # the half-written results.nc was removed
     results = folder / "results.nc"
     assert results.exists() == (point in ("printing", "exiting")), r.stdout
     if results.exists():  # complete
@@ -557,7 +504,7 @@ def publish(tmp, output):
     print(tmp, flush=True)
     time.sleep(600)
 
-build._publish = publish
+build.replace_directory = publish
 from gearrotor.cli import main
 main()
 """
@@ -570,13 +517,12 @@ def test_report_killed_leaves_nothing_after_the_next_run(examples, tmp_path):
     the next report into the same output removes those of dead processes, not a live one's."""
     out = tmp_path / "rep"
     args = ["report", str(examples / SINGLE), "--output", str(out), "--analyses", "modal"]
-    src = Path(__file__).resolve().parents[1] / "src"
     proc = subprocess.Popen(
         [sys.executable, "-c", _PAUSED_REPORT, *args],
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,
-        env={**os.environ, "PYTHONPATH": str(src)},
+        env=env(),
     )
     try:
         tmp = Path(proc.stdout.readline().strip())
@@ -612,14 +558,14 @@ def test_numba_cache_outside_the_package(tmp_path, user_choice):
     kernels are read, nothing is compiled."""
     import gearrotor
 
-    env = {k: v for k, v in os.environ.items() if k != "NUMBA_CACHE_DIR"}
-    env["XDG_CACHE_HOME"] = str(tmp_path / "xdg")
-    env["PYTHONPATH"] = str(Path(gearrotor.__file__).parents[1])
+    environ = {k: v for k, v in os.environ.items() if k != "NUMBA_CACHE_DIR"}
+    environ["XDG_CACHE_HOME"] = str(tmp_path / "xdg")
+    environ["PYTHONPATH"] = str(Path(gearrotor.__file__).parents[1])
     expected = tmp_path / "xdg" / "gearrotor" / "numba"
     if user_choice:
-        env["NUMBA_CACHE_DIR"] = str(tmp_path / "mine")
+        environ["NUMBA_CACHE_DIR"] = str(tmp_path / "mine")
         expected = tmp_path / "mine"
-    r = subprocess.run([sys.executable, "-c", _WHERE], env=env, capture_output=True, text=True)
+    r = subprocess.run([sys.executable, "-c", _WHERE], env=environ, capture_output=True, text=True)
     assert r.returncode == 0, r.stderr
     lines = r.stdout.split()
     if user_choice:
@@ -668,3 +614,219 @@ def test_ctrl_c_of_transient_is_one_line(examples, tmp_path, monkeypatch):
     assert r.stderr.strip() == (
         f"interrupted (Ctrl-C): the state is saved in {ck}; run the same command again to resume"
     )
+
+
+# ---- issue 23: a command's outputs together or not at all ---------------------------------------
+#: Two operating points of the small model whose names sanitise alike (``a/b``, ``a_b``).
+OPERATING_POINTS = """
+[[operating_points]]
+name = "a/b"
+forces = [ { shaft = "s1", node = 2, force = ["0 N", "-500 N", "0 N"] } ]
+
+[[operating_points]]
+name = "a_b"
+forces = [ { shaft = "s1", node = 2, force = ["0 N", "-900 N", "0 N"] } ]
+"""
+
+
+@pytest.fixture
+def small_ops(tmp_path) -> Path:
+    from reliability.conftest import SMALL
+
+    path = tmp_path / "small.toml"
+    path.write_text(SMALL + OPERATING_POINTS)
+    return path
+
+
+#: (command with MODEL, OUT (a new folder), what it writes into OUT when it succeeds)
+SETS = [
+    (
+        ["static", "MODEL", "--all", "--plot", "OUT"],
+        ["bearing_loads.png", "static.json", "static_a_b-2.png", "static_a_b.png"],
+    ),
+    (
+        ["stability", "MODEL", "--mcs", "3000", "--qa", "1e5", "--at", "s1:2"]
+        + ["--plot", "OUT/x.png"],
+        ["x.png", "x_level2.png", "x_screening.png"],
+    ),
+    (["modal", "MODEL", "--plot", "OUT"], ["modal.json", "modes_1.png", "modes_2.png"]),
+    (["unbalance", "MODEL", "--plot", "OUT"], ["bode.png", "orbits_operating.png"]),
+    (
+        ["transient", "MODEL", "--t-end", "0.01", "--no-progress", "--plot", "OUT"],
+        [f"transient_{n}.png" for n in ("orbits", "spectra", "speeds", "time", "whirl_power")],
+    ),
+]
+
+
+@pytest.mark.parametrize(("cmd", "outputs"), SETS, ids=[c[0][0] for c in SETS])
+def test_full_disk_leaves_none_of_a_commands_files(small_ops, tmp_path, monkeypatch, cmd, outputs):
+    """Issue 23: a full disk at the second file left the first (``static --plot`` kept LC1-LC8
+    without static.json, ``stability --plot`` only its first chart). The disk fills at the
+    second file's fsync: one error line, and neither the folder nor a file nor a temporary."""
+    out = tmp_path / "out"
+    args = [small_ops if a == "MODEL" else a.replace("OUT", str(out)) for a in cmd]
+    r = invoke(*args)  # the complete set first: what the faulty run must not leave a part of
+    assert r.exit_code == 0, (r.output, r.exception)
+    assert sorted(p.name for p in out.iterdir()) == outputs
+    shutil.rmtree(out)
+    full_disk_at_fsync(monkeypatch, after=1)
+    r = invoke(*args)
+    assert r.exit_code == 2, (r.output, r.exception)
+    assert re.fullmatch(rf"error: no space left on device writing {out}/\S+", r.stderr.strip())
+    assert not out.exists() and leftovers(tmp_path) == []
+
+
+def test_static_plot_on_a_real_full_disk(small_ops, tmp_path):
+    """The issue's case on a real file system: 120 kB hold the first figure (77 kB) only."""
+    with tmpfs(tmp_path, "120k") as mnt:
+        r = invoke("static", small_ops, "--all", "--plot", mnt / "figs")
+        assert r.exit_code == 2, (r.output, r.exception)
+        assert "no space left on device writing" in r.stderr
+        assert list(mnt.iterdir()) == []
+
+
+def test_static_plot_names_stay_distinct(small_ops, tmp_path):
+    """Issue 23: operating points ``a/b`` and ``a_b`` both wrote ``static_a_b.png`` (one figure
+    lost); the second gets an index, and static.json says which figure is whose."""
+    r = invoke("static", small_ops, "--all", "--plot", tmp_path / "figs")
+    assert r.exit_code == 0, (r.output, r.exception)
+    import json
+
+    saved = json.loads((tmp_path / "figs" / "static.json").read_text())["operating_points"]
+    assert [(p["operating_point"], p["figure"]) for p in saved] == [
+        ("a/b", "static_a_b.png"),
+        ("a_b", "static_a_b-2.png"),
+    ]
+
+
+# ---- issue 23: SIGKILL while writing, then the next run -----------------------------------------
+COMMIT = "gearrotor.files:_Set.commit"  # all files complete, none in place yet
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(
+    ("cmd", "target"),
+    [
+        (["static", "MODEL", "--all", "--plot", "OUT"], COMMIT),
+        (
+            ["transient", "MODEL", "--t-end", "0.01", "--output", "OUT.nc"],
+            "gearrotor.files:_Set.commit",
+        ),
+        (["modal", "MODEL", "--plot", "OUT"], "gearrotor.files:write_json"),
+    ],
+    ids=["static-plot", "transient-output", "modal-plot"],
+)
+def test_temporaries_of_a_killed_run_are_removed_by_the_next(small_ops, tmp_path, cmd, target):
+    """Issue 23: SIGKILL while the files are written (here: when they are all complete, just
+    before they are renamed into place, the moment that leaves the most) left full-size
+    ``static_LC1.png.tmp-PID-TOKEN`` files no later run removed. The next run into the same
+    output removes them (their process is gone), and completes."""
+    out = tmp_path / "out"
+    args = [
+        small_ops if a == "MODEL" else a.replace("OUT", str(out)) for a in cmd
+    ]  # fmt: skip
+    r = run_signalled(target, "SIGKILL", *args)
+    assert r.returncode == -signal.SIGKILL, r.stderr
+    assert leftovers(tmp_path), "the kill left no temporary: the test proves nothing"
+    r = invoke(*args)
+    assert r.exit_code == 0, (r.output, r.exception)
+    assert leftovers(tmp_path) == []
+
+
+# ---- issue 23: the report folder is replaced as a whole ----------------------------------------
+@pytest.fixture
+def earlier_report(examples, tmp_path) -> Path:
+    """A report with a Campbell diagram, which the next report (modes only) does not have."""
+    out = tmp_path / "rep"
+    r = invoke(
+        "report", examples / SINGLE, "--output", out, "--analyses", "modal,campbell",
+        "--max-frequency", "30000",
+    )  # fmt: skip
+    assert r.exit_code == 0, (r.output, r.exception)
+    assert (out / "campbell.png").exists()
+    return out
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(
+    ("target", "new"),
+    [("gearrotor.files:_exchange", False), ("gearrotor.files:_remove_tree", True)],
+    ids=["before-the-exchange", "after-the-exchange"],
+)
+def test_report_killed_while_replacing_is_old_or_new_never_mixed(
+    examples, earlier_report, target, new
+):
+    """Issue 23: SIGKILL while a report replaced an existing one left new JSON and figures with
+    the old ``report.html`` and a stale ``campbell.png`` that survived the next run. The folder
+    is exchanged as a whole: killed before, the old report is intact; after, the new one is
+    complete (no campbell.png); the old one's remains go with the next run."""
+    out = earlier_report
+    old = {p.name: p.read_bytes() for p in out.iterdir()}
+    args = ["report", examples / SINGLE, "--output", out, "--analyses", "modal"]
+    r = run_signalled(target, "SIGKILL", *args)
+    assert r.returncode == -signal.SIGKILL, r.stderr
+    now = {p.name: p.read_bytes() for p in out.iterdir()}
+    if new:
+        assert "campbell.png" not in now and "modes_1.png" in now
+        assert json.loads(now["report.json"])["inputs"]["analyses"] == ["modal"]
+    else:
+        assert now == old
+    r = invoke(*args)
+    assert r.exit_code == 0, (r.output, r.exception)
+    assert sorted(p.name for p in out.parent.iterdir()) == ["rep"]  # no temporary left
+    assert "campbell.png" not in {p.name for p in out.iterdir()}
+
+
+def test_report_refuses_a_folder_that_is_not_a_report(examples, tmp_path, monkeypatch):
+    """Replacing a folder as a whole would take the user's files with it: refused before
+    anything runs."""
+    monkeypatch.setattr(ASSEMBLE, must_not_run)
+    (tmp_path / "mine.txt").write_text("keep me")
+    r = invoke("report", examples / SINGLE, "--output", tmp_path)
+    one_line_exit_2(r, "--output", "not a gearrotor report", "mine.txt", str(tmp_path))
+    assert (tmp_path / "mine.txt").read_text() == "keep me"
+
+
+@pytest.mark.slow
+def test_report_through_a_symbolic_link(examples, earlier_report, tmp_path):
+    """Issue 23: a report output that is a symbolic link to a folder: followed (documented in
+    docs/report.md): the folder it points to is replaced, the link stays; a link to a missing
+    folder is refused."""
+    link = tmp_path / "latest"
+    link.symlink_to(earlier_report)
+    r = invoke("report", examples / SINGLE, "--output", link, "--analyses", "modal")
+    assert r.exit_code == 0, (r.output, r.exception)
+    assert link.is_symlink() and link.resolve() == earlier_report
+    assert "campbell.png" not in {p.name for p in earlier_report.iterdir()}
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["latest", "rep"]
+    dangling = tmp_path / "dangling"
+    dangling.symlink_to(tmp_path / "gone")
+    r = invoke("report", examples / SINGLE, "--output", dangling, "--analyses", "modal")
+    one_line_exit_2(r, "--output", "symbolic link to a missing folder")
+
+
+# ---- issue 23: Ctrl-C is one line on every command ---------------------------------------------
+REPORT = ["report", "MODEL", "--output", "OUT", "--analyses", "modal"]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(
+    ("cmd", "target", "nth"),
+    [
+        (["static", "MODEL", "--all"], "gearrotor.analyses.static:static", 1),
+        (["static", "MODEL", "--all", "--plot", "OUT"], "gearrotor.plots.figures:save_figure", 2),
+        (REPORT, "gearrotor.plots.figures:save_figure", 1),
+        (REPORT, "gearrotor.analyses:modal", 1),
+    ],
+    ids=["static-computing", "static-plotting", "report-writing", "report-computing"],
+)
+def test_ctrl_c_is_one_line(small_ops, tmp_path, cmd, target, nth):
+    """Issue 23: Ctrl-C on ``report`` and ``static`` exited 130 with no message. A real SIGINT
+    while computing or while writing: one line, exit 130, and no file (outputs are written as a
+    whole or not at all)."""
+    out = tmp_path / "out"
+    args = [small_ops if a == "MODEL" else a.replace("OUT", str(out)) for a in cmd]
+    r = run_signalled(target, "SIGINT", *args, nth=nth)
+    assert r.returncode == 130, (r.returncode, r.stderr)
+    assert r.stderr.splitlines() == ["interrupted (Ctrl-C): no file was written"], r.stderr
+    assert not out.exists() and leftovers(tmp_path) == []

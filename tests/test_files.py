@@ -10,45 +10,18 @@ an injected ENOSPC otherwise. The last test reads ``src/`` with ``ast``: no modu
 from __future__ import annotations
 
 import ast
-import contextlib
-import errno
 import json
 import os
-import subprocess
-import sys
-import uuid
 from pathlib import Path
 
 import numpy as np
 import pytest
 
+from fault_helpers import dead_pid, full_disk_at_fsync, leftovers, tmpfs
 from gearrotor import files
 from gearrotor.errors import ModelError
 
 SRC = Path(__file__).resolve().parents[1] / "src" / "gearrotor"
-
-
-def _leftovers(directory: Path) -> list[str]:
-    return sorted(p.name for p in directory.iterdir() if ".tmp-" in p.name)
-
-
-@contextlib.contextmanager
-def _tmpfs(base: Path, size: str, *options: str):
-    """A tmpfs of ``size`` mounted under ``base``; skips the test where mounting is not allowed."""
-    mnt = base / f"mnt-{uuid.uuid4().hex[:6]}"
-    mnt.mkdir()
-    opts = ",".join((f"size={size}", "mode=0777", *options))
-    r = subprocess.run(
-        ["mount", "-t", "tmpfs", "-o", opts, "tmpfs", str(mnt)], capture_output=True, text=True
-    )
-    if r.returncode != 0:
-        mnt.rmdir()
-        pytest.skip(f"cannot mount a tmpfs here (not root / no CAP_SYS_ADMIN): {r.stderr.strip()}")
-    try:
-        yield mnt
-    finally:
-        subprocess.run(["umount", "-l", str(mnt)], check=False)
-        mnt.rmdir()
 
 
 # ---- the atomic writer ---------------------------------------------------------------------
@@ -67,7 +40,7 @@ def test_round_trips_leave_no_temporary(tmp_path):
         np.testing.assert_array_equal(back["a"].values, ds["a"].values)
     with np.load(tmp_path / "e.npz") as z:
         np.testing.assert_array_equal(z["q"], np.arange(3.0))
-    assert _leftovers(tmp_path) == []
+    assert leftovers(tmp_path) == []
 
 
 def test_figure_is_a_png(tmp_path):
@@ -78,7 +51,7 @@ def test_figure_is_a_png(tmp_path):
     fig.add_subplot().plot([0, 1], [1, 0])
     files.save_figure(fig, tmp_path / "f.png", dpi=50)
     assert (tmp_path / "f.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
-    assert _leftovers(tmp_path) == []
+    assert leftovers(tmp_path) == []
 
 
 def test_failure_keeps_the_old_file_and_removes_the_temporary(tmp_path):
@@ -91,21 +64,18 @@ def test_failure_keeps_the_old_file_and_removes_the_temporary(tmp_path):
     with pytest.raises(TypeError):  # not JSON: nothing is written at all
         files.write_json(target, {"x": object()})
     assert json.loads(target.read_text()) == {"old": True}
-    assert _leftovers(tmp_path) == []
+    assert leftovers(tmp_path) == []
 
 
 def test_injected_enospc_is_one_error_naming_the_file(tmp_path, monkeypatch):
     """The same path as a real full disk (below), for machines where mount is not allowed."""
 
-    def full(fd):
-        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
-
-    monkeypatch.setattr(files.os, "fsync", full)
+    full_disk_at_fsync(monkeypatch)
     target = tmp_path / "x.nc"
     with pytest.raises(ModelError) as ei:
         files.write_bytes(target, b"0" * 1000)
     assert str(ei.value) == f"no space left on device writing {target}"
-    assert not target.exists() and _leftovers(tmp_path) == []
+    assert not target.exists() and leftovers(tmp_path) == []
 
 
 def test_full_disk_netcdf_and_json(tmp_path):
@@ -114,7 +84,7 @@ def test_full_disk_netcdf_and_json(tmp_path):
     error naming the file, and no temporary is left."""
     xr = pytest.importorskip("xarray")
     ds = xr.Dataset({"q": (("t", "d"), np.random.default_rng(0).normal(size=(20000, 10)))})
-    with _tmpfs(tmp_path, "256k") as mnt:
+    with tmpfs(tmp_path, "256k") as mnt:
         for target, write in (
             (mnt / "big.nc", lambda p: files.write_netcdf(p, ds)),
             (mnt / "big.json", lambda p: files.write_json(p, ds["q"].values.tolist())),
@@ -122,11 +92,11 @@ def test_full_disk_netcdf_and_json(tmp_path):
             with pytest.raises(ModelError, match=f"^no space left on device writing {target}$"):
                 write(target)
             assert not target.exists()
-            assert _leftovers(mnt) == []
+            assert leftovers(mnt) == []
 
 
 def test_read_only_mount(tmp_path):
-    with _tmpfs(tmp_path, "64k", "ro") as mnt:
+    with tmpfs(tmp_path, "64k", "ro") as mnt:
         with pytest.raises(ModelError, match="read-only file system"):
             files.check_output(mnt / "x.nc", "file", field="--output")
         with pytest.raises(ModelError, match="read-only file system"):
@@ -146,7 +116,7 @@ def test_check_output_file(tmp_path):
     (tmp_path / "afile").write_text("")
     with pytest.raises(ModelError, match="is not a folder"):
         files.check_output(tmp_path / "afile" / "x.nc")
-    assert _leftovers(tmp_path) == [] and not list(tmp_path.glob(".gearrotor-probe-*"))
+    assert leftovers(tmp_path) == [] and not list(tmp_path.glob(".gearrotor-probe-*"))
 
 
 def test_check_output_directory(tmp_path):
@@ -179,15 +149,14 @@ def test_safe_name(name, expected):
 
 
 def test_stale_temporaries_of_dead_processes_are_removed(tmp_path):
-    dead = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"], **_out())
-    dead_pid = int(dead.stdout)
-    stale = tmp_path / f"abc.nc.tmp-{dead_pid}"
-    stale_token = tmp_path / f"abc.nc.tmp-{dead_pid}-a1b2c3"
+    dead = dead_pid()
+    stale = tmp_path / f"abc.nc.tmp-{dead}"
+    stale_token = tmp_path / f"abc.nc.tmp-{dead}-a1b2c3"
     mine = tmp_path / f"def.nc.tmp-{os.getpid()}"
     keep = tmp_path / "abc.nc"
     for p in (stale, stale_token, mine, keep):
         p.write_text("")
-    other = tmp_path / f"other.nc.tmp-{dead_pid}"
+    other = tmp_path / f"other.nc.tmp-{dead}"
     other.write_text("")
     removed = files.remove_stale_temporaries(tmp_path, prefix="abc.nc.tmp-")
     assert sorted(removed) == sorted([stale, stale_token])
@@ -199,8 +168,7 @@ def test_stale_temporaries_of_dead_processes_are_removed(tmp_path):
 def test_temporary_folders_of_dead_processes_are_removed(tmp_path):
     """An output folder built as a whole (the report) is built in ``.NAME.tmp-PID-TOKEN``; the
     folders of dead processes go with their content, only when folders are asked for."""
-    dead = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"], **_out())
-    stale = tmp_path / f".rep.tmp-{int(dead.stdout)}-a1b2c3"
+    stale = tmp_path / f".rep.tmp-{dead_pid()}-a1b2c3"
     (stale / "sub").mkdir(parents=True)
     (stale / "sub" / "report.html").write_text("partial")
     made = files.make_temporary_directory(tmp_path / "rep")
@@ -213,10 +181,6 @@ def test_temporary_folders_of_dead_processes_are_removed(tmp_path):
     assert files.remove_stale_temporaries(tmp_path, prefix) == []
     assert files.remove_stale_temporaries(tmp_path, prefix, directories=True) == [stale]
     assert sorted(tmp_path.iterdir()) == [made]
-
-
-def _out():
-    return {"capture_output": True, "text": True, "check": True}
 
 
 # ---- no direct write anywhere else ----------------------------------------------------------
@@ -273,3 +237,165 @@ def test_every_write_goes_through_files_py():
         for line, what in _direct_writes(ast.parse(path.read_text(encoding="utf-8"))):
             offenders.append(f"{path.relative_to(SRC.parent)}:{line}: {what}")
     assert not offenders, "direct writes outside gearrotor/files.py:\n" + "\n".join(offenders)
+
+
+# ---- a set of files: all or nothing (issue 23) ---------------------------------------------
+def test_output_set_appears_together(tmp_path):
+    """Inside the set nothing is in place; at its end every file is; the old files stay until
+    then."""
+    files.write_text(tmp_path / "b.txt", "old b")
+    with files.output_set():
+        files.write_text(tmp_path / "a.txt", "a")
+        files.write_json(tmp_path / "b.txt", {"b": 1})
+        assert not (tmp_path / "a.txt").exists()
+        assert (tmp_path / "b.txt").read_text() == "old b"
+        with files.output_set():  # a set inside a set joins it
+            files.write_bytes(tmp_path / "c.bin", b"c")
+        assert not (tmp_path / "c.bin").exists()
+    assert (tmp_path / "a.txt").read_text() == "a" and (tmp_path / "c.bin").read_bytes() == b"c"
+    assert json.loads((tmp_path / "b.txt").read_text()) == {"b": 1}
+    assert leftovers(tmp_path) == []
+    assert files.written()[-3:] == tuple(
+        Path(os.path.abspath(p))
+        for p in (tmp_path / "a.txt", tmp_path / "b.txt", tmp_path / "c.bin")
+    )
+
+
+@pytest.mark.parametrize("fault", ["enospc", "error", "ctrl-c"])
+def test_output_set_failure_leaves_none_of_its_files(tmp_path, monkeypatch, fault):
+    """Issue 23: a full disk at the third file left the first two (``static --plot`` kept LC1-LC8
+    without static.json). Now the old files stay as they were, the new ones and their
+    temporaries are gone, and so is a folder the set created."""
+    files.write_text(tmp_path / "a.txt", "old a")
+    out = tmp_path / "new" / "deeper"
+    if fault == "enospc":
+        full_disk_at_fsync(monkeypatch, after=2)
+    exc = {"enospc": ModelError, "error": RuntimeError, "ctrl-c": KeyboardInterrupt}[fault]
+    with pytest.raises(exc), files.output_set():
+        files.make_directory(out)
+        files.write_text(tmp_path / "a.txt", "new a")
+        files.write_text(out / "b.txt", "b")
+        files.write_text(out / "c.txt", "c")  # the disk is full here
+        if fault == "error":
+            raise RuntimeError("the producer failed after three files")
+        if fault == "ctrl-c":
+            raise KeyboardInterrupt
+    assert (tmp_path / "a.txt").read_text() == "old a"
+    assert not (tmp_path / "new").exists()
+    assert leftovers(tmp_path) == []
+
+
+def test_signal_during_commit_comes_after_it(tmp_path, monkeypatch):
+    """SIGINT and SIGTERM are held back while the set is renamed into place: a real SIGINT
+    sent at the first rename interrupts after the last one (all files there), not between."""
+    import signal
+
+    real = files.os.replace
+    sent = []
+
+    def replace(src, dst):
+        if not sent:
+            sent.append(dst)
+            os.kill(os.getpid(), signal.SIGINT)
+        real(src, dst)
+
+    monkeypatch.setattr(files.os, "replace", replace)
+    with pytest.raises(KeyboardInterrupt), files.output_set():
+        for k in range(5):
+            files.write_text(tmp_path / f"{k}.txt", str(k))
+    assert sent and sorted(p.name for p in tmp_path.iterdir()) == [f"{k}.txt" for k in range(5)]
+
+
+# ---- stale temporaries of every output (issue 23) ------------------------------------------
+def test_check_output_removes_the_temporaries_killed_runs_left(tmp_path):
+    """A run killed while writing (SIGKILL) leaves ``NAME.tmp-PID-TOKEN`` full-size files; the
+    next run's output check removes those of dead processes: of its own file, in its output
+    folder, and its own temporary folders, not a live process's and not files of other names."""
+    dead, live = dead_pid(), os.getpid()
+    plots = tmp_path / "plots"
+    plots.mkdir()
+    stale = [
+        tmp_path / f"x.nc.tmp-{dead}-a1b2c3",
+        plots / f"static_LC1.png.tmp-{dead}-0f0f0f",
+        plots / f"static.json.tmp-{dead}-abcdef",
+    ]
+    kept = [
+        tmp_path / f"y.nc.tmp-{dead}-a1b2c3",  # another output's: its own run removes it
+        plots / f"static_LC2.png.tmp-{live}-a1b2c3",  # being written right now
+        plots / f"notes.tmp-{dead}",  # not a name this package writes
+        plots / "static_LC1.png",
+    ]
+    for p in stale + kept:
+        p.write_bytes(b"partial")
+    stale_dir = tmp_path / f".plots.tmp-{dead}-123abc"
+    stale_dir.mkdir()
+    (stale_dir / "report.html").write_text("partial")
+    files.check_output(tmp_path / "x.nc", "file", field="--output")
+    files.check_output(plots, "directory", field="--plot")
+    assert not any(p.exists() for p in [*stale, stale_dir])
+    assert all(p.exists() for p in kept)
+
+
+# ---- names as file names -------------------------------------------------------------------
+def test_unique_names():
+    """Issue 23: operating points ``a/b`` and ``a_b`` both wrote ``static_a_b.png``."""
+    names = ["a/b", "a_b", "a b", "A_B", "a/b", "a_b-2", "..", ""]
+    out = files.unique_names(names)
+    assert out == ["a_b", "a_b-2", "a_b-3", "A_B-4", "a_b", "a_b-2-2", "_", "_-2"]
+    distinct = {}
+    for name, f in zip(names, out, strict=True):
+        assert distinct.setdefault(f.lower(), name) == name  # one file name, one name
+        assert f == files.safe_name(f)
+
+
+# ---- a folder replaced as a whole (issue 23) -----------------------------------------------
+def _report_like(folder: Path, marker: str) -> None:
+    folder.mkdir()
+    (folder / "report.html").write_text(marker)
+    (folder / f"only_{marker}.png").write_text(marker)
+
+
+def test_replace_directory(tmp_path):
+    out = tmp_path / "rep"
+    first = files.make_temporary_directory(out)
+    (first / "report.html").write_text("one")
+    files.replace_directory(first, out)  # new: a rename
+    assert (out / "report.html").read_text() == "one"
+    second = files.make_temporary_directory(out)
+    (second / "report.html").write_text("two")
+    files.replace_directory(second, out)  # existing: exchanged, the old content removed
+    assert sorted(p.name for p in out.iterdir()) == ["report.html"]
+    assert (out / "report.html").read_text() == "two"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["rep"]
+
+
+def test_replace_directory_through_a_symbolic_link(tmp_path):
+    """A link to a folder is followed: the folder it points to is replaced, the link stays (the
+    temporary is built next to the target, on its file system)."""
+    target = tmp_path / "disk" / "reports"
+    target.parent.mkdir()
+    _report_like(target, "old")
+    link = tmp_path / "rep"
+    link.symlink_to(target)
+    tmp = files.make_temporary_directory(link)
+    assert tmp.parent == target.parent
+    (tmp / "report.html").write_text("new")
+    files.replace_directory(tmp, link)
+    assert link.is_symlink() and link.resolve() == target
+    assert sorted(p.name for p in target.iterdir()) == ["report.html"]
+    assert (target / "report.html").read_text() == "new"
+    assert sorted(p.name for p in target.parent.iterdir()) == ["reports"]
+
+
+def test_replace_directory_without_exchange(tmp_path, monkeypatch):
+    """Where the system has no atomic exchange (not Linux, or a file system without it), two
+    renames; the old folder goes under the temporary name first, so a kill in between leaves
+    it for the next run to remove."""
+    monkeypatch.setattr(files, "_exchange", lambda a, b: False)
+    out = tmp_path / "rep"
+    _report_like(out, "old")
+    tmp = files.make_temporary_directory(out)
+    (tmp / "report.html").write_text("new")
+    files.replace_directory(tmp, out)
+    assert sorted(p.name for p in out.iterdir()) == ["report.html"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["rep"]

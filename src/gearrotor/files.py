@@ -16,16 +16,28 @@ Output locations (:func:`check_output`) are checked by actually creating and rem
 file or folder in the directory that will receive the output (``os.access`` says nothing
 useful for root, on read-only mounts or in ``/proc``).
 
+A command that writes several files writes them as one set (:func:`output_set`): every file of
+the set is written to its temporary and synced first, and only when all are complete are they
+renamed into place, one after the other within microseconds, with SIGINT and SIGTERM held back
+meanwhile. A full disk, an error or Ctrl-C while the set is produced leaves none of its files
+(the older ones, if any, stay as they were).
+
 Temporaries of a process that was killed (SIGKILL, power cut) stay behind; their names carry
-the pid, and :func:`remove_stale_temporaries` removes those whose process is gone. An output
-folder built as a whole (the HTML report) is built in a temporary folder named the same way
-(:func:`make_temporary_directory`, ``.NAME.tmp-PID-TOKEN`` next to it), and its writer removes
-the temporary folders of dead processes at its next run.
+the pid, and :func:`remove_stale_temporaries` removes those whose process is gone. Every output
+location checked by :func:`check_output` is cleaned of them: an output file of its own
+(``NAME.tmp-PID-TOKEN``), an output folder of those of its files and of its own temporary
+folder. An output folder built as a whole (the HTML report) is built in a temporary folder
+named the same way (:func:`make_temporary_directory`, ``.NAME.tmp-PID-TOKEN`` next to it) and
+then exchanged with the old folder in one step (:func:`replace_directory`).
+
+Names of things (operating points, probes, shafts) become file-name components through
+:func:`safe_name`; :func:`unique_names` keeps distinct names distinct after sanitising.
 """
 
 from __future__ import annotations
 
 import contextlib
+import contextvars
 import errno
 import io
 import json
@@ -33,9 +45,11 @@ import os
 import re
 import secrets
 import shutil
+import signal
 import sys
 import tempfile
-from collections.abc import Iterator
+import threading
+from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import IO, Any
 
@@ -46,10 +60,14 @@ __all__ = [
     "check_output",
     "make_directory",
     "make_temporary_directory",
+    "output_set",
     "remove_stale_temporaries",
+    "replace_directory",
     "safe_name",
     "save_figure",
     "temporary_directory_prefix",
+    "unique_names",
+    "written",
     "write_bytes",
     "write_json",
     "write_netcdf",
@@ -57,7 +75,7 @@ __all__ = [
     "write_text",
 ]
 
-_TMP = re.compile(r"\.tmp-(\d+)(?:-[0-9a-f]+)?$")
+_TMP = re.compile(r"\.tmp-(\d+)(-[0-9a-f]{6})?$")
 
 _REASONS = {
     errno.ENOSPC: "no space left on device",
@@ -86,21 +104,116 @@ def _temporary(path: Path) -> Path:
     return path.with_name(f"{path.name}.tmp-{os.getpid()}-{secrets.token_hex(3)}")
 
 
+#: Every file this process has put in place, in order (:func:`written`).
+_WRITTEN: list[Path] = []
+
+
+def written() -> tuple[Path, ...]:
+    """The files this process has written so far, in order (a command's interruption message
+    says which of them it wrote: :func:`gearrotor.cli.errors.cli_errors`)."""
+    return tuple(_WRITTEN)
+
+
+class _Set:
+    """The files of an :func:`output_set`: destination → its complete, synced temporary."""
+
+    def __init__(self) -> None:
+        self.staged: dict[Path, Path] = {}
+        self.folders: list[Path] = []  # created for the set (make_directory): removed with it
+
+    def stage(self, tmp: Path, path: Path) -> None:
+        key = Path(os.path.abspath(path))
+        old = self.staged.pop(key, None)
+        if old is not None:  # written twice in the set: the last content counts
+            _discard(old)
+        self.staged[key] = tmp
+
+    def discard(self) -> None:
+        for tmp in self.staged.values():
+            _discard(tmp)
+        self.staged.clear()
+        for folder in reversed(self.folders):  # innermost first; only if still empty
+            with contextlib.suppress(OSError):
+                folder.rmdir()
+
+    def commit(self) -> None:
+        items = list(self.staged.items())
+        self.staged.clear()
+        with _signals_held():
+            for k, (path, tmp) in enumerate(items):
+                try:
+                    os.replace(tmp, path)
+                except OSError as exc:
+                    for _, rest in items[k:]:
+                        _discard(rest)
+                    raise _write_error(path, exc) from None
+                _WRITTEN.append(path)
+
+
+_SET: contextvars.ContextVar[_Set | None] = contextvars.ContextVar("output_set", default=None)
+
+
+@contextlib.contextmanager
+def _signals_held() -> Iterator[None]:
+    """SIGINT and SIGTERM held back (delivered when the block ends) in the main thread."""
+    if threading.current_thread() is not threading.main_thread() or not hasattr(
+        signal, "pthread_sigmask"
+    ):
+        yield
+        return
+    old = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT, signal.SIGTERM})
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, old)
+
+
+@contextlib.contextmanager
+def output_set() -> Iterator[None]:
+    """The files written (through this module) within the block appear together or not at all:
+    each is written to its temporary and synced as usual, but renamed into place only when the
+    block ends normally, all of them at once (SIGINT and SIGTERM held back during the renames).
+    An exception (a full disk, an error, Ctrl-C) removes every temporary of the set and leaves
+    the destinations as they were. A set inside a set joins the outer one.
+
+    Use it around the part of a command that writes its outputs (figures, JSON, NetCDF), not
+    around files that must be stored as they come (a study's cases, checkpoints)."""
+    if _SET.get() is not None:
+        yield
+        return
+    current = _Set()
+    token = _SET.set(current)
+    try:
+        yield
+    except BaseException:
+        current.discard()
+        raise
+    finally:
+        _SET.reset(token)
+    current.commit()
+
+
 @contextlib.contextmanager
 def atomic_file(path: str | os.PathLike, mode: str = "wb", **open_kw) -> Iterator[IO[Any]]:
     """Open a temporary file next to ``path`` for writing; on a normal exit it is flushed,
-    ``fsync``-ed and renamed to ``path``. On any exception the temporary is removed; an
-    ``OSError`` becomes a :class:`ModelError` naming ``path`` (others pass through)."""
+    ``fsync``-ed and renamed to ``path`` (within an :func:`output_set`, when the set ends). On
+    any exception the temporary is removed; an ``OSError`` becomes a :class:`ModelError`
+    naming ``path`` (others pass through)."""
     if mode not in ("w", "wb"):
         raise ValueError(f"atomic_file writes only: mode 'w' or 'wb', not {mode!r}")
     path = Path(path)
     tmp = _temporary(path)
+    staging = _SET.get()
     try:
         with open(tmp, mode, **open_kw) as fh:
             yield fh
             fh.flush()
             os.fsync(fh.fileno())
+        if staging is not None:
+            staging.stage(tmp, path)
+            return
         os.replace(tmp, path)
+        _WRITTEN.append(path)
     except OSError as exc:
         _discard(tmp)
         raise _write_error(path, exc) from None
@@ -235,6 +348,13 @@ def check_output(
         _probe(parent, field, path, expected)
     elif kind == "directory":
         expected = "a folder (new or existing) in a writable location"
+        if path.is_symlink() and not path.exists():
+            raise ModelError(
+                f"the output is a symbolic link to a missing folder ({os.readlink(path)})",
+                field=field,
+                value=str(path),
+                expected=expected,
+            )
         if path.exists() and not path.is_dir():
             raise ModelError(
                 "the output is an existing file, not a directory",
@@ -245,14 +365,36 @@ def check_output(
         _writable_ancestor(path, field, path, expected)
     else:
         raise ValueError(f"kind must be 'file' or 'directory', not {kind!r}")
+    _remove_stale_for(path, kind)
     return path
 
 
+def _remove_stale_for(path: Path, kind: str) -> None:
+    """The temporaries killed processes left for this output: a file's own
+    (``NAME.tmp-PID-TOKEN``); a folder's files' and its own temporary folders."""
+    if kind == "file":
+        remove_stale_temporaries(path.parent, f"{path.name}.tmp-")
+        return
+    if path.is_dir():
+        remove_stale_temporaries(path, token=True)
+    target = path.resolve() if path.is_symlink() else path
+    remove_stale_temporaries(target.parent, temporary_directory_prefix(target), directories=True)
+
+
 def make_directory(path: str | os.PathLike, *, field: str | None = None) -> Path:
-    """``mkdir -p`` with the errors of :func:`check_output`."""
+    """``mkdir -p`` with the errors of :func:`check_output`. Within an :func:`output_set`, the
+    folders it creates go with the set when it fails (removed if still empty)."""
     path = Path(path)
+    missing = []
+    anc = path
+    while not anc.exists() and anc != anc.parent:
+        missing.append(anc)
+        anc = anc.parent
     try:
         path.mkdir(parents=True, exist_ok=True)
+        staging = _SET.get()
+        if staging is not None:
+            staging.folders.extend(reversed(missing))
     except OSError as exc:
         raise ModelError(
             f"cannot create the folder: {_reason(exc)}", field=field, value=str(path)
@@ -266,6 +408,64 @@ def temporary_directory_prefix(path: str | os.PathLike) -> str:
     return f".{path.name or path.resolve().name}.tmp-"  # "." is named after the folder it is
 
 
+_RENAME_EXCHANGE = 2  # <linux/fs.h>
+_AT_FDCWD = -100
+
+
+def _exchange(a: Path, b: Path) -> bool:
+    """Swap two paths in one step (Linux ``renameat2(RENAME_EXCHANGE)``); False where the
+    system or the file system does not offer it."""
+    if not sys.platform.startswith("linux"):
+        return False
+    import ctypes
+
+    try:
+        fn = ctypes.CDLL(None, use_errno=True).renameat2
+    except (OSError, AttributeError):  # glibc < 2.28, musl without it
+        return False
+    fn.argtypes = [ctypes.c_int, ctypes.c_char_p, ctypes.c_int, ctypes.c_char_p, ctypes.c_uint]
+    rc = fn(_AT_FDCWD, os.fsencode(a), _AT_FDCWD, os.fsencode(b), _RENAME_EXCHANGE)
+    if rc == 0:
+        return True
+    err = ctypes.get_errno()
+    if err in (errno.EINVAL, errno.ENOSYS, errno.EOPNOTSUPP):
+        return False
+    raise OSError(err, os.strerror(err), str(b))
+
+
+def _remove_tree(path: Path) -> None:
+    shutil.rmtree(path, ignore_errors=True)
+
+
+def replace_directory(tmp: str | os.PathLike, path: str | os.PathLike) -> Path:
+    """Put the complete folder ``tmp`` (from :func:`make_temporary_directory`) in place of the
+    folder ``path`` as a whole: a new ``path`` is a rename; an existing one is exchanged with
+    ``tmp`` in one step (Linux ``renameat2``; elsewhere two renames) and the old content, now
+    under the temporary name, is removed. A reader, or a process killed at any moment, sees
+    the old folder or the new one, never a mix; what a kill leaves under the temporary name
+    is removed by the next run (:func:`check_output`). A symbolic link to a folder is followed:
+    the folder it points to is replaced, the link stays. Returns ``path``."""
+    tmp, path = Path(tmp), Path(path)
+    target = path.resolve() if path.is_symlink() else path
+    try:
+        with _signals_held():
+            if not target.exists():
+                os.rename(tmp, target)
+            else:
+                if not _exchange(tmp, target):
+                    old = target.parent / (
+                        f"{temporary_directory_prefix(target)}{os.getpid()}-{secrets.token_hex(3)}"
+                    )
+                    os.rename(target, old)
+                    os.rename(tmp, target)
+                    tmp = old
+                _remove_tree(tmp)  # the old folder, now under the temporary name
+    except OSError as exc:
+        raise _write_error(path, exc) from None
+    _WRITTEN.append(path)
+    return path
+
+
 def make_temporary_directory(path: str | os.PathLike, *, field: str | None = None) -> Path:
     """Create an empty folder next to ``path`` in which the output folder ``path`` is built
     before it is moved into place: ``.NAME.tmp-PID-TOKEN`` (hidden; the pid lets the next run
@@ -273,6 +473,8 @@ def make_temporary_directory(path: str | os.PathLike, *, field: str | None = Non
     temporary_directory_prefix(path), directories=True)``), with the permissions of an ordinary
     folder (umask), not the private ones of ``tempfile.mkdtemp``."""
     path = Path(path)
+    if path.is_symlink():  # built next to the folder it replaces (replace_directory)
+        path = path.resolve()
     tmp = path.parent / f"{temporary_directory_prefix(path)}{os.getpid()}-{secrets.token_hex(3)}"
     try:
         tmp.mkdir()
@@ -296,6 +498,24 @@ def safe_name(name: str) -> str:
     return out or "_"
 
 
+def unique_names(names: Sequence[str]) -> list[str]:
+    """:func:`safe_name` of each name, distinct names kept distinct: a name whose sanitised
+    form another, earlier name already has gets an index (``a/b``, ``a_b`` → ``a_b``,
+    ``a_b-2``); equal names get the same file name. Case is ignored in the comparison (a
+    case-insensitive file system would merge ``A`` and ``a``)."""
+    taken: dict[str, str] = {}  # lower-case file name -> the name it stands for
+    out: list[str] = []
+    for name in names:
+        base = safe_name(name)
+        candidate, k = base, 1
+        while taken.get(candidate.lower(), name) != name:
+            k += 1
+            candidate = f"{base}-{k}"
+        taken[candidate.lower()] = name
+        out.append(candidate)
+    return out
+
+
 def _pid_alive(pid: int) -> bool:
     if pid == os.getpid():
         return True
@@ -309,18 +529,26 @@ def _pid_alive(pid: int) -> bool:
 
 
 def remove_stale_temporaries(
-    directory: str | os.PathLike, prefix: str = "", *, directories: bool = False
+    directory: str | os.PathLike,
+    prefix: str = "",
+    *,
+    directories: bool = False,
+    token: bool = False,
 ) -> list[Path]:
     """Remove the temporaries (``PREFIX*.tmp-PID[-TOKEN]``) of processes that no longer run from
     ``directory`` (not recursive): files, and with ``directories`` also folders (with their
-    content: :func:`make_temporary_directory`). Returns the paths removed."""
+    content: :func:`make_temporary_directory`); with ``token`` only names that end in the
+    writer's random token (``.tmp-PID-TOKEN``, as every temporary of this module's writers
+    does: what a folder's cleaning takes for its own). Returns the paths removed."""
     directory = Path(directory)
     removed: list[Path] = []
     if not directory.is_dir():
         return removed
     for p in directory.iterdir():
         m = _TMP.search(p.name)
-        if not (m and p.name.startswith(prefix)) or _pid_alive(int(m.group(1))):
+        if not (m and p.name.startswith(prefix)) or (token and m.group(2) is None):
+            continue
+        if _pid_alive(int(m.group(1))):
             continue
         if p.is_file():
             _discard(p)

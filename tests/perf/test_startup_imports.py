@@ -39,7 +39,7 @@ HEAVY = (
 MODEL = ("gearrotor.model", "gearrotor.io", "pint")
 
 #: Commands that validate the model before importing their analysis (the bad-field check).
-BAD_FIELD = ("modal", "campbell", "static", "ucs", "floquet", "report", "transient")
+BAD_FIELD = ("modal", "campbell", "static", "floquet", "report", "transient")
 
 #: Required options besides the model.
 REQUIRED = {

@@ -10,6 +10,7 @@ from pathlib import Path
 import pytest
 from typer.testing import CliRunner
 
+from fault_helpers import files_in  # noqa: F401  (the corpus's modules import it from here)
 from gearrotor.cli import app
 
 #: A small single-shaft model (4 Timoshenko elements on two bearings): every analysis on it
@@ -75,10 +76,6 @@ def check_refused(r, seconds: float, *needles: str, code: int = 2) -> None:
     for n in needles:
         assert n in err, (n, err)
     assert seconds < MAX_SECONDS, seconds
-
-
-def files_in(folder: Path) -> set[Path]:
-    return {p for p in folder.rglob("*")}
 
 
 @pytest.fixture

@@ -11,6 +11,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from fault_helpers import rewrite_netcdf
+
 from .conftest import SMALL, check_refused, files_in, run
 
 
@@ -28,11 +30,10 @@ def saved(tmp_path_factory) -> Path:
 
 
 def _tamper(src: Path, dst: Path, how: str) -> None:
-    import xarray as xr
+    rewrite_netcdf(src, dst, lambda ds: _tampered(ds, how))
 
-    from gearrotor.analyses.transient import load_result
 
-    ds = load_result(src)
+def _tampered(ds, how: str):
     model = json.loads(ds.attrs["model_json"])
     if how == "deep-json":
         ds.attrs["model_json"] = "[" * 100000 + "]" * 100000
@@ -58,8 +59,7 @@ def _tamper(src: Path, dst: Path, how: str) -> None:
         ds = ds.drop_vars("x")
     elif how == "one-sample":
         ds = ds.isel(time=[0])
-    ds.to_netcdf(dst, engine="h5netcdf")
-    xr.backends.file_manager.FILE_CACHE.clear()
+    return ds
 
 
 CASES = [

@@ -29,7 +29,7 @@ CASES = [
     (
         "unknown-path",
         STUDY.replace("variation.ka_ratio", "variaton.ka_ratio"),
-        ["cases.rows[0]", "meshes[0].variaton", "unknown key"],
+        ["cases.rows[0]", "meshes[0].variaton", "no such field"],
     ),
     ("unit-typo", STUDY.replace('"g*mm"', '"g*mmm"'), ["cases.rows[0]", "mmm"]),
     ("negative", STUDY.replace("[1080, 0.1]", "[1080, -0.1]"), ["cases.rows[2]", "ka_ratio"]),

@@ -19,6 +19,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from fault_helpers import rewrite_netcdf
+
 from .conftest import SMALL, run
 
 TRANSIENT_STUDY = """
@@ -77,12 +79,7 @@ def _cases(folder: Path) -> list[Path]:
 
 
 def _rewrite(path: Path, change) -> None:
-    import xarray as xr
-
-    with xr.open_dataset(path, engine="h5netcdf") as ds:
-        ds = change(ds.load())
-    path.unlink()
-    ds.to_netcdf(path, engine="h5netcdf")
+    rewrite_netcdf(path, path, change)
 
 
 def _set(name, value):

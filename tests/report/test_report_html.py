@@ -79,8 +79,9 @@ def test_page_is_self_contained(page):
     # the plotly.js bundle is inline, once
     js = get_plotlyjs()
     assert page.count(js[:400]) == 1
-    # and every figure is drawn by it
-    assert page.count('class="plotly-graph-div"') == 7
+    # and every figure is drawn by it (the model's 3-D view, modes, Campbell, Bode, orbits,
+    # spectra, waterfall, whirl power)
+    assert page.count('class="plotly-graph-div"') == 8
 
 
 def test_page_has_the_sections(page, report):
@@ -139,9 +140,11 @@ def test_mode_table_matches_the_modal_result(page, report):
     for i in range(len(res)):
         assert f"<td>{res.frequency_rpm[i]:.1f}</td>" in page
         assert f"<td>{res.log_dec[i]:.4g}</td>" in page
-    # every listed mode carries its status; this model is stable at 6500 rpm
+    # every listed mode carries its status; this model is stable at 6500 rpm (up to
+    # 32,500 cpm every elastic mode has lateral motion and log dec above 0.1)
     n_elastic = int(np.sum(~res.overdamped))
-    assert page.count("<td class='l'>stable</td>") == n_elastic
+    modes = page.split("<section id='modes'>")[1].split("</section>")[0]
+    assert modes.count("<td class='l'>stable</td>") == n_elastic
     assert report.summary["stability"]["modal"]["stable"] is True
 
 
@@ -325,14 +328,24 @@ def test_failed_write_leaves_nothing_behind(single, tmp_path, monkeypatch):
     assert list(tmp_path.iterdir()) == []
 
 
-def test_existing_directory_is_updated(single, tmp_path):
+def test_existing_directory_is_replaced_as_a_whole(single, tmp_path):
+    """Issue 23: an earlier report's folder is replaced as a whole (no file of the earlier
+    report survives into the new one); a folder holding other files is refused, so that they
+    do not go with it."""
     out = tmp_path / "out"
     out.mkdir()
-    (out / "notes.txt").write_text("mine")
+    rep = make_report(single, out, analyses="modal")  # an empty folder is fine
+    (out / "stale.png").write_text("a figure the next report does not make")
     rep = make_report(single, out, analyses="modal")
-    assert (out / "notes.txt").read_text() == "mine"
     assert rep.html.exists() and (out / "modes_1.png").exists()
+    assert not (out / "stale.png").exists()
     assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]
+    mine = tmp_path / "mine"
+    mine.mkdir()
+    (mine / "notes.txt").write_text("mine")
+    with pytest.raises(ModelError, match="not a gearrotor report"):
+        make_report(single, mine, analyses="modal")
+    assert (mine / "notes.txt").read_text() == "mine"
 
 
 # ---- the command --------------------------------------------------------------------------------

@@ -7,6 +7,7 @@ order of ``gearrotor --help``):
 command             module                      calls
 ==================  ==========================  ==============================================
 ``show``            :mod:`.show`                :func:`gearrotor.analyses.model_summary.summarize`
+``view``            :mod:`.view`                a live model view on 127.0.0.1
 ``modal``           :mod:`.modal`               :func:`gearrotor.analyses.modal`
 ``campbell``        :mod:`.campbell`            :func:`gearrotor.analyses.campbell`
 ``unbalance``       :mod:`.unbalance`           :func:`gearrotor.analyses.unbalance_response`
@@ -19,6 +20,8 @@ command             module                      calls
 ``floquet``         :mod:`.floquet`             :func:`gearrotor.analyses.floquet.floquet`
 ``ucs``             :mod:`.ucs`                 :func:`gearrotor.analyses.ucs.ucs_map`
 ``stability``       :mod:`.stability`           :func:`gearrotor.analyses.audit.stability_audit`
+``import-ross``     :mod:`.ross`                :func:`gearrotor.interop.import_ross`
+``export``          :mod:`.ross`                :func:`gearrotor.interop.ross_script`
 ``study ...``       :mod:`.study`               :mod:`gearrotor.studies`
 ``torsional ...``   :mod:`.torsional`           :mod:`gearrotor.analyses.torsional`
 ==================  ==========================  ==============================================
@@ -50,6 +53,7 @@ from .floquet import floquet_command
 from .modal import modal_command
 from .options import ThreadsOpt
 from .report import report_command
+from .ross import export_command, import_ross_command
 from .seal import seal_command
 from .show import show_command
 from .stability import stability_command
@@ -59,6 +63,7 @@ from .torsional import torsional_app
 from .transient import plot_command, transient_command
 from .ucs import ucs_command
 from .unbalance import unbalance_command
+from .view import view_command
 
 __all__ = ["app", "main"]
 
@@ -139,6 +144,7 @@ def _command(name: str, fn) -> None:
 
 
 _command("show", show_command)
+_command("view", view_command)
 _command("modal", modal_command)
 _command("campbell", campbell_command)
 _command("unbalance", unbalance_command)
@@ -151,6 +157,8 @@ _command("report", report_command)
 _command("floquet", floquet_command)
 _command("ucs", ucs_command)
 _command("stability", stability_command)
+_command("import-ross", import_ross_command)
+_command("export", export_command)
 for _group in (study_app, torsional_app):  # the options every command has, also in the groups
     for _info in _group.registered_commands:
         _info.callback = common_options(_info.callback)

@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING, Annotated
 import typer
 
 from ..errors import ModelError
-from ..files import check_output
+from ..files import check_output, make_directory, output_set
 from .errors import cli_errors
 from .options import FormatOpt
 
@@ -277,14 +277,15 @@ def bearing_command(
             )
         )
     if plot is not None:
-        _plots(case.bearing, results, Path(plot))
+        with output_set():  # the figures appear together or not at all
+            _plots(case.bearing, results, Path(plot))
     return results
 
 
 def _plots(bearing, results: list[Coefficients], outdir: Path) -> list[Path]:
     from ..bearings.plots import plot_coefficients, plot_locus, plot_pressure
 
-    outdir.mkdir(parents=True, exist_ok=True)
+    make_directory(outdir, field="--plot")
     out = []
     for k, co in enumerate(results):
         p = outdir / f"pressure_case{k + 1:02d}.png"

@@ -115,7 +115,15 @@ def campbell_command(
         )
         typer.echo(res.table())
     if plot is not None:
+        from ..analyses.operating import model_operating_range
         from ..plots import plot_campbell
 
-        plot_campbell(res, path=plot, max_frequency=fmax)
+        plot_campbell(
+            res,
+            path=plot,
+            max_frequency=fmax,
+            operating_speed=abs(train.speed),
+            max_continuous_speed=train.max_continuous_speed,
+            operating_range=model_operating_range(train),
+        )
         typer.echo(f"plot written to {plot}", err=format == "json")

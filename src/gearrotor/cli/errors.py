@@ -12,8 +12,10 @@ status      meaning
             anything runs. Option-syntax errors of the command-line parser also exit with 2.
 3           a solver failed: divergence, no convergence, non-finite response, a step above
             the integrator's stability limit (:class:`~gearrotor.errors.SolverError`)
-130         ``study run`` or ``transient`` stopped by Ctrl-C (one line; the finished cases,
-            or the checkpoint, are kept and the same command resumes)
+130         stopped by Ctrl-C: one line, ``interrupted (Ctrl-C): ...`` saying what was kept
+            (every command: :func:`cli_errors`; ``study run`` keeps its finished cases and
+            ``transient --checkpoint`` its state, and the same command resumes; the others'
+            outputs are written as a whole or not at all, so nothing is left half-written)
 143         ``study run`` stopped by SIGTERM (likewise)
 ==========  ============================================================================
 
@@ -33,6 +35,8 @@ import contextlib
 import errno
 import os
 import re
+import sys
+from collections.abc import Callable
 
 import typer
 from typer.core import TyperGroup
@@ -43,22 +47,29 @@ __all__ = [
     "EXIT_CASES_FAILED",
     "EXIT_CODES_HELP",
     "EXIT_INPUT",
+    "EXIT_INTERRUPTED",
     "EXIT_OK",
     "EXIT_SOLVER",
+    "EXIT_TERMINATED",
     "OneLineGroup",
     "cli_errors",
     "input_error",
+    "interrupted_line",
 ]
 
 EXIT_OK = 0
 EXIT_CASES_FAILED = 1
 EXIT_INPUT = 2
 EXIT_SOLVER = 3
+#: Stopped by Ctrl-C (128 + SIGINT) or SIGTERM (128 + SIGTERM), the shell's convention.
+EXIT_INTERRUPTED = 130
+EXIT_TERMINATED = 143
 
 #: Epilog of every command's ``--help``.
 EXIT_CODES_HELP = (
     "Exit status: 0 done; 2 invalid input (model file, field, option value; nothing is run); "
-    "3 solver failure (divergence, no convergence); 1 study cases failed, or an internal error."
+    "3 solver failure (divergence, no convergence); 1 study cases failed, or an internal error; "
+    "130 stopped by Ctrl-C (one line; no output file is left half-written)."
 )
 
 # optional packages and the extra that installs them
@@ -110,15 +121,43 @@ def input_error(exc: BaseException) -> ModelError | None:
     return None
 
 
+def interrupted_line(kept: str | None = None, *, since: int = 0, how: str = "Ctrl-C") -> str:
+    """The one line of a command stopped by a signal: ``interrupted (Ctrl-C): KEPT``; without
+    ``kept``, what the command wrote (:func:`gearrotor.files.written` from index ``since``):
+    nothing (outputs are written as a whole or not at all), or the files it had finished."""
+    from ..files import written
+
+    if kept is None:
+        done = written()[since:]
+        if not done:
+            kept = "no file was written"
+        else:
+            names = ", ".join(str(p) for p in done[:3]) + (" ..." if len(done) > 3 else "")
+            kept = f"the {len(done)} file(s) written before it are complete: {names}"
+    return f"interrupted ({how}): {kept}"
+
+
 @contextlib.contextmanager
-def cli_errors():
+def cli_errors(interrupted: Callable[[], str | None] | None = None):
     """Map errors to the exit statuses of the module docstring, printing one line on stderr.
 
     A decorator (``@cli_errors()``, keeping the signature Typer reads) or a context manager
     (``with cli_errors(): ...``). Other exceptions pass through with their traceback.
+
+    Ctrl-C (``KeyboardInterrupt``) is one line and exit status 130 (:func:`interrupted_line`);
+    ``interrupted`` returns what was kept when the command has more to say (a checkpoint to
+    resume from), or None for the default (which files were written).
     """
+    from ..files import written
+
+    since = len(written())
     try:
         yield
+    except KeyboardInterrupt:
+        kept = interrupted() if interrupted is not None else None
+        end_line = "\n" if sys.stderr.isatty() else ""  # after a progress bar's line
+        typer.echo(end_line + interrupted_line(kept, since=since), err=True)
+        raise typer.Exit(EXIT_INTERRUPTED) from None
     except SolverError as exc:
         typer.echo(f"solver error: {exc}", err=True)
         raise typer.Exit(EXIT_SOLVER) from None
@@ -152,13 +191,15 @@ def usage_message(exc: BaseException) -> str:
 @contextlib.contextmanager
 def one_line_usage_errors():
     """Print a parser error as one line on stderr and exit with status 2 (the README's promise:
-    errors are one line); ``--help`` and a bare command (its help) pass through."""
+    errors are one line); ``--help`` passes through and a bare command prints its help (stdout,
+    status 0)."""
     exc_types = _click_exceptions()
     no_args = getattr(exc_types, "NoArgsIsHelpError", ())
     try:
         yield
-    except no_args:
-        raise
+    except no_args as exc:  # a bare command: its help on stdout, exit 0 (click >= 8.2 made it
+        typer.echo(exc.format_message())  # an error on stderr with status 2)
+        raise typer.Exit(EXIT_OK) from None
     except exc_types.ClickException as exc:
         typer.echo(f"error: {usage_message(exc)}", err=True)
         raise typer.Exit(EXIT_INPUT) from None

@@ -8,7 +8,7 @@ from typing import Annotated
 
 import typer
 
-from ..files import check_output, write_json
+from ..files import check_output, make_directory, output_set, write_json
 from .errors import cli_errors
 from .options import (
     RPM,
@@ -85,11 +85,11 @@ def modal_command(
     if plot is not None:
         from ..plots import plot_mode_shapes
 
-        plot.mkdir(parents=True, exist_ok=True)
         elastic = [i for i in range(len(res)) if not res.overdamped[i]]
-        for k in range(0, min(len(elastic), 16), 8):
-            plot_mode_shapes(
-                res, modes=elastic[k : k + 8], path=plot / f"modes_{k // 8 + 1}.png", orbit=orbit
-            )
-        write_json(plot / "modal.json", res.to_dict())
+        with output_set():  # the figures and modal.json appear together or not at all
+            make_directory(plot, field="--plot")
+            for k in range(0, min(len(elastic), 16), 8):
+                path = plot / f"modes_{k // 8 + 1}.png"
+                plot_mode_shapes(res, modes=elastic[k : k + 8], path=path, orbit=orbit)
+            write_json(plot / "modal.json", res.to_dict())
         typer.echo(f"plots written to {plot}/", err=format == "json")

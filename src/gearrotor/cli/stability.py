@@ -20,6 +20,7 @@ from typing import Annotated
 import typer
 
 from ..errors import ModelError
+from ..files import output_set
 from .errors import cli_errors
 from .options import (
     RPM,
@@ -355,7 +356,8 @@ def stability_command(
             plot.with_name(plot.stem + "_screening.png"),
             plot.with_name(plot.stem + "_level2.png"),
         )
-        plt.close(plot_level1(res.level1, path=paths[0]))
-        plt.close(plot_screening(res.level1, path=paths[1]))
-        plt.close(plot_level2(res.level2, path=paths[2]))
+        with output_set():  # the three charts appear together or not at all
+            plt.close(plot_level1(res.level1, path=paths[0]))
+            plt.close(plot_screening(res.level1, path=paths[1]))
+            plt.close(plot_level2(res.level2, path=paths[2]))
         typer.echo("charts written: " + ", ".join(map(str, paths)), err=format == "json")

@@ -10,7 +10,7 @@ from typing import Annotated
 import typer
 
 from ..errors import ModelError
-from ..files import check_output, write_text
+from ..files import check_output, make_directory, output_set, unique_names, write_text
 from .errors import cli_errors
 from .options import (
     RPM,
@@ -23,10 +23,6 @@ from .options import (
 )
 
 __all__ = ["static_command"]
-
-
-def _slug(name: str) -> str:
-    return "".join(c if c.isalnum() or c in "-_." else "_" for c in name)
 
 
 @cli_errors()
@@ -93,11 +89,15 @@ def static_command(
     if plot is not None:
         from ..plots.static import plot_bearing_loads, plot_static_shafts
 
-        for r in results:
-            plot_static_shafts(r, path=plot / f"static_{_slug(r.operating_point)}.png")
-        plot_bearing_loads(results, path=plot / "bearing_loads.png")
-        write_text(
-            plot / "static.json",
-            json.dumps({"operating_points": [r.to_dict() for r in results]}, indent=1),
-        )
+        # one file per point; distinct names stay distinct ("a/b", "a_b": static_a_b.png and
+        # static_a_b-2.png; static.json says which is which)
+        stems = unique_names([r.operating_point for r in results])
+        with output_set():  # the figures and static.json appear together or not at all
+            make_directory(plot, field="--plot")
+            points = []
+            for r, stem in zip(results, stems, strict=True):
+                plot_static_shafts(r, path=plot / f"static_{stem}.png")
+                points.append({**r.to_dict(), "figure": f"static_{stem}.png"})
+            plot_bearing_loads(results, path=plot / "bearing_loads.png")
+            write_text(plot / "static.json", json.dumps({"operating_points": points}, indent=1))
         typer.echo(f"plots written to {plot}/", err=format == "json")

@@ -19,14 +19,15 @@ import typer
 
 from ..errors import ModelError
 from ..files import check_output
-from .errors import EXIT_CASES_FAILED, EXIT_CODES_HELP, cli_errors
+from .errors import (
+    EXIT_CASES_FAILED,
+    EXIT_CODES_HELP,
+    EXIT_INTERRUPTED,
+    EXIT_TERMINATED,
+    cli_errors,
+)
 
 __all__ = ["EXIT_INTERRUPTED", "EXIT_TERMINATED", "study_app"]
-
-#: ``study run`` stopped by Ctrl-C (128 + SIGINT) or SIGTERM (128 + SIGTERM), the shell's
-#: convention; the finished cases are stored and the next run resumes.
-EXIT_INTERRUPTED = 130
-EXIT_TERMINATED = 143
 
 #: Set by :func:`gearrotor.cli.main` (the ``gearrotor`` program): ``study run`` then answers
 #: SIGINT and SIGTERM until the process exits (:class:`~gearrotor.studies.workers.StopSignals`);

@@ -16,7 +16,7 @@ import numpy as np
 import typer
 
 from ..errors import ModelError
-from ..files import check_output, remove_stale_temporaries
+from ..files import check_output, make_directory, output_set
 from .errors import cli_errors
 from .options import (
     FormatOpt,
@@ -27,7 +27,6 @@ from .options import (
     choice,
     duration,
 )
-from .study import EXIT_INTERRUPTED
 
 __all__ = ["transient_command", "plot_command"]
 
@@ -102,7 +101,12 @@ def transient_command(
 ) -> None:
     """Nonlinear transient (time-varying mesh, backlash, free speed) of a train."""
 
-    with cli_errors():
+    def kept() -> str | None:  # what Ctrl-C leaves: the checkpoint to resume from, if any
+        if checkpoint is not None and checkpoint.exists():
+            return f"the state is saved in {checkpoint}; run the same command again to resume"
+        return None
+
+    with cli_errors(interrupted=kept):
         check_format(format)
         ck = _checkpoint(checkpoint, checkpoint_every, checkpoint_wall)
         for path, kind, field in (
@@ -110,10 +114,8 @@ def transient_command(
             (plot, "directory", "--plot"),
             (checkpoint, "file", "--checkpoint"),
         ):
-            if path is not None:
+            if path is not None:  # also removes what a killed run left being written there
                 check_output(path, kind, field=field)
-                if kind == "file":  # left by a run that was killed while writing it
-                    remove_stale_temporaries(path.parent, prefix=f"{path.name}.tmp-")
         from ..io import load_model, parse_overrides
 
         train = load_model(model, parse_overrides(set_))
@@ -148,33 +150,22 @@ def transient_command(
             )
         if dt is not None and not dt > 0:
             raise ModelError("the time step must be positive", field="--dt", value=dt)
-        try:
-            res = transient(
-                train,
-                t_end=t_end,
-                integrator=integ,
-                reactions=reactions,
-                progress=progress,
-                initial=initial,
-                checkpoint=ck,
-                operating_point=operating_point,
-            )
-        except KeyboardInterrupt:
-            saved = checkpoint is not None and checkpoint.exists()
-            typer.echo(
-                "interrupted (Ctrl-C)"
-                + (
-                    f": the state is saved in {checkpoint}; run the same command again to resume"
-                    if saved
-                    else ""
-                ),
-                err=True,
-            )
-            raise typer.Exit(EXIT_INTERRUPTED) from None
-        if output is not None:
-            res.save(output)
-        if plot is not None:
-            standard_figures(res, plot)
+        res = transient(
+            train,
+            t_end=t_end,
+            integrator=integ,
+            reactions=reactions,
+            progress=progress,
+            initial=initial,
+            checkpoint=ck,
+            operating_point=operating_point,
+        )
+        with output_set():  # the result file and the figures appear together or not at all
+            if output is not None:
+                res.save(output)
+            if plot is not None:
+                make_directory(plot, field="--plot")
+                standard_figures(res, plot)
     if format == "json":
         typer.echo(json.dumps(res.summary(), default=_jsonable))
     else:
@@ -243,4 +234,8 @@ def plot_command(
             expected="a NetCDF file written by 'gearrotor transient --output'",
         ) from None
     typer.echo(f"writing the standard figures of {file} to {out}/ ...", err=True)
-    standard_figures(ds, out, prefix=file.stem, progress=lambda p: typer.echo(str(p)))
+    with output_set():  # the figures appear together or not at all
+        make_directory(out, field="--output")
+        paths = standard_figures(ds, out, prefix=file.stem)
+    for p in paths:
+        typer.echo(str(p))

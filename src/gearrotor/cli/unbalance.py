@@ -10,7 +10,7 @@ from typing import Annotated
 import numpy as np
 import typer
 
-from ..files import check_output
+from ..files import check_output, make_directory, output_set
 from .errors import cli_errors
 from .options import (
     MAX_SPEEDS,
@@ -81,7 +81,7 @@ def unbalance_command(
         typer.Option(
             help="9th edition close-clearance check: SHAFT:NODE:DIAMETRAL[:NAME], the minimum "
             "diametral running clearance at a node (e.g. 'pinion:3:0.3 mm:labyrinth'), "
-            "repeatable"
+            "repeatable (default: the model's [api_audit] clearances)"
         ),
     ] = None,
     format: FormatOpt = "table",
@@ -119,6 +119,8 @@ def unbalance_command(
     if ed is None and train.api_audit is not None:
         ed = pick_edition(train.api_audit.edition, "api_audit.edition")
     ed = pick_edition(None) if ed is None else ed
+    if not clearances and api and ed.key == "9th" and train.api_audit is not None:
+        clearances = [(c.shaft, c.node, c.diametral, c.name) for c in train.api_audit.clearances]
     if clearances and ed.key != "9th":
         raise ModelError(
             "the close-clearance check is the 9th edition's (6.8.2.10-6.8.2.11)",
@@ -179,7 +181,7 @@ def unbalance_command(
             typer.echo(f"  API 617 unbalance: {ed.name}, {ed.unbalance}")
         for u in unb:
             typer.echo(
-                f"  unbalance {u.amount * 1e6:.1f} g·mm at {u.shaft} "
+                f"  unbalance {u.amount * 1e6:.1f} g·mm at {u.shaft} node {u.node} "
                 f"phase {np.rad2deg(u.phase):.0f}°"
             )
         typer.echo(res.table())
@@ -188,10 +190,11 @@ def unbalance_command(
     if plot is not None:
         from ..plots import plot_bode, plot_orbits
 
-        plot.mkdir(parents=True, exist_ok=True)
-        plot_bode(res, path=plot / "bode.png")
         k = int(np.argmin(np.abs(res.speeds - res.operating_range[1])))
-        plot_orbits(res, k, path=plot / "orbits_operating.png")
+        with output_set():  # both figures or neither
+            make_directory(plot, field="--plot")
+            plot_bode(res, path=plot / "bode.png")
+            plot_orbits(res, k, path=plot / "orbits_operating.png")
         typer.echo(f"plots written to {plot}/", err=format == "json")
 
 

@@ -16,9 +16,10 @@ import xarray as xr
 from ..errors import ModelError
 from ..files import (
     check_output,
-    remove_stale_temporaries,
-    safe_name,
+    make_directory,
+    output_set,
     save_figure,
+    unique_names,
     write_json,
 )
 from ..signals import padded_spectrum
@@ -239,17 +240,23 @@ def report(
             progress(text)
 
     out = Path(output) if output is not None else study.folder / "report"
-    check_output(out, "directory", field="--output")
-    out.mkdir(parents=True, exist_ok=True)
-    remove_stale_temporaries(out)  # of figures whose writer was killed
+    check_output(out, "directory", field="--output")  # also removes a killed run's temporaries
+    with output_set():  # the figures and figures.json appear together or not at all
+        make_directory(out, field="--output")
+        written = _report_figures(study, out, cases, probes, per_figure, note, plt)
+        write_json(out / "figures.json", [p.name for p in written])
+    return written
+
+
+def _report_figures(study, out, cases, probes, per_figure, note, plt) -> list[Path]:
     planned = plan(study)
     ds = collect(study, planned=planned, write=False)
     params = list(study.parameters)
     written: list[Path] = []
-    for p in params:
+    for p, stem in zip(params, unique_names(params), strict=True):
         fig = trend_figure(ds, p, params)
         if fig is not None:
-            path = out / f"trend_{safe_name(p)}.png"
+            path = out / f"trend_{stem}.png"
             save_figure(fig, path, dpi=110)
             plt.close(fig)
             written.append(path)
@@ -284,19 +291,19 @@ def report(
                     "unknown probe", field="--probes", value=unknown, expected=f"some of {names}"
                 )
             names = [p for p in names if p in set(probes)]
-        for probe in names:
+        for probe, stem in zip(names, unique_names(names), strict=True):
             fig = overlay_spectra(data, channel="probe", name=str(probe), title=study.name)
-            path = out / f"spectra_{safe_name(probe)}_{tag}.png"
+            path = out / f"spectra_{stem}_{tag}.png"
             save_figure(fig, path, dpi=110)
             plt.close(fig)
             written.append(path)
             note(f"{path.name} written")
-        for shaft in first["shaft"].values:
-            fig = overlay_spectra(data, channel="speed", name=str(shaft), title=study.name)
-            path = out / f"spectra_speed_{safe_name(shaft)}_{tag}.png"
+        shafts = [str(s) for s in first["shaft"].values]
+        for shaft, stem in zip(shafts, unique_names(shafts), strict=True):
+            fig = overlay_spectra(data, channel="speed", name=shaft, title=study.name)
+            path = out / f"spectra_speed_{stem}_{tag}.png"
             save_figure(fig, path, dpi=110)
             plt.close(fig)
             written.append(path)
             note(f"{path.name} written")
-    write_json(out / "figures.json", [p.name for p in written])
     return written

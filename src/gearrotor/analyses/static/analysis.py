@@ -19,7 +19,13 @@ bearings on a shaft converge like Newton's method. Journal solves are cached by 
 speed), so a sweep or an analysis repeating an operating point reuses them.
 
 Left out: cross-coupled destabilisers and the circulatory stiffness of rotating damping
-(dynamic effects that need whirl), unbalance (a rotating load).
+(dynamic effects that need whirl), unbalance (a rotating load), and annular seals
+(``[[seals]]``, constant or tabulated coefficients alike): a seal's coefficients are those of
+small motions about the rotor's running position (computed for a centred rotor), not a support
+that carries load, so the bearing loads are those of the bearings alone, as ROSS and the usual
+bearing-load calculation have them, and a seal's negative direct stiffness (a labyrinth's)
+cannot turn the static problem into a divergence. The seals act in every dynamic analysis about
+the static state (the transient at an operating point holds them centred on it).
 """
 
 from __future__ import annotations
@@ -275,8 +281,11 @@ def static(
         K[np.ix_(d, d)] -= CrossCoupling(q.q).K()
     for m in asm.meshes:
         K[np.ix_(m.dofs, m.dofs)] -= m.stiffness * np.outer(m.w, m.w)
+    for info in _seals(asm):  # no static load on seals (module docstring)
+        if not info.element.speed_dependent:  # a constant seal is in K0; a tabulated one never
+            K[np.ix_(info.dofs, info.dofs)] -= info.element.K(0.0)
     films = []
-    for k, (spec, info) in enumerate(zip(train.bearings, asm.bearings, strict=True)):
+    for k, (spec, info) in enumerate(zip(train.bearings, _bearings(asm), strict=True)):
         if spec.fluid_film is not None:
             if speeds[info.shaft] == 0.0:
                 raise ModelError(
@@ -399,7 +408,7 @@ def static(
     # --- results ----------------------------------------------------------------------------
     bearings, reaction = [], np.zeros(3)
     film_of = {k: state[k] for k, _, _ in films}
-    for k, (spec, info) in enumerate(zip(train.bearings, asm.bearings, strict=True)):
+    for k, (spec, info) in enumerate(zip(train.bearings, _bearings(asm), strict=True)):
         si, node = train.node_index(spec, f"bearings[{k}]")
         d = _relative(q, info)
         if k in film_of:
@@ -483,6 +492,15 @@ def static(
         bearing_solves=_counter["solves"] - solves0,
         journals={k: film_of[k][3] for k in film_of},
     )
+
+
+def _bearings(asm: Assembly) -> list:
+    """The assembly's radial bearings (``asm.bearings`` also holds the seals, after them)."""
+    return [b for b in asm.bearings if b.kind == "bearing"]
+
+
+def _seals(asm: Assembly) -> list:
+    return [b for b in asm.bearings if b.kind == "seal"]
 
 
 def _relative(q: NDArray, info) -> NDArray:

@@ -3,8 +3,8 @@
 
 from __future__ import annotations
 
+import json
 import math
-import os
 import shutil
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -15,8 +15,7 @@ from ...errors import ModelError
 from ...files import (
     check_output,
     make_temporary_directory,
-    remove_stale_temporaries,
-    temporary_directory_prefix,
+    replace_directory,
     write_json,
     write_text,
 )
@@ -78,21 +77,49 @@ def parse_analyses(text: str | tuple[str, ...] | list[str]) -> tuple[str, ...]:
     return tuple(out)
 
 
-def _default_max_frequency(asm, w: float, given: float | None) -> tuple[float, str]:
-    """(rad/s, why): the given value, or 1.1 × the highest mesh frequency at the operating
-    speed ``w`` (the mesh-frequency region and the coupled L-T modes below it), or 5 × speed
-    for a train without gears."""
+#: Separation margin (fraction) the default frequency range allows an excitation: API 617's
+#: largest required margin of a critical from the operating range (10 + 17 (1 − 1/(AF − 1.5)) %,
+#: at most 26 %, above the maximum continuous speed), which also covers its 10 % torsional margin.
+SEPARATION_MARGIN = 0.26
+#: Headroom (factor) of the default frequency range above the highest frequency an excitation
+#: reaches with its margin: the modes just clear of every excitation are shown too.
+HEADROOM = 1.1
+#: The default range is at least this multiple of the top operating speed (a train without gears:
+#: its first bending modes, above 1x and 2x with margin).
+MIN_SPEED_MULTIPLE = 5.0
+
+
+def _default_max_frequency(asm, top: float, given: float | None) -> tuple[float, str]:
+    """(rad/s, why): the given value, or the highest frequency an excitation of the Campbell
+    diagram reaches over the operating range with its separation margin, with headroom:
+    ``HEADROOM × (1 + SEPARATION_MARGIN) × max(multiple × |shaft speed|)`` over the default
+    excitation orders (1x and 2x of every shaft, every gear-mesh frequency) at the top
+    operating speed ``top`` (rad/s: the maximum continuous speed or the operating speed,
+    whichever is higher), and at least ``MIN_SPEED_MULTIPLE × top``. Every mode an excitation
+    can come within its separation margin of is then in the tables and figures (the flagship's
+    lightly damped torsional mode at 215,670 cpm, 10.6 % above its mesh frequency)."""
     if given is not None:
         return float(given), "as given"
-    speeds = np.abs(asm.shaft_speeds(w))
-    mesh = [m.teeth[0] * speeds[m.shafts[0]] for m in asm.meshes]
-    if mesh and max(mesh) > 0:
-        f = max(mesh)
+    from ...analyses.campbell import default_orders
+
+    ratios = np.abs(asm.speed_ratio)
+    orders = [(o, o.multiple * ratios[o.shaft] * top) for o in default_orders(asm)]
+    order, f = max(orders, key=lambda x: x[1])
+    fmax = HEADROOM * (1 + SEPARATION_MARGIN) * f
+    floor = MIN_SPEED_MULTIPLE * top
+    if fmax >= floor:
         return (
-            1.1 * f,
-            f"default: 1.1 × the mesh frequency {f * RPM:,.0f} cpm at {w * RPM:,.0f} rpm",
+            fmax,
+            f"default: the highest excitation, {order.label} = {f * RPM:,.0f} cpm at "
+            f"{top * RPM:,.0f} rpm, + {SEPARATION_MARGIN:.0%} separation margin, "
+            f"× {HEADROOM:g} headroom",
         )
-    return 5 * w, f"default: 5 × the operating speed {w * RPM:,.0f} rpm (no gear mesh)"
+    return (
+        floor,
+        f"default: {MIN_SPEED_MULTIPLE:g} × the top operating speed {top * RPM:,.0f} rpm "
+        f"(above the highest excitation, {order.label} = {f * RPM:,.0f} cpm, with its "
+        f"{SEPARATION_MARGIN:.0%} separation margin and × {HEADROOM:g} headroom)",
+    )
 
 
 @managed
@@ -117,7 +144,10 @@ def make_report(
     Parameters
     ----------
     model : a :class:`~gearrotor.model.Train` (or its :class:`~gearrotor.assembly.Assembly`)
-    output : directory to write (created; an existing directory is updated file by file)
+    output : directory to write: created, or an earlier report's (or an empty) folder, which
+        is replaced as a whole (:func:`~gearrotor.files.replace_directory`: a reader or a
+        killed run sees the old report or the new one, never a mix); a symbolic link to a
+        folder is followed (the folder it points to is replaced, the link stays)
     analyses : subset of ``("modal", "campbell", "unbalance")``; ``"transient"`` requires
         ``transient`` (the report reads a saved result, it does not run the solver)
     speed : rad/s, magnitude of the reference-shaft operating speed (default: the model's); the
@@ -126,9 +156,11 @@ def make_report(
         range and maximum continuous speed when the model states them and no speed is given,
         else this speed
     max_frequency : rad/s, highest damped frequency of the modes and the Campbell diagram
-        (default: 1.1 × the highest mesh frequency at the operating speed, so that the coupled
-        lateral-torsional modes a gear engineer looks for are in; 5 × speed without meshes);
-        the report states the range and why
+        (default: every mode an excitation can reach within its separation margin over the
+        operating range, with headroom: 1.1 × (1 + 26 %) × the highest excitation frequency
+        (1x, 2x of every shaft, every mesh frequency) at the top operating speed, at least
+        5 × that speed; see :func:`_default_max_frequency`); the report states the range and
+        why
     transient : path of a transient result (NetCDF written by ``TransientResult.save``)
     api : the unbalance section uses the API 617 unbalance, 4 × 6350 W/N g·mm per plane of the
         model's unbalances (W the plane's share of its shaft's mass, kg; N its shaft's speed at
@@ -163,9 +195,9 @@ def make_report(
         )
     if transient is not None and "transient" not in analyses:
         analyses = (*analyses, "transient")
+    # also removes the temporary folders of a report whose process was killed (SIGKILL)
     output = check_output(output, "directory", field="--output")
-    # the temporary folders of a report whose process was killed (SIGKILL, power cut)
-    remove_stale_temporaries(output.parent, temporary_directory_prefix(output), directories=True)
+    _check_replaceable(output)
     base_train = model.train if isinstance(model, Assembly) else model
     if operating_points:
         operating_points = tuple(operating_points)
@@ -208,7 +240,11 @@ def make_report(
             value=None if speed is None else f"{w * RPM:.6g} rpm",
             expected="a speed > 0 rpm (the direction of rotation follows the model)",
         )
-    fmax, fmax_basis = _default_max_frequency(asm, w, max_frequency)
+    from ...analyses.operating import model_operating_range
+
+    operating_range = None if speed_given else model_operating_range(train)
+    top = max(w, operating_range[1]) if operating_range is not None else w
+    fmax, fmax_basis = _default_max_frequency(asm, top, max_frequency)
     if not (np.isfinite(fmax) and fmax > 0):
         raise ModelError(
             "the maximum frequency must be positive",
@@ -222,14 +258,12 @@ def make_report(
             value=(n_campbell, n_unbalance),
             expected="n_campbell >= 2 and n_unbalance >= 3",
         )
-    from ...analyses.operating import model_operating_range
-
     ctx = Context(
         asm,
         analyses,
         w,
         fmax,
-        operating_range=None if speed_given else model_operating_range(train),
+        operating_range=operating_range,
         api=api,
         transient_file=None if transient is None else Path(transient),
         n_campbell=n_campbell,
@@ -272,7 +306,7 @@ def make_report(
         write_json(tmp / "report.json", _clean(summary))
         page = _page(train, parts, summary, ctx.figures, ctx.notes, source=source, command=command)
         write_text(tmp / "report.html", page)
-        _publish(tmp, output)
+        replace_directory(tmp, output)
     except BaseException as exc:
         shutil.rmtree(tmp, ignore_errors=True)
         if isinstance(exc, ModelError) and str(tmp) in str(exc):  # a write error: name the
@@ -292,14 +326,27 @@ def make_report(
     )
 
 
-def _publish(tmp: Path, output: Path) -> None:
-    if not output.exists():
-        os.rename(tmp, output)
+def _check_replaceable(output: Path) -> None:
+    """The report replaces its folder as a whole: refuse, before anything runs, a folder that
+    holds anything but an earlier report (its ``report.json`` says so), so that no file of
+    the user's goes with it."""
+    if not output.is_dir():
         return
-    files = sorted(tmp.iterdir(), key=lambda p: (p.name == "report.html", p.name))
-    for f in files:
-        os.replace(f, output / f.name)
-    tmp.rmdir()
+    content = [p.name for p in output.iterdir()]
+    if not content:
+        return
+    try:
+        earlier = json.loads((output / "report.json").read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        earlier = None
+    if not (isinstance(earlier, dict) and "gearrotor_report" in earlier):
+        raise ModelError(
+            f"the folder holds files that are not a gearrotor report ({sorted(content)[0]!r}"
+            f"{' ...' if len(content) > 1 else ''}), and a report replaces its folder as a whole",
+            field="--output",
+            value=str(output),
+            expected="a new or empty folder, or the folder of an earlier report",
+        )
 
 
 def _clean(x):

@@ -1,0 +1,203 @@
+"""Helpers of the fault tests (tests/test_faults.py, tests/test_files.py, tests/reliability/,
+tests/static/): real faults made on purpose, and the checks of what they must leave.
+
+* a full disk or a read-only file system: a small real tmpfs (:func:`tmpfs`; the test is skipped
+  where mounting is not allowed), or an ENOSPC at the atomic writer's ``fsync``
+  (:func:`full_disk_at_fsync`);
+* a killed process: the pid of one that has exited (:func:`dead_pid`), for the temporaries such
+  a process leaves;
+* a signal at a chosen moment: the ``gearrotor`` program run in a child process that sends
+  itself a real SIGINT/SIGTERM/SIGKILL when a given function is first called
+  (:func:`run_signalled`);
+* damaged result files (:func:`rewrite_netcdf`).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import errno
+import os
+import subprocess
+import sys
+import uuid
+from collections.abc import Callable, Iterator
+from pathlib import Path
+
+import pytest
+from typer.testing import CliRunner
+
+from gearrotor.cli import app
+
+SRC = Path(__file__).resolve().parents[1] / "src"
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+
+
+def invoke(*args):
+    """The CLI in-process (``CliRunner``), arguments as strings."""
+    return CliRunner().invoke(app, [str(a) for a in args])
+
+
+def one_line_exit_2(r, *needles):
+    """Exit 2 before anything was computed: nothing on stdout, one ``error:`` line on stderr
+    holding every needle."""
+    assert r.exit_code == 2, (r.exit_code, r.output, r.exception)
+    assert r.stdout == "", r.stdout  # nothing computed, nothing printed
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("error: "), r.stderr
+    for n in needles:
+        assert n in lines[0], (n, lines[0])
+
+
+def must_not_run(*args, **kwargs):
+    """Monkeypatched over the first step of a computation: the test fails if it runs."""
+    raise AssertionError("the computation started before the output location was checked")
+
+
+# ---- the file system -------------------------------------------------------------------------
+@contextlib.contextmanager
+def tmpfs(base: Path, size: str, *options: str) -> Iterator[Path]:
+    """A tmpfs of ``size`` mounted under ``base`` (``"ro"`` among ``options``: read-only);
+    skips the test where mounting is not allowed (not root / no CAP_SYS_ADMIN)."""
+    mnt = base / f"mnt-{uuid.uuid4().hex[:6]}"
+    mnt.mkdir()
+    opts = ",".join((f"size={size}", "mode=0777", *options))
+    r = subprocess.run(
+        ["mount", "-t", "tmpfs", "-o", opts, "tmpfs", str(mnt)], capture_output=True, text=True
+    )
+    if r.returncode != 0:
+        mnt.rmdir()
+        pytest.skip(f"cannot mount a tmpfs here (not root / no CAP_SYS_ADMIN): {r.stderr.strip()}")
+    try:
+        yield mnt
+    finally:
+        subprocess.run(["umount", "-l", str(mnt)], check=False)
+        mnt.rmdir()
+
+
+def full_disk_at_fsync(monkeypatch, after: int = 0) -> None:
+    """ENOSPC from the atomic writer's ``fsync`` once ``after`` files have been synced (the
+    same path as a real full disk, for machines where mount is not allowed)."""
+    from gearrotor import files
+
+    real = files.os.fsync
+    count = {"n": 0}
+
+    def fsync(fd):
+        count["n"] += 1
+        if count["n"] > after:
+            raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+        real(fd)
+
+    monkeypatch.setattr(files.os, "fsync", fsync)
+
+
+def leftovers(d: Path) -> list[str]:
+    """Temporaries (``*.tmp-*``) under ``d``, recursively, as paths relative to it."""
+    return sorted(str(p.relative_to(d)) for p in Path(d).rglob("*") if ".tmp-" in p.name)
+
+
+def files_in(folder: Path) -> set[Path]:
+    return set(Path(folder).rglob("*"))
+
+
+# ---- processes ---------------------------------------------------------------------------------
+def dead_pid() -> int:
+    """The pid of a process that has exited (as a killed writer's)."""
+    r = subprocess.run(
+        [sys.executable, "-c", "import os; print(os.getpid())"],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    return int(r.stdout)
+
+
+skip_without_proc = pytest.mark.skipif(
+    not Path("/proc/self/stat").exists(), reason="reads the process table from Linux /proc"
+)
+
+
+def children(pid: int) -> list[int]:
+    """The pids of the children of ``pid`` (Linux /proc)."""
+    out = []
+    for stat in Path("/proc").glob("[0-9]*/stat"):
+        with contextlib.suppress(OSError, IndexError, ValueError):
+            fields = stat.read_text().rsplit(")", 1)[1].split()
+            if int(fields[1]) == pid:
+                out.append(int(stat.parent.name))
+    return out
+
+
+def alive(pid: int) -> bool:
+    """The process runs (not a zombie)."""
+    try:
+        state = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0]
+    except OSError:
+        return False
+    return state != "Z"
+
+
+def env() -> dict[str, str]:
+    """The environment of a child ``gearrotor`` process: this tree's sources."""
+    return {**os.environ, "PYTHONPATH": str(SRC)}
+
+
+#: The ``gearrotor`` program, sending itself signal SIG when TARGET ("module:attr" or
+#: "module:Class.attr") is called for the N-th time (before the call): a real signal, delivered
+#: where a user's Ctrl-C, a scheduler's SIGTERM or the OOM killer's SIGKILL can land; only the
+#: moment is chosen.
+_SIGNALLED = """
+import importlib, os, signal, sys
+target, sig, nth = sys.argv[1], signal.Signals[sys.argv[2]], int(sys.argv[3])
+del sys.argv[1:4]
+module, _, attr = target.partition(":")
+owner = importlib.import_module(module)
+*path, name = attr.split(".")
+for p in path:
+    owner = getattr(owner, p)
+real = getattr(owner, name)
+calls = [0]
+
+def signalled(*a, **k):
+    calls[0] += 1
+    if calls[0] == nth:
+        os.kill(os.getpid(), sig)
+    return real(*a, **k)
+
+if isinstance(owner, type) and not isinstance(owner.__dict__.get(name), staticmethod):
+    def method(self, *a, **k):
+        return signalled(self, *a, **k)
+    setattr(owner, name, method)
+else:
+    setattr(owner, name, signalled)
+from gearrotor.cli import main
+main()
+"""
+
+
+def run_signalled(
+    target: str, sig: str, *args, nth: int = 1, timeout: float = 300
+) -> subprocess.CompletedProcess:
+    """``gearrotor ARGS`` in a child process that receives ``sig`` ("SIGINT", "SIGKILL", ...)
+    when ``target`` is called the ``nth`` time (see ``_SIGNALLED``)."""
+    return subprocess.run(
+        [sys.executable, "-c", _SIGNALLED, target, sig, str(nth), *map(str, args)],
+        capture_output=True,
+        text=True,
+        timeout=timeout,
+        env=env(),
+    )
+
+
+# ---- damaged files -------------------------------------------------------------------------------
+def rewrite_netcdf(src: Path, dst: Path, change: Callable) -> None:
+    """Read the NetCDF ``src``, apply ``change`` (Dataset -> Dataset) and write ``dst`` (which may
+    be ``src``) without the package's checks, as a foreign or damaged file would be."""
+    import xarray as xr
+
+    with xr.open_dataset(src, engine="h5netcdf") as ds:
+        ds = change(ds.load())
+    if Path(dst).exists():
+        Path(dst).unlink()
+    ds.to_netcdf(dst, engine="h5netcdf")
+    xr.backends.file_manager.FILE_CACHE.clear()
