@@ -25,6 +25,7 @@ __all__ = [
     "FormatOpt",
     "OperatingPointOpt",
     "SetOpt",
+    "ProgressOpt",
     "ThreadsOpt",
     "check_format",
     "check_operating_point",
@@ -140,6 +141,16 @@ def option_fields(**options: str):
                     expected=exc.expected,
                 ) from None
         raise
+
+
+ProgressOpt = Annotated[
+    bool | None,
+    typer.Option(
+        "--progress/--no-progress",
+        help="progress on stderr (default: when stderr is a terminal, for work over a second)",
+        show_default=False,
+    ),
+]
 
 
 def check_format(fmt: str) -> None:
