@@ -271,7 +271,7 @@ def spectra_figure(runs: list, path: Path) -> None:
         (False, None, "seed's case, Ka/Kg = 0.75, 2 % mesh damping"),
         (True, 0.0, "located pinion, no mesh damping, Ka/Kg = 0.75"),
     )
-    for a, (located, zeta, title) in zip(ax, panels, strict=True):
+    for a, (located, _zeta, title) in zip(ax, panels, strict=True):
         for r in runs:
             if r.get("error") or r["located"] != located or r["ka"] != 0.75:
                 continue
