@@ -173,8 +173,12 @@ def _html(ctx: Context, ucs, audit, checks: dict) -> str:
         "model).</p>",
         "<h3>Undamped critical speed map</h3>",
         "<p>Every radial bearing replaced by the same stiffness k; the gear meshes, couplings "
-        "and pedestals kept. Bearing Kxx (solid) and Kyy (dashed) over speed; circles: "
-        "intersections; dotted: rigid supports.</p>",
+        "and pedestals kept. Each branch is a mode followed by its shape, solid where it is a "
+        "critical of the panel's shaft (its forward whirl there holds at least "
+        f"{ucs.min_share:g} of the mode's kinetic energy), dotted where the mode has moved to "
+        "another shaft or the mesh. The shaft's own bearings' Kxx (solid) and Kyy (dashed) "
+        "over speed; circles: intersections (exact roots); grey dotted: rigid supports; band "
+        "and dash-dot line: operating range and MCS.</p>",
         _img(ctx, FIGURES[0], "critical speed map"),
         "<table><tr><th class='l'>shaft</th><th>rigid-support criticals (rpm)</th></tr>",
     ]
