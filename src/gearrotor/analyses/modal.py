@@ -76,7 +76,6 @@ import scipy.linalg as la
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from numpy.typing import NDArray
-from scipy.optimize import linear_sum_assignment
 
 from ..assembly import Assembly, assemble
 from ..errors import ModelError, SolverError
@@ -521,6 +520,8 @@ def _refine(M, Cg, K, lam, X, max_frequency) -> tuple[NDArray, NDArray, dict]:
             mu, W = mu[ok], W[:c, ok]
             if len(mu) < c:
                 break
+            from scipy.optimize import linear_sum_assignment  # scipy.optimize: on use
+
             rows, cols = linear_sum_assignment(np.abs(lam[J][:, None] - mu[None, :]))
             new_l = mu[cols[np.argsort(rows)]]
             new_x = Q @ W[:, cols[np.argsort(rows)]]

@@ -73,8 +73,6 @@ def floquet_command(
     """Floquet exponents of the train under its periodic mesh stiffness (teeth in contact,
     constant speed): growth rate (1/s, positive = parametrically unstable), frequency and the
     modes involved, for each Ka/Kg and speed."""
-    from ..analyses.floquet import check_ka_ratio, floquet
-    from ..analyses.transient import build_system
     from ..io import load_model, parse_overrides
 
     check_format(format)
@@ -91,6 +89,9 @@ def floquet_command(
                 "speeds must be positive", field="--speeds", value=v, expected="> 0 rpm"
             )
     check_operating_point(train, operating_point)
+    from ..analyses.floquet import check_ka_ratio, floquet
+    from ..analyses.transient import build_system
+
     if operating_point is not None:
         from ..analyses.static.operating import model_at_operating_point
 

@@ -78,10 +78,11 @@ def report_command(
     """Self-contained HTML report: modes (3-D), stability, Campbell, Bode, orbits, API 684 checks,
     and a saved transient result's spectra, waterfall and whirl power; plus PNG figures."""
     from ..io import load_model, parse_overrides
-    from ..plots.report import make_report
 
     train = load_model(model, parse_overrides(set_))
     check_operating_point(train, operating_point)
+    from ..plots.report import make_report
+
     if all_operating_points and not train.operating_points:
         raise ModelError(
             "the model has no operating points",
