@@ -121,3 +121,22 @@ def test_film_damping_symmetric_dissipative_and_pads_passive(rigid):
         [[np.zeros((n, n)), np.eye(n)], [-np.linalg.solve(M, K), -np.linalg.solve(M, C[2:, 2:])]]
     )
     assert np.linalg.eigvals(A).real.max() < 0
+
+
+def test_whirl_table_is_the_condensation(tmp_path, rigid):
+    """The speed × whirl table holds the pad assembly at each whirl frequency: its synchronous
+    column is the synchronously reduced coefficients, and the CSV round-trips."""
+    import csv
+
+    from gearrotor.bearings.pads import save_whirl_table, whirl_table
+
+    t = whirl_table(_bearing(), (0.0, -2500.0), [6000.0], [3000.0, 6000.0, 60000.0], options=OPTS)
+    np.testing.assert_allclose(t.values[0, 1, :4], rigid.K.ravel(), rtol=1e-9)
+    np.testing.assert_allclose(t.values[0, 1, 4:], rigid.C.ravel(), rtol=1e-9)
+    z = condense(rigid.K_full, rigid.C_full, rigid.M_full, 1j * 10 * W)
+    np.testing.assert_allclose(t.values[0, 2, :4], z.real.ravel(), rtol=1e-9)
+    path = save_whirl_table(t, tmp_path / "w.csv")
+    with path.open() as fh:
+        rows = [r for r in csv.reader(fh) if r and not r[0].startswith("#")]
+    assert rows[0][:3] == ["speed_rpm", "whirl_rpm", "kxx"] and len(rows) == 4
+    assert float(rows[3][2]) == pytest.approx(t.values[0, 2, 0], rel=1e-12)
