@@ -315,7 +315,17 @@ def example_map(name):
     return _MAPS[name]
 
 
-@pytest.mark.parametrize("name", MODELS)
+# the steam turbine (the issue's falls) and the unity gearbox (shared with the tests below)
+# run by default; the other examples' maps (7 s each) are slow
+@pytest.mark.parametrize(
+    "name",
+    [
+        n
+        if n in ("steam_turbine_gearbox.toml", "unity_gearbox.toml")
+        else pytest.param(n, marks=pytest.mark.slow)
+        for n in MODELS
+    ],
+)
 def test_raising_the_support_stiffness_never_lowers_a_critical(name):
     """K(k) = K₀ + k K_b with K_b ⪰ 0: along a mode dω²/dk = φᴴK_bφ / φᴴBφ ≥ 0, so a branch
     that falls has jumped to another mode (the steam turbine's pinion branch 4 fell from
@@ -399,7 +409,7 @@ def test_identical_shafts_get_identical_maps_bit_for_bit_every_run():
         "ucs",
         "examples/unity_gearbox.toml",
         "--n-points",
-        "9",
+        "5",
         "--format",
         "json",
     ]

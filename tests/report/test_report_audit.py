@@ -86,6 +86,10 @@ def test_section_numbers_are_the_commands(report, model):
     assert [v["key"] for v in margins] == ["separation_margins"]
     assert "FAIL" not in {v["result"] for v in report.summary["verdicts"] if "617" in v["check"]}
     html = report.html.read_text()
+    # the Level I criterion Q_0/Q_A >= 2 is not met: "Level II required" there too, not FAIL
+    level1 = html.split("<h3>Level I</h3>")[1].split("<h3>Level II</h3>")[0]
+    assert '<span class="na">Level II required</span>' in level1
+    assert "FAIL" not in level1 and "Verdict: <b>Level II required</b>" in level1
     assert "API audit" in html and "Undamped critical speed map" in html
     assert f"{st['threshold_q_N_per_m']:.4g}" in html  # the same Q_0 on the page
     for name in ("audit_ucs.png", "audit_level1.png", "audit_screening.png", "audit_level2.png"):

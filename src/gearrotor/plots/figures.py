@@ -362,7 +362,7 @@ def plot_campbell(
         frameon=False,
     )
     n_rows = -(-len(handles) // 3)
-    fig.tight_layout(rect=(0, 0.03 + 0.028 * n_rows, 1, 1))
+    fig.tight_layout(rect=(0, 0.02 + 0.024 * n_rows, 1, 1))
     return _save(fig, path)
 
 

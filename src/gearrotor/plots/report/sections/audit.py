@@ -18,7 +18,7 @@ import base64
 from ....errors import ModelError
 from ..base import Context, Part, Section
 from ..blocks import RPM, _badge, _e, _fmt
-from ..verdicts import LEVEL2_REQUIRED, _range_words
+from ..verdicts import LEVEL2_REQUIRED, _range_words, result_badge
 from .unbalance import UnbalanceSection, _api_checks, _api_html, _unbalances, _unbalances_used
 
 __all__ = ["AuditSection"]
@@ -146,6 +146,16 @@ def _verdicts(ctx: Context, checks: dict, audit) -> None:
         )
 
 
+def _level1_words(l1) -> str:
+    """Level I's verdict in the summary's words: ``pass`` or ``Level II required``."""
+    return "pass" if l1.passed else LEVEL2_REQUIRED
+
+
+def _criterion_badge(ok: bool | None) -> str:
+    """A Level I criterion that is not met sends the rotor to Level II: not a failure."""
+    return result_badge({True: "pass", False: LEVEL2_REQUIRED, None: "n/a"}[ok])
+
+
 def _img(ctx: Context, name: str, alt: str) -> str:
     data = base64.b64encode((ctx.directory / name).read_bytes()).decode("ascii")
     return (
@@ -185,14 +195,14 @@ def _html(ctx: Context, ucs, audit, checks: dict) -> str:
         + ", ".join(f"{_e(s.shaft)} node {s.node} ({s.weight:.3g})" for s in l1.sites)
         + f", at {abs(l1.speed) * RPM:.0f} rpm. Threshold Q_0 = {q0} N/m (root search, "
         f"rtol {l1.rtol:g}), Q_0/Q_A = {ratio}, log dec at Q_A {l1.log_dec_at_qa:.3f}. "
-        f"Verdict: <b>{_e(l1.verdict)}</b>.</p>",
+        f"Verdict: <b>{_e(_level1_words(l1))}</b>.</p>",
         "<table><tr><th class='l'>criterion</th><th>value</th><th class='l'>requirement</th>"
         "<th>result</th></tr>",
     ]
     for c in l1.criteria:
         parts.append(
             f"<tr><td class='l'>{_e(c.name)}</td><td>{_fmt(c.value, '.4g')}</td>"
-            f"<td class='l'>{_e(c.requirement)}</td><td>{_badge(c.ok)}</td></tr>"
+            f"<td class='l'>{_e(c.requirement)}</td><td>{_criterion_badge(c.ok)}</td></tr>"
         )
     parts += [
         "</table>",
@@ -217,6 +227,6 @@ def _html(ctx: Context, ucs, audit, checks: dict) -> str:
         "</table>",
         _img(ctx, FIGURES[3], "Level II log dec"),
         f"<p>Stability audit: <b>{_e(audit.verdict)}</b> (decided by {_e(audit.decided_by)}; "
-        f"Level I {_e(l1.verdict)}, Level II {_e(l2.verdict)}).</p>",
+        f"Level I {_e(_level1_words(l1))}, Level II {_e(l2.verdict)}).</p>",
     ]
     return "\n".join(parts)
