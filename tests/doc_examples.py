@@ -79,10 +79,18 @@ class PrintedCommand:
         return "gearrotor " + shlex.join(self.argv)
 
 
+def raw_tokens(raw: str) -> list[str]:
+    """The unquoted words of a shell line (quoted parts removed)."""
+    return re.sub(r"'[^']*'|\"[^\"]*\"", "", raw.partition(" #")[0]).split()
+
+
 def _is_synopsis(argv: list[str], raw: str) -> bool:
     """True for a usage line (``gearrotor modal MODEL [--speed RPM]``), a reference to a
     command by name (``gearrotor stability``) or anything else that names no input file."""
     if any(_PLACEHOLDER.match(a) for a in argv):
+        return True
+    # a placeholder inside a token (tcp://HOST:8786), outside quotes
+    if any(re.search(r"(?<![A-Za-z])[A-Z]{3,}(?![A-Za-z])", a) for a in raw_tokens(raw)):
         return True
     unquoted = re.sub(r"'[^']*'|\"[^\"]*\"", "", raw)
     if re.search(r"(^|\s)\[", unquoted) or "|" in unquoted or "..." in unquoted:

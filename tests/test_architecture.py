@@ -184,6 +184,7 @@ LAYERS = {
     "io": 2,
     "assembly": 3,
     "analyses": 4,
+    "interop": 4,
     "plots": 5,
     "studies": 5,
     "cli": 6,
@@ -210,3 +211,18 @@ def test_rooms_import_only_lower_layers():
             if LAYERS[rb] >= LAYERS[ra]:
                 wrong.append(f"{a} imports {b} ({ra}, layer {LAYERS[ra]} -> {rb}, {LAYERS[rb]})")
     assert not wrong, "imports against the layering of docs/architecture.md:\n" + "\n".join(wrong)
+
+
+def test_test_modules_have_unique_names():
+    """pytest imports test modules by basename (rootdir-relative, no packages): two
+    ``test_x.py`` in different folders stop the whole run at collection."""
+    tests = Path(__file__).resolve().parent
+    seen: dict[str, Path] = {}
+    clashes = []
+    for p in sorted(tests.rglob("test_*.py")):
+        if "data" in p.relative_to(tests).parts:
+            continue
+        if p.name in seen:
+            clashes.append(f"{seen[p.name].relative_to(tests)} and {p.relative_to(tests)}")
+        seen[p.name] = p
+    assert not clashes, "test modules with the same name: " + "; ".join(clashes)

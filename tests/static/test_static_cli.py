@@ -40,8 +40,8 @@ def test_static_json_one_point(examples):
     s = d["shafts"][0]
     for key in ("z_m", "deflection_y_um", "moment_x_Nm", "torque_Nm", "von_mises_MPa"):
         assert key in s
-    # LC10: 12.5 MW at 10,800 rpm through the 90.9 mm pinion: Ft = P/(Ω r), half per helix
-    ft = 12.5e6 / (10800 * 3.141592653589793 / 30) / 0.0909
+    # LC10: 12.5 MW at 10,800 rpm through the 653.2/7.2 mm pinion: Ft = P/(Ω r), half per helix
+    ft = 12.5e6 / (10800 * 3.141592653589793 / 30) / (0.6532 / 7.2)
     assert sum(mm["tangential_N"] for mm in d["meshes"]) == pytest.approx(ft, rel=1e-9)
 
 

@@ -7,6 +7,7 @@ order of ``gearrotor --help``):
 command             module                      calls
 ==================  ==========================  ==============================================
 ``show``            :mod:`.show`                :func:`gearrotor.analyses.model_summary.summarize`
+``view``            :mod:`.view`                a live model view on 127.0.0.1
 ``modal``           :mod:`.modal`               :func:`gearrotor.analyses.modal`
 ``campbell``        :mod:`.campbell`            :func:`gearrotor.analyses.campbell`
 ``unbalance``       :mod:`.unbalance`           :func:`gearrotor.analyses.unbalance_response`
@@ -19,6 +20,8 @@ command             module                      calls
 ``floquet``         :mod:`.floquet`             :func:`gearrotor.analyses.floquet.floquet`
 ``ucs``             :mod:`.ucs`                 :func:`gearrotor.analyses.ucs.ucs_map`
 ``stability``       :mod:`.stability`           :func:`gearrotor.analyses.audit.stability_audit`
+``import-ross``     :mod:`.ross`                :func:`gearrotor.interop.import_ross`
+``export``          :mod:`.ross`                :func:`gearrotor.interop.ross_script`
 ``study ...``       :mod:`.study`               :mod:`gearrotor.studies`
 ``torsional ...``   :mod:`.torsional`           :mod:`gearrotor.analyses.torsional`
 ==================  ==========================  ==============================================
@@ -37,7 +40,9 @@ from __future__ import annotations
 import functools
 import inspect
 import sys
+import typing
 from collections.abc import Callable
+from pathlib import Path
 
 import typer
 
@@ -48,6 +53,7 @@ from .floquet import floquet_command
 from .modal import modal_command
 from .options import ThreadsOpt
 from .report import report_command
+from .ross import export_command, import_ross_command
 from .seal import seal_command
 from .show import show_command
 from .stability import stability_command
@@ -57,6 +63,7 @@ from .torsional import torsional_app
 from .transient import plot_command, transient_command
 from .ucs import ucs_command
 from .unbalance import unbalance_command
+from .view import view_command
 
 __all__ = ["app", "main"]
 
@@ -89,16 +96,30 @@ def reflow(doc: str | None) -> str | None:
     return "\n\n".join(" ".join(p.split()) for p in paras)
 
 
+def _check_model_file(path: Path | None) -> None:
+    """A missing, unreadable or unparsable model file is reported at once, before the command
+    imports anything heavy (the model classes, the analyses): the same one-line error the
+    model reader gives (:func:`gearrotor.inputs.read_toml`)."""
+    if path is not None:
+        from ..inputs import read_toml
+
+        read_toml(path, "model")
+
+
 def common_options(fn: Callable) -> Callable:
     """Give a command function the options every command has (``--threads``), keeping the
     parameters Typer reads: the command then runs in a :func:`gearrotor.threads.scope` with
-    that setting (a bad ``GEARROTOR_THREADS`` is an input error, before anything runs)."""
+    that setting (a bad ``GEARROTOR_THREADS`` is an input error, before anything runs). A
+    command with a ``model`` file argument has the file read first (:func:`_check_model_file`)."""
     sig = inspect.signature(fn, eval_str=True)
     if "threads" in sig.parameters:
         return fn
     extra = inspect.Parameter(
         "threads", inspect.Parameter.KEYWORD_ONLY, default=None, annotation=ThreadsOpt
     )
+
+    model_arg = sig.parameters.get("model")
+    reads_model = model_arg is not None and typing.get_args(model_arg.annotation)[:1] == (Path,)
 
     @functools.wraps(fn)
     def command(*args, threads: str | None = None, **kwargs):
@@ -107,6 +128,8 @@ def common_options(fn: Callable) -> Callable:
         with threads_.using(threads):
             with cli_errors():
                 threads_.setting()  # GEARROTOR_THREADS is read (and checked) before anything runs
+                if reads_model:
+                    _check_model_file(sig.bind_partial(*args, **kwargs).arguments.get("model"))
             with threads_.scope():
                 return fn(*args, **kwargs)
 
@@ -121,6 +144,7 @@ def _command(name: str, fn) -> None:
 
 
 _command("show", show_command)
+_command("view", view_command)
 _command("modal", modal_command)
 _command("campbell", campbell_command)
 _command("unbalance", unbalance_command)
@@ -133,6 +157,8 @@ _command("report", report_command)
 _command("floquet", floquet_command)
 _command("ucs", ucs_command)
 _command("stability", stability_command)
+_command("import-ross", import_ross_command)
+_command("export", export_command)
 for _group in (study_app, torsional_app):  # the options every command has, also in the groups
     for _info in _group.registered_commands:
         _info.callback = common_options(_info.callback)

@@ -328,6 +328,29 @@ class FluidFilm(Spec):
     load: tuple[Force, Force] | None = None
     load_case: Int = Field(default=0, ge=0)
     speeds: list[AngularSpeed] = Field(min_length=1)
+    #: one static load per speed instead of ``load`` (an operating point's loads, which follow
+    #: the speed when its power is held)
+    loads: list[tuple[Force, Force]] | None = None
+    #: tilting pads only: carry the pads' tilt (and, with a pivot stiffness, radial) DOFs into
+    #: the train with the full film coefficients, instead of synchronously reduced coefficients
+    pad_dynamics: Flag = False
+    #: overrides of the bearing file's pad properties (every pad): inertia about the pivot,
+    #: pad mass (on the radial DOF of a flexible pivot), radial pivot stiffness
+    pad_inertia: Inertia | None = Field(default=None, gt=0)
+    pad_mass: Mass | None = Field(default=None, gt=0)
+    pivot_stiffness: Stiffness | None = Field(default=None, gt=0)
+
+    @model_validator(mode="after")
+    def _loads(self) -> FluidFilm:
+        if self.loads is not None:
+            if self.load is not None:
+                raise ValueError("give either 'load' or 'loads' (one per speed), not both")
+            if len(self.loads) != len(self.speeds):
+                raise ValueError(
+                    f"'loads' has {len(self.loads)} entries, 'speeds' has {len(self.speeds)}: "
+                    "one load per speed"
+                )
+        return self
 
 
 class Bearing(NodeRef):
@@ -475,23 +498,25 @@ class CrossCoupling(NodeRef):
 
 
 class Coupling(Spec):
-    """Flexible coupling between two shaft nodes (shafts at the same speed)."""
+    """Flexible coupling between two shaft nodes (shafts at the same speed). Stiffness and
+    damping are ≥ 0 (a negative spring or damper between two hubs is no coupling; 0: the
+    direction is not connected)."""
 
     name: str | None = None
     node_i: NodeRef
     node_j: NodeRef
-    kx: Stiffness = 0.0
-    ky: Stiffness = 0.0
-    kz: Stiffness = 0.0
-    ktx: RotStiffness = 0.0
-    kty: RotStiffness = 0.0
-    ktz: RotStiffness = 0.0
-    cx: Damping = 0.0
-    cy: Damping = 0.0
-    cz: Damping = 0.0
-    ctx: RotDamping = 0.0
-    cty: RotDamping = 0.0
-    ctz: RotDamping = 0.0
+    kx: Stiffness = Field(default=0.0, ge=0)
+    ky: Stiffness = Field(default=0.0, ge=0)
+    kz: Stiffness = Field(default=0.0, ge=0)
+    ktx: RotStiffness = Field(default=0.0, ge=0)
+    kty: RotStiffness = Field(default=0.0, ge=0)
+    ktz: RotStiffness = Field(default=0.0, ge=0)
+    cx: Damping = Field(default=0.0, ge=0)
+    cy: Damping = Field(default=0.0, ge=0)
+    cz: Damping = Field(default=0.0, ge=0)
+    ctx: RotDamping = Field(default=0.0, ge=0)
+    cty: RotDamping = Field(default=0.0, ge=0)
+    ctz: RotDamping = Field(default=0.0, ge=0)
 
 
 class GearSide(NodeRef):

@@ -83,6 +83,7 @@ from ..units import (
 from .components import Int, NodeRef, Spec
 
 __all__ = [
+    "MAX_TORQUE",
     "SpeedTorqueTable",
     "TorqueHistory",
     "EquivalentCircuit",
@@ -110,6 +111,36 @@ def _strictly_increasing(values, name: str) -> None:
         )
 
 
+# Bounds on magnitudes, each with its reason (issue 23: absurd values ran, or diverged with a
+# misleading "reduce dt"):
+#: |torque| of a drive, a load or a table entry (N·m): the largest machines built carry ~1e7 N·m
+#: (a 1.75 GW turbine–generator at 1500 rpm: 1.1e7 N·m); a hundred times that is no machine.
+MAX_TORQUE = 1e9
+#: rated power (W): ten times the largest turbine–generators (~1.75 GW).
+MAX_POWER = 1e10
+#: supply frequency (Hz): 50/60 Hz grids, inverter-fed high-speed motors up to ~1.5 kHz.
+MAX_LINE_FREQUENCY_HZ = 2000.0
+#: voltage factor (p.u. of rated): supplies are held within ±10 %; twice rated would break
+#: down the insulation, not start the motor.
+MAX_VOLTAGE_FACTOR = 2.0
+#: motor torques per unit of rated (tables, pull-out, breakdown of a circuit): NEMA/IEC motors
+#: break down at 1.6–3 p.u., synchronous motors pull out at 1.5–2.5 p.u.
+MAX_MOTOR_PU = 10.0
+#: short-circuit air-gap torque amplitudes (p.u.): terminal faults peak at 4–10 × rated
+#: (Kundur, Power System Stability and Control, 1994, §3.7; Wachel & Szenasi 1993).
+MAX_SHORT_CIRCUIT_PU = 20.0
+
+
+def _bounded(values, name: str, limit: float, unit: str, reason: str) -> None:
+    for k, v in enumerate(values if isinstance(values, list | tuple) else [values]):
+        if v is not None and not abs(v) <= limit:
+            where = f"{name}[{k}]" if isinstance(values, list | tuple) else name
+            raise ValueError(f"{where} = {v:.6g} {unit} is beyond {limit:.3g} {unit} ({reason})")
+
+
+_TORQUE_REASON = "no machine carries more; the largest carry ~1e7 N·m"
+
+
 class SpeedTorqueTable(Spec):
     """Torque (N·m) against speed along the sense of rotation (rad/s, or e.g. ``"1500 rpm"``)."""
 
@@ -123,6 +154,7 @@ class SpeedTorqueTable(Spec):
                 f"'speed' has {len(self.speed)} values, 'torque' has {len(self.torque)}"
             )
         _strictly_increasing(self.speed, "speed")
+        _bounded(self.torque, "torque", MAX_TORQUE, "N·m", _TORQUE_REASON)
         return self
 
 
@@ -137,6 +169,7 @@ class TorqueHistory(Spec):
         if len(self.time) != len(self.torque):
             raise ValueError(f"'time' has {len(self.time)} values, 'torque' has {len(self.torque)}")
         _strictly_increasing(self.time, "time")
+        _bounded(self.torque, "torque", MAX_TORQUE, "N·m", _TORQUE_REASON)
         return self
 
 
@@ -185,6 +218,8 @@ class StartTable(Spec):
             raise ValueError("'slip' must be strictly monotone (e.g. 1.0, 0.8, ..., 0.0)")
         if any(p < 0 for p in self.pulsating):
             raise ValueError("'pulsating' amplitudes must be ≥ 0")
+        for name in ("average", "pulsating"):
+            _bounded(getattr(self, name), name, MAX_MOTOR_PU, "p.u.", "a motor's start-up torque")
         return self
 
     def arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -210,6 +245,13 @@ class VoltageProfile(Spec):
         _strictly_increasing(self.time, "time")
         if any(f < 0 for f in self.factor):
             raise ValueError("voltage factors must be ≥ 0")
+        _bounded(
+            self.factor,
+            "factor",
+            MAX_VOLTAGE_FACTOR,
+            "p.u.",
+            "supplies are held within ±10 % of rated",
+        )
         return self
 
 
@@ -235,6 +277,14 @@ class ShortCircuit(Spec):
                 f"clear_time = {self.clear_time:.6g} s must be after the fault time "
                 f"{self.time:.6g} s"
             )
+        for name in ("a0", "a1", "a2"):
+            _bounded(
+                getattr(self, name),
+                name,
+                MAX_SHORT_CIRCUIT_PU,
+                "p.u.",
+                "terminal faults peak at 4–10 × rated",
+            )
         if self.type == "three_phase" and self.a2 != 0:
             raise ValueError(
                 f"a three-phase fault has no twice-line-frequency torque: a2 = {self.a2:.6g}; "
@@ -248,6 +298,11 @@ class _DriveBase(NodeRef):
     rated_power: Power = Field(gt=0, description="W")
     rated_speed: AngularSpeed | None = Field(default=None, gt=0)
     trip_time: Time | None = Field(default=None, ge=0)
+
+    @model_validator(mode="after")
+    def _rated_power_bounded(self) -> _DriveBase:
+        _bounded(self.rated_power, "rated_power", MAX_POWER, "W", "ten times the largest machines")
+        return self
 
     @property
     def rated_torque(self) -> float:
@@ -270,6 +325,13 @@ class _ElectricDrive(_DriveBase):
     def _even_poles(self) -> _ElectricDrive:
         if self.poles % 2:
             raise ValueError(f"poles = {self.poles}: the number of poles must be even")
+        _bounded(
+            self.line_frequency / (2 * np.pi),
+            "line_frequency",
+            MAX_LINE_FREQUENCY_HZ,
+            "Hz",
+            "grids run at 50/60 Hz, inverter-fed high-speed motors up to ~1.5 kHz",
+        )
         return self
 
     @property
@@ -294,7 +356,24 @@ class InductionMotor(_ElectricDrive):
     def _one_curve(self) -> InductionMotor:
         if (self.circuit is None) == (self.table is None):
             raise ValueError("give exactly one of 'circuit' (equivalent circuit) or 'table'")
+        if self.circuit is not None:
+            pu = self.breakdown_torque / self.rated_torque
+            if not pu <= MAX_MOTOR_PU:
+                raise ValueError(
+                    f"the circuit's breakdown torque is {pu:.4g} × the rated torque "
+                    f"({self.rated_power:.6g} W / {self.nominal_speed * 30 / np.pi:.6g} rpm): "
+                    f"beyond {MAX_MOTOR_PU:g} × (motors break down at 1.6–3 ×); check the "
+                    "circuit's voltage and impedances against the rated power"
+                )
         return self
+
+    @property
+    def breakdown_torque(self) -> float:
+        """Largest air-gap torque of the circuit at rated voltage (N·m): the Thevenin maximum
+        ``q V_th² / (2 Ω_s [R_th + √(R_th² + (X_th + X2)²)])`` (Chapman 2005, eq. 7-54)."""
+        c = self.circuit
+        vth, rth, xth = c.thevenin()
+        return c.phases * vth**2 / (2 * self.synchronous_speed * (rth + np.hypot(rth, xth + c.x2)))
 
     def circuit_torque(self, slip) -> np.ndarray:
         """Air-gap torque (N·m) of the equivalent circuit at rated voltage for slip s (any
@@ -317,7 +396,9 @@ class SynchronousMotor(_ElectricDrive):
     type: Literal["synchronous_motor"]
     start: StartTable
     pull_in_slip: Dimensionless = Field(default=0.05, gt=0, lt=1)
-    pull_out_torque: Dimensionless = Field(gt=0, description="T_po per unit of rated torque")
+    pull_out_torque: Dimensionless = Field(
+        gt=0, le=MAX_MOTOR_PU, description="T_po per unit of rated torque"
+    )
 
 
 class TorqueDrive(_DriveBase):
@@ -343,6 +424,7 @@ class TorqueDrive(_DriveBase):
                 "give exactly one of 'value' (constant torque), 'table' (against speed) or "
                 "'history' (against time)"
             )
+        _bounded(self.value, "value", MAX_TORQUE, "N·m", _TORQUE_REASON)
         if self.rated_speed is None:
             raise ValueError("a 'torque' drive needs 'rated_speed' (for its rated torque)")
         return self
@@ -391,6 +473,7 @@ class Load(NodeRef):
                 raise ValueError(f"a '{self.type}' load needs 'torque' (and no 'table')")
             if self.type == "quadratic" and self.speed is None:
                 raise ValueError("a 'quadratic' load needs 'speed', where it takes 'torque'")
+            _bounded(self.torque, "torque", MAX_TORQUE, "N·m", _TORQUE_REASON)
         _strictly_increasing([s.time for s in self.steps], "steps.time")
         return self
 
@@ -422,10 +505,34 @@ class Torsional(Spec):
     stress_concentrations: list[StressConcentration] = Field(default_factory=list)
 
     def check(self, train) -> None:
-        """Cross-references against the train (node references, shafts, sections)."""
+        """Cross-references against the train (node references, shafts, sections); drive and
+        load names unique (they label the histories); no drive and load on one node."""
+        nodes: dict[tuple[int, int], str] = {}
+        names: dict[str, str] = {}
         for group in ("drives", "loads"):
             for k, item in enumerate(getattr(self, group)):
-                train.node_index(item, f"torsional.{group}[{k}]")
+                field = f"torsional.{group}[{k}]"
+                node = train.node_index(item, field)
+                name = item.name or field
+                if name in names:
+                    raise ModelError(
+                        f"duplicate name: {names[name]} is also called {name!r} (drives and "
+                        "loads label the transient's histories)",
+                        field=f"{field}.name",
+                        value=name,
+                        expected="a name no other drive or load has",
+                    )
+                names[name] = field
+                other = nodes.get(node)
+                if other is not None and other.split("[")[0] != field.split("[")[0]:
+                    raise ModelError(
+                        f"a drive and a load on the same node ({other} is there too): the "
+                        "load would be taken where it is put in, nothing would transmit it",
+                        field=field,
+                        value=f"shaft {item.shaft!r}, node {node[1]}",
+                        expected="the load where the driven machine is, on another node",
+                    )
+                nodes.setdefault(node, field)
         for k, sc in enumerate(self.stress_concentrations):
             field = f"torsional.stress_concentrations[{k}]"
             si = train.shaft_index(sc.shaft, f"{field}.shaft")

@@ -163,6 +163,7 @@ def _integrate(seal: AnnularSeal, mdot: float, speed: float):
     fs, fr = seal.stator.scalar, seal.rotor.scalar
 
     def rhs(p, u):
+        """(dP/dz, a, U_eq) with dU/dz = −a (U − U_eq): the swirl relaxes to U_eq over 1/a."""
         rho, beta, mu = fl.props(p)
         w = mdot / (rho * H)
         us = math.sqrt(w * w + u * u)
@@ -172,24 +173,61 @@ def _integrate(seal: AnnularSeal, mdot: float, speed: float):
         den = 1.0 - w * w * beta
         if den <= 0.02:  # isothermal Mach number ~ 1: choked
             return None
-        return -(ks + kr) * w / (H * den), -(ks * u + kr * (u - rw)) / mdot
+        a = (ks + kr) / mdot
+        return -(ks + kr) * w / (H * den), a, kr * rw / (ks + kr) if ks + kr > 0 else u
+
+    def du(f, u):
+        return -f[1] * (u - f[2])
+
+    def step(p, u, h, k1):
+        """One step of length h from (p, u): RK4, or, when the swirl relaxes within the step
+        (a h > 0.5: a slow leak, a viscous liquid), Heun's step with the relaxation integrated
+        exactly (RK4 would lose accuracy and then stability)."""
+        if k1[1] * h > 0.5:
+            pp, up = p + h * k1[0], k1[2] + (u - k1[2]) * math.exp(-k1[1] * h)
+            k2 = rhs(pp, up) if pp > 0 else None
+            if k2 is None:
+                return None
+            a, ueq = 0.5 * (k1[1] + k2[1]), 0.5 * (k1[2] + k2[2])
+            return p + 0.5 * h * (k1[0] + k2[0]), ueq + (u - ueq) * math.exp(-a * h)
+        u1 = u + 0.5 * h * du(k1, u)
+        q = p + 0.5 * h * k1[0]
+        k2 = rhs(q, u1) if q > 0 else None
+        if k2 is None:
+            return None
+        u2 = u + 0.5 * h * du(k2, u1)
+        q = p + 0.5 * h * k2[0]
+        k3 = rhs(q, u2) if q > 0 else None
+        if k3 is None:
+            return None
+        u3 = u + h * du(k3, u2)
+        q = p + h * k3[0]
+        k4 = rhs(q, u3) if q > 0 else None
+        if k4 is None:
+            return None
+        return (
+            p + h / 6 * (k1[0] + 2 * k2[0] + 2 * k3[0] + k4[0]),
+            u + h / 6 * (du(k1, u) + 2 * du(k2, u1) + 2 * du(k3, u2) + du(k4, u3)),
+        )
 
     for k in range(N):
         p, u = P[k], U[k]
         k1 = rhs(p, u)
         if k1 is None:
             return None
-        k2 = rhs(p + 0.5 * dz * k1[0], u + 0.5 * dz * k1[1]) if p + 0.5 * dz * k1[0] > 0 else None
-        if k2 is None:
-            return None
-        k3 = rhs(p + 0.5 * dz * k2[0], u + 0.5 * dz * k2[1]) if p + 0.5 * dz * k2[0] > 0 else None
-        if k3 is None:
-            return None
-        k4 = rhs(p + dz * k3[0], u + dz * k3[1]) if p + dz * k3[0] > 0 else None
-        if k4 is None:
-            return None
-        P[k + 1] = p + dz / 6 * (k1[0] + 2 * k2[0] + 2 * k3[0] + k4[0])
-        U[k + 1] = u + dz / 6 * (k1[1] + 2 * k2[1] + 2 * k3[1] + k4[1])
+        # substeps where the swirl relaxes faster than the grid resolves (a dz > 0.5)
+        n_sub = min(64, max(1, math.ceil(k1[1] * dz / 0.5)))
+        h = dz / n_sub
+        for j in range(n_sub):
+            if j:
+                k1 = rhs(p, u)
+                if k1 is None:
+                    return None
+            nxt = step(p, u, h, k1)
+            if nxt is None or nxt[0] <= 0:
+                return None
+            p, u = nxt
+        P[k + 1], U[k + 1] = p, u
         if P[k + 1] <= 0:
             return None
     W = mdot / (fl.density(P) * H)

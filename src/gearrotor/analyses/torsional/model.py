@@ -287,6 +287,9 @@ class TorsionalModel:
         p, alpha = self.static_reduced(f_full, balanced=balanced)
         return self.expand(p), alpha
 
+    def _split_by_coupling(self, R: NDArray) -> None:
+        _split_coupling_error(self, R)
+
     def static_reduced(self, f_full: NDArray, *, balanced: bool = True) -> tuple[NDArray, NDArray]:
         """:meth:`static_twist` in reduced coordinates (n,)."""
         f = self.reduce_force(np.asarray(f_full, float))
@@ -299,6 +302,8 @@ class TorsionalModel:
         if balanced and nr:
             net = R.T @ f
             scale = np.abs(R).T @ np.abs(f) + 1e-300
+            if np.any(np.abs(net) > 1e-6 * scale) and nr > 1:
+                self._split_by_coupling(R)
             if np.any(np.abs(net) > 1e-6 * scale):
                 raise ModelError(
                     "the torques do not balance: they would accelerate the train",
@@ -307,6 +312,23 @@ class TorsionalModel:
                     expected="drive and load torques in power balance (Σ T_k Ω_k = 0)",
                 )
         return sol[: self.n], alpha
+
+
+def _split_coupling_error(tm: TorsionalModel, R: NDArray) -> None:
+    """Raise a :class:`ModelError` naming a coupling without torsional stiffness that separates
+    two torsionally free parts (``R``: their rigid rotations), if there is one."""
+    part = np.argmax(np.abs(tm.T @ R), axis=1)
+    for k in np.flatnonzero(tm.cp_stiffness == 0):
+        a, b = tm.cp_dofs[k]
+        if part[a] != part[b]:
+            raise ModelError(
+                f"the train is torsionally split into {R.shape[1]} free parts at a coupling "
+                "without torsional stiffness: no steady torque passes it",
+                field=f"couplings[{k}].ktz",
+                value=0.0,
+                expected="a positive torsional stiffness (N*m/rad) for a coupling that carries "
+                "torque",
+            )
 
 
 def _union_find(n: int):

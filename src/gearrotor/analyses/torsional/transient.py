@@ -61,6 +61,7 @@ from ...errors import ModelError, SolverError
 from ...model import Train
 from ...threads import managed
 from ..jit import configure_cache
+from ..limits import MAX_STEPS, check_run_size
 from .drive_laws import (
     TorqueLaws,
     advance_states,
@@ -807,7 +808,7 @@ def torsional_transient(
             field="fixed",
             expected="a torsional model without fixed nodes",
         )
-    if t_end <= 0:
+    if not (np.isfinite(t_end) and t_end > 0):
         raise ModelError("t_end must be positive", field="t_end", value=t_end)
     check_transient_supports(train)  # dampers to ground act on the absolute speed
     laws = pack_laws(train)
@@ -855,13 +856,29 @@ def torsional_transient(
             f"{', '.join(variation)} not included: the torsional transient uses the average Kg"
         )
     # ---- load paths -------------------------------------------------------------------------
-    edges = [tm.el_dofs, tm.cp_dofs[(tm.cp_stiffness > 0) | (tm.cp_damping > 0)]]
+    # torque reaches a load through stiffness: a coupling with ktz = 0 and a damper only would
+    # slip without bound (its twist grows with the transmitted torque times time)
+    edges = [tm.el_dofs, tm.cp_dofs[tm.cp_stiffness > 0]]
     if nm:
         edges.append(tm.mesh_dofs if tm.mesh == "rigid" else tm.mesh_dofs[tm.mesh_stiffness > 0])
     e = np.concatenate([x.reshape(-1, 2) for x in edges])
     graph = sp.coo_array((np.ones(len(e)), (e[:, 0], e[:, 1])), shape=(tm.n_full,) * 2)
     _, component = connected_components(graph, directed=False)
-    check_load_paths(laws, component, tm.dof)
+    try:
+        check_load_paths(laws, component, tm.dof)
+    except ModelError:
+        for k in np.flatnonzero((tm.cp_stiffness == 0) & (tm.cp_damping > 0)):
+            a, b = tm.cp_dofs[k]
+            if component[a] != component[b]:
+                raise ModelError(
+                    "a coupling in a drive's load path has no torsional stiffness: through "
+                    "its damper alone the twist would grow without bound under the torque",
+                    field=f"couplings[{k}].ktz",
+                    value=0.0,
+                    expected="a positive torsional stiffness (N*m/rad) for a coupling that "
+                    "carries the drive's torque",
+                ) from None
+        raise
 
     # ---- matrices ---------------------------------------------------------------------------
     n = tm.n
@@ -900,15 +917,39 @@ def torsional_transient(
     kin_c = tm.mesh_damping[:kin].astype(float)
     kin_b = tm.mesh_backlash[:kin].astype(float)
 
+    given_dt = dt is not None
     if dt is None:
         dt = _default_dt(
             tm, max_frequency, tm.mesh_backlash > 0 if tm.mesh == "flexible" else np.zeros(nm, bool)
         )
-    if dt <= 0:
+    if not (np.isfinite(dt) and dt > 0):
         raise ModelError("the time step must be positive", field="dt", value=dt)
-    n_steps = int(np.ceil(t_end / dt - 1e-9))
-    h = t_end / n_steps
+    if save_dt is not None and not (np.isfinite(save_dt) and save_dt > 0):
+        raise ModelError("the save interval must be positive", field="save_dt", value=save_dt)
+    steps = np.ceil(t_end / dt - 1e-9)  # a float first: 1e12 steps must not be an int loop
     save_dt = 5e-4 if save_dt is None else save_dt
+    every = max(1.0, np.round(save_dt / (t_end / steps)))
+    per_sample = (
+        1
+        + 2 * tm.n
+        + len(laws)
+        + 2 * nm
+        + 3 * tm.n_full
+        + 2 * len(tm.el_stiffness)
+        + len(tm.cp_names)
+        + len(tm.shaft_names)
+    )  # saved states, torques, mesh records, and the outputs derived from them
+    too_many_steps = steps > MAX_STEPS
+    check_run_size(
+        int(min(steps, 2**62)),
+        int(min(steps // every + 2, 2**62)),
+        per_sample,
+        t_end,
+        field="dt" if given_dt and too_many_steps else "t_end",
+        value=dt if given_dt and too_many_steps else None,
+    )
+    n_steps = int(steps)
+    h = t_end / n_steps
     save_every = max(1, int(round(save_dt / h)))
     n_save = n_steps // save_every + 1 + (n_steps % save_every != 0)  # the end is saved
 
@@ -1060,7 +1101,10 @@ def torsional_transient(
     if stats[2]:
         raise SolverError(
             f"the torsional transient diverged (non-finite state) near t = {o_t[n_saved - 1]:.4g} "
-            f"s: reduce dt (now {h:.3g} s)"
+            "s: the trapezoidal rule is stable at any step for the linear part, so check what "
+            "drives it (negative or absurd damping, stiffness or torques); a smaller dt (now "
+            f"{h:.3g} s) helps only when the drive torques did not settle ({int(stats[1])} "
+            "unsettled steps)"
         )
     o_t, o_p, o_v, o_tq = o_t[:n_saved], o_p[:n_saved], o_v[:n_saved], o_tq[:n_saved]
     o_ms, o_mf = o_ms[:n_saved], o_mf[:n_saved]
