@@ -237,6 +237,16 @@ def stability_command(
     stages = [parse_stage(s) for s in stage or ()]
     q = _positive(qa, "stiffness", "--qa")
     rho = _positive(average_density, "density", "--average-density")
+    if rho is not None:
+        from ..model.audit import gas_density
+
+        try:
+            gas_density(rho)
+        except ValueError as exc:
+            what, _, expected = str(exc).partition("; expected ")
+            raise ModelError(
+                what, field="--average-density", value=average_density, expected=expected
+            ) from None
     formula = {"--power": power, "--diameter": diameter, "--height": height}
     given = [k for k, v in formula.items() if v is not None]
     if density_ratio is not None and not density_ratio > 0:
