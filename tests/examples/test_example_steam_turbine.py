@@ -99,8 +99,8 @@ def test_redesign_light_load_every_mode_stable(doc_runs):
     assert res["stable"] is True
     assert min(m["log_dec"] for m in res["modes"]) > 0.2
     m = pinion_mode(res["modes"], 9000, 10000)
-    assert m["frequency_rpm"] == pytest.approx(9482, rel=5e-3)
-    assert m["log_dec"] == pytest.approx(0.227, abs=0.05)
+    assert m["frequency_rpm"] == pytest.approx(9480, rel=5e-3)
+    assert m["log_dec"] == pytest.approx(0.228, abs=0.05)
     # rated load, no destabiliser: all stable, the conical mode well damped
     res = find_run(doc_runs, "modal", "load_case=9")
     assert res["stable"] is True
@@ -139,7 +139,7 @@ def test_load_cases_and_onset():
     r = json.loads(run([sys.executable, "-c", STUDY]))
     # light load (1, 4): original unstable, redesign stable; heavier load (6, 10): both stable
     for lc, orig_ld, dam_ld in (
-        (1, -0.379, 0.227),
+        (1, -0.379, 0.228),
         (4, -0.319, 0.690),
         (6, 0.440, 1.912),
         (10, 1.212, 2.697),
@@ -157,7 +157,7 @@ def test_load_cases_and_onset():
     assert r["redesign/q0"] == pytest.approx(1.574, abs=0.05)
     # onset of instability at light load
     assert r["original/onset"] == pytest.approx(3.98e7, rel=0.05)
-    assert r["redesign/onset"] == pytest.approx(7.38e7, rel=0.05)
+    assert r["redesign/onset"] == pytest.approx(7.39e7, rel=0.05)
     assert r["original/onset"] < 5.68e7 < r["redesign/onset"]
 
 
@@ -197,7 +197,7 @@ def test_study_script(tmp_path):
     qo = s["q_sweep_original"]
     assert qo["onset_q_N_per_m"] == pytest.approx(3.98e7, rel=0.05)
     assert qo["onset_whirl_ratio"] == pytest.approx(0.80, abs=0.02)
-    assert s["q_sweep_redesign"]["onset_q_N_per_m"] == pytest.approx(7.38e7, rel=0.05)
+    assert s["q_sweep_redesign"]["onset_q_N_per_m"] == pytest.approx(7.39e7, rel=0.05)
     ld = [c["log_dec"] for c in s["load_cases"]["redesign"]["q568"]]
     assert min(ld) > 0.15
     ld = [c["log_dec"] for c in s["load_cases"]["original"]["q568"]]
