@@ -232,7 +232,12 @@ def test_level2_against_the_jeffcott_eigenvalue():
         fwd = [m for m in r.evaluations[0].modes if m.forward and m.mode_type == "L"]
         assert min(m.log_dec for m in fwd) == pytest.approx(expect, rel=1e-3)
         assert r.verdict == verdict
-        assert json.loads(json.dumps(r.to_dict()))["verdict"] == verdict
+        d = json.loads(json.dumps(r.to_dict()))
+        assert d["verdict"] == verdict
+        # per mode: pass/fail where the criterion judges it, "not judged" elsewhere
+        checks = {m["check"] for m in d["speeds"][0]["modes"] if not m["forward"]}
+        assert checks <= {"not judged", "fail"}
+        assert {m["check"] for m in d["speeds"][0]["modes"] if m["forward"]} <= {"pass", "fail"}
     # Level I ignores the model's destabiliser: same threshold with or without it
     r1 = level1(jeffcott(q=1.2 * Q_ONSET), qa=Q_ONSET / 3, at=[("s", 2)], n_curve=0)
     assert r1.threshold_q == pytest.approx(Q_ONSET, rel=1e-3)

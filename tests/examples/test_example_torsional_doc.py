@@ -58,6 +58,16 @@ def test_modes_table(doc_runs):
         assert round(m[i]["damping_ratio"], 3) == zeta
     assert m[1]["max_stress_element"]["shaft"] == "motor"
     assert m[1]["max_stress_element"]["element"] == 8
+    by = {1: "LS coupling", 2: "HS coupling", 3: "LS coupling", 4: "HS coupling"}
+    for i, name in by.items():  # the doc's "damped mostly by" column
+        assert next(iter(m[i]["damping_sources"])) == f"coupling {name}"
+    # the hub modes (ζ 0.71 at 673 Hz, 0.20 at 741 Hz) and the mesh mode the doc describes
+    assert round(m[9]["frequency_hz"]) == 673 and round(m[9]["damping_ratio"], 2) == 0.71
+    assert round(m[10]["frequency_hz"]) == 741 and round(m[10]["damping_ratio"], 2) == 0.20
+    (mm,) = res["mesh_damping"]
+    assert mm["index"] == 17 and not mm["listed"] and round(mm["frequency_hz"]) == 1330
+    assert round(mm["mesh_strain_energy_fraction"], 2) == 0.67
+    assert round(mm["mesh_damping_ratio_of_mode"], 4) == 0.0200
 
 
 def test_interference_passes_with_the_quoted_margins(doc_runs):
@@ -72,13 +82,27 @@ def test_interference_passes_with_the_quoted_margins(doc_runs):
 
 
 def test_forced_response(doc_runs):
-    res = find_run(doc_runs, "torsional", "response")
+    res = find_run(doc_runs, "torsional", "response", without=("--speed",))
     pk = res["peak"]
     assert pk["element"] == "motor[8]" and round(pk["speed_rpm"]) == 1584
     assert round(pk["shear_stress_Pa"] / 1e6, 2) == 3.96
     mesh = res["meshes"][0]
     assert mesh["contact_loss_speeds_rpm"] == []
     assert mesh["max_dynamic_force_N"] <= 0.05 * mesh["mean_force_N"]
+
+
+def test_response_at_the_operating_speed(doc_runs):
+    res = find_run(doc_runs, "torsional", "response", "--speed")
+    assert res["speeds_rpm"] == [1800.0]
+    el = {e["element"]: e for e in res["elements"]}
+    for name in ("motor[3]", "motor[4]"):  # "about 200 N·m, 0.4 of the excitation"
+        assert 190 < el[name]["max_torque_Nm"] < 215
+    assert round(el["motor[8]"]["max_shear_stress_Pa"] / 1e6, 3) == 0.012
+    curves = res["curves"]
+    assert curves["speeds_rpm"] == [1800.0]
+    (f,) = curves["excitation_frequency_hz"].values()
+    assert f == [pytest.approx(120.0)]
+    assert curves["element_torque_Nm"]["motor[3]"] == [el["motor[3]"]["max_torque_Nm"]]
 
 
 def test_start_up(doc_runs):

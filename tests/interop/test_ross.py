@@ -222,3 +222,21 @@ def test_export_refuses_what_ross_cannot_hold(examples):
     train = load_model(examples / "steam_turbine_gearbox.toml")
     with pytest.raises(ModelError, match="MultiRotor joins two rotors by one gear pair"):
         ross_script(gr.assemble(train))
+
+
+@pytest.mark.parametrize(
+    ("override", "field"),
+    [
+        ('torsional_supports=[{shaft="shaft1", node=0, c=10.0}]', "torsional_supports"),
+        ("shafts[0].sections[0].torsional_stiffness=1e6", "torsional_stiffness"),
+    ],
+)
+def test_export_refuses_torsional_items_ross_cannot_hold(examples, override, field):
+    """A torsional support or a section's rod given directly has no ROSS counterpart in the
+    exported script: refused, not dropped (issue 22's torsional elements)."""
+    from gearrotor.io import parse_overrides
+
+    train = load_model(examples / "unity_gearbox.toml", parse_overrides([override]))
+    with pytest.raises(ModelError, match="not exported") as err:
+        ross_script(gr.assemble(train))
+    assert field in str(err.value)

@@ -572,6 +572,7 @@ class Level2Result:
                             "forward": m.forward,
                             "unstable": m.unstable,
                             "ok": m.ok,
+                            "check": {"-": "not judged"}.get(_mode_check(m), _mode_check(m)),
                         }
                         for m in ev.modes
                     ],
@@ -583,11 +584,11 @@ class Level2Result:
     def table(self) -> str:
         rows = [
             f"{self.edition}: Level II (log dec >= {self.criterion_log_dec:g} per forward "
-            "lateral mode, no unstable mode)"
+            "lateral mode, no unstable mode; '-': a mode the criterion does not judge)"
         ]
         head = (
             f"{'speed rpm':>10} {'freq rpm':>10} {'log dec':>9} {'whirl':>7} {'type':>5} "
-            f"{'lat':>5} {'fwd':>4} {'ok':>4}"
+            f"{'lat':>5} {'fwd':>4} {'check':>5}"
         )
         rows += [head, "-" * len(head)]
         for ev in self.evaluations:
@@ -595,10 +596,18 @@ class Level2Result:
                 rows.append(
                     f"{ev.speed * RPM:>10.0f} {m.frequency * RPM:>10.1f} {m.log_dec:>9.4f} "
                     f"{'/'.join(m.whirl_per_shaft):>7} {m.mode_type:>5} {m.energy_lateral:>5.2f} "
-                    f"{'F' if m.forward else '-':>4} {'ok' if m.ok else 'FAIL':>4}"
+                    f"{'F' if m.forward else '-':>4} {_mode_check(m):>5}"
                 )
-        rows.append(f"verdict: {self.verdict.upper()}")
+        rows.append(f"Level II verdict: {self.verdict}")
         return "\n".join(rows)
+
+
+def _mode_check(m: Level2Mode) -> str:
+    """A Level II mode's check: pass/fail for a judged mode (forward lateral, or unstable), "-"
+    for a mode the acceptance does not judge (backward, torsional, axial)."""
+    if not (m.forward or m.unstable):
+        return "-"
+    return "pass" if m.ok else "fail"
 
 
 # --------------------------------------------------------------------------------------------

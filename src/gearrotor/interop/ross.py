@@ -768,6 +768,23 @@ def ross_script(asm) -> str:
             field="couplings",
             expected="a model without [[couplings]]",
         )
+    if train.torsional_supports:
+        raise ModelError(
+            "torsional supports (springs / dampers to ground) are not exported",
+            field="torsional_supports",
+            expected="a model without [[torsional_supports]]",
+        )
+    for i, sh in enumerate(train.shafts):
+        for k, sec in enumerate(sh.sections):
+            for key in ("torsional_stiffness", "polar_inertia", "torsional_damping"):
+                if getattr(sec, key) is not None:
+                    raise ModelError(
+                        "a section's torsional rod given directly is not exported (ROSS builds "
+                        "it from the diameters)",
+                        field=f"shafts[{i}].sections[{k}].{key}",
+                        value=getattr(sec, key),
+                        expected="the section from its diameters and material",
+                    )
     lines = [
         f'"""{train.name}: exported from gearrotor for ROSS 3.x (gearrotor export --to '
         "ross-python).",

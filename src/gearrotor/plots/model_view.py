@@ -539,9 +539,9 @@ def _end_view(ax, train, speed: float) -> None:
             fontsize=7.5,
             zorder=6,
         )
-        if w != 0:  # sense of rotation: an arc arrow around the centre
-            rr = 0.55 * radii[i] if radii[i] > r * 1.5 else 1.6 * r
-            a0, a1 = (30, 150) if w > 0 else (150, 30)
+        if w != 0:  # sense of rotation: an arc arrow just outside the largest circle
+            rr = 1.12 * max(radii[i], r)
+            a0, a1 = (60, 120) if w > 0 else (120, 60)
             ax.add_patch(
                 FancyArrowPatch(
                     c + rr * np.array([np.cos(np.radians(a0)), np.sin(np.radians(a0))]),
@@ -555,7 +555,15 @@ def _end_view(ax, train, speed: float) -> None:
                 )
             )
         ax.plot(*c, "+", color="black", ms=8, zorder=6)
+    drawn: dict[tuple, list[str]] = {}
+    for k, m in enumerate(train.meshes):  # meshes between the same shafts look alike end-on
+        key = (m.gear.shaft, m.mate.shaft, round(m.orientation, 9))
+        drawn.setdefault(key, []).append(m.name or f"meshes[{k}]")
     for k, m in enumerate(train.meshes):
+        key = (m.gear.shaft, m.mate.shaft, round(m.orientation, 9))
+        names = drawn[key]
+        if (m.name or f"meshes[{k}]") != names[0]:
+            continue
         ri, rj = (r * MM for r in train.pitch_radii(k))
         si = train.shaft_index(m.gear.shaft, "")
         sj = train.shaft_index(m.mate.shaft, "")
@@ -602,7 +610,7 @@ def _end_view(ax, train, speed: float) -> None:
             )
         )
         ax.annotate(
-            f"{m.name or f'meshes[{k}]'}: line of action\n"
+            f"{', '.join(names)}: line of action\n"
             f"N {m.gear.teeth}/{m.mate.teeth}, αn {np.degrees(m.pressure_angle):.1f}°",
             xy=pitch - L * n,
             xytext=(-4, 4),
