@@ -9,27 +9,25 @@ Prints, per run, the step, the steps, the contact changes located, the largest d
 the backlash reference of the 1x amplitudes at the gear nodes and of the speed fluctuation
 (both over the last 0.5 s, the result's ``amplitude_1x`` and ``speed_fluctuation``), the
 contact-loss fraction over the run, the largest |mesh force| over the last 0.5 s against the
-reference's, the wall time of the integration and its ratio to the no-backlash default run;
-ends with one JSON line. One core (BLAS threads limited to 1).
+reference's, the wall time of the integration and its ratio to the no-backlash default run,
+and the default run again next to one busy process (``python -c "while True: pass"``); ends
+with one JSON line. Runs in the environment it is started in (gearrotor's default: one BLAS
+thread for these sizes, docs/performance.md).
 
     python benchmarks/backlash.py [--t-end 3.0] [--no-rk4]
 """
 
 from __future__ import annotations
 
-import os
+import argparse
+import json
+from pathlib import Path
 
-for _v in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMBA_NUM_THREADS"):
-    os.environ.setdefault(_v, "1")
+import numpy as np
+from _machine import busy_neighbour, environment
 
-import argparse  # noqa: E402
-import json  # noqa: E402
-from pathlib import Path  # noqa: E402
-
-import numpy as np  # noqa: E402
-
-from gearrotor import load_model  # noqa: E402
-from gearrotor.analyses.transient import RK4, ModalRK4, transient  # noqa: E402
+from gearrotor import load_model
+from gearrotor.analyses.transient import RK4, ModalRK4, transient
 
 MODEL = Path(__file__).resolve().parents[1] / "examples" / "unity_gearbox.toml"
 CASE = {
@@ -60,9 +58,12 @@ def main() -> None:
     ]
     for _, tr, integ in runs[-4:]:
         transient(tr, t_end=1e-3, integrator=integ)  # compile the kernels
+    runs.append(("ModalRK4 default, one busy process", train, ModalRK4()))
+    print(environment())
     rows = []
     for name, tr, integ in runs:
-        r = transient(tr, t_end=args.t_end, integrator=integ)
+        with busy_neighbour("busy" in name):
+            r = transient(tr, t_end=args.t_end, integrator=integ)
         a = r.amplitude_1x(window)
         last = r.time >= r.time[-1] - window
         rows.append(

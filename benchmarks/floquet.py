@@ -7,7 +7,7 @@ the step count the default converges to, and prints the largest multiplier diffe
 
     python benchmarks/floquet.py [--repeat 3]
 
-Run with OMP_NUM_THREADS=1 for a one-core figure (the CI machine has two shared cores).
+Runs in the environment it is started in (gearrotor's default: one BLAS thread at these sizes).
 """
 
 from __future__ import annotations

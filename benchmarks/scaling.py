@@ -18,32 +18,30 @@ are skipped above a DOF cap (printed).
 
     python benchmarks/scaling.py [--quick] [--json FILE]
 
-``--quick``: 2, 4 and 8 shafts, 20 and 40 elements, capped lower (about a minute idle). One core:
-BLAS threads are limited to 1 so that the numbers measure the algorithms, not the load.
+``--quick``: 2, 4 and 8 shafts, 20 and 40 elements, capped lower (about a minute idle).
+``--busy``: every timing next to one busy process (``python -c "while True: pass"``). Runs in
+the environment it is started in (gearrotor's default: one BLAS thread at these sizes, more
+only for dense solves from order 1000 on free cores; docs/performance.md).
 """
 
 from __future__ import annotations
 
+import argparse
+import json
 import os
+import platform
+import time
+from pathlib import Path
 
-for _v in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMBA_NUM_THREADS"):
-    os.environ.setdefault(_v, "1")
+import numpy as np
+from _machine import busy_neighbour, cpu_name, environment
 
-import argparse  # noqa: E402
-import json  # noqa: E402
-import platform  # noqa: E402
-import time  # noqa: E402
-from pathlib import Path  # noqa: E402
-
-import numpy as np  # noqa: E402
-from _machine import cpu_name  # noqa: E402
-
-from gearrotor.analyses import campbell, modal  # noqa: E402
-from gearrotor.analyses.modal import SPARSE_FROM, auto_method  # noqa: E402
-from gearrotor.analyses.transient import ModalRK4, transient  # noqa: E402
-from gearrotor.analyses.unbalance import unbalance_response  # noqa: E402
-from gearrotor.assembly import assemble  # noqa: E402
-from gearrotor.io.model_file import model_from_dict  # noqa: E402
+from gearrotor.analyses import campbell, modal
+from gearrotor.analyses.modal import SPARSE_FROM, auto_method
+from gearrotor.analyses.transient import ModalRK4, transient
+from gearrotor.analyses.unbalance import unbalance_response
+from gearrotor.assembly import assemble
+from gearrotor.io.model_file import model_from_dict
 
 RPM = np.pi / 30
 FMAX = 80000 * RPM
@@ -141,6 +139,7 @@ def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--quick", action="store_true", help="fewer, smaller models (~1 min)")
     ap.add_argument("--json", type=Path, default=None, help="also write the rows as JSON")
+    ap.add_argument("--busy", action="store_true", help="next to one busy process")
     args = ap.parse_args()
     shafts = (2, 4, 8) if args.quick else (2, 4, 8, 16)
     elements = (20, 40) if args.quick else (20, 40, 80, 160)
@@ -156,8 +155,8 @@ def main() -> None:
     }
     print(
         f"machine: {platform.machine()} {cpu_name()}, {os.cpu_count()} cores, python "
-        f"{platform.python_version()}, numpy {np.__version__}, 1 BLAS thread; load average "
-        f"{os.getloadavg()[0]:.2f}"
+        f"{platform.python_version()}, numpy {np.__version__}; {environment()}; load average "
+        f"{os.getloadavg()[0]:.2f}" + ("; next to one busy process" if args.busy else "")
     )
     # compile the transient kernels outside the timings
     transient(model_from_dict(chain(2, 4)), t_end=1e-3, integrator=ModalRK4())
@@ -174,6 +173,12 @@ def main() -> None:
     )
     print(head)
     print("-" * len(head))
+    with busy_neighbour(args.busy):
+        _rows(shafts, elements, cap, rows)
+    _summary(rows, cap, args)
+
+
+def _rows(shafts, elements, cap, rows) -> None:
     for ns in shafts:
         for ne in elements:
             train = model_from_dict(chain(ns, ne))
@@ -202,6 +207,9 @@ def main() -> None:
                 + f"{auto_method(n, FMAX):>8}{os.getloadavg()[0]:>6.1f}",
                 flush=True,
             )
+
+
+def _summary(rows, cap, args) -> None:
     print()
     print("fitted exponent p of t ∝ DOF^p (models the analysis ran on):")
     fits = {}

@@ -16,13 +16,11 @@ from __future__ import annotations
 
 import argparse
 import os
-import subprocess
-import sys
 import time
 
 import numpy as np
 import scipy.linalg as la
-from _machine import cpu_name
+from _machine import busy_neighbour, cpu_name
 from threadpoolctl import ThreadpoolController
 
 
@@ -63,10 +61,6 @@ def _measure(sizes, threads, repeat, ctl) -> dict:
     return out
 
 
-def _busy():
-    return subprocess.Popen([sys.executable, "-c", "while True: pass"])
-
-
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--quick", action="store_true")
@@ -85,13 +79,8 @@ def main() -> None:
     print(f"load before: {os.getloadavg()[0]:.2f}")
     idle = _measure(sizes, threads, repeat, ctl)
     load_idle = os.getloadavg()[0]
-    proc = _busy()
-    try:
-        time.sleep(1.0)
+    with busy_neighbour():
         busy = _measure(sizes, threads, repeat, ctl)
-    finally:
-        proc.kill()
-        proc.wait()
     load_busy = os.getloadavg()[0]
     print(f"load after the idle rows: {load_idle:.2f}; after the busy rows: {load_busy:.2f}")
     print()
@@ -112,9 +101,15 @@ def main() -> None:
                 + f" | {tb[0] / tb[-1]:.2f} |"
             )
     print()
+    top = threads[-1]
     for name in ("eig", "lu+solve", "cholesky", "matmul"):
-        pays = [n for n in sizes if (name, n, 1) in idle and idle[(name, n, 1)] > 1.1 * idle[(name, n, threads[-1])]]
-        print(f"{name}: {len(threads) > 1 and threads[-1]} threads >10 % faster idle from n = {pays[0] if pays else 'never'}")
+        ns = [n for n in sizes if (name, n, 1) in idle]
+        pays = [n for n in ns if idle[(name, n, 1)] > 1.1 * idle[(name, n, top)]]
+        print(
+            f"{name}: {top} threads > 10 % faster than 1 (idle) from n = "
+            f"{pays[0] if pays else 'never'}; speed-up next to a busy process: "
+            + ", ".join(f"{busy[(name, n, 1)] / busy[(name, n, top)]:.2f}x" for n in ns)
+        )
 
 
 if __name__ == "__main__":

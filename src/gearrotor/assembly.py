@@ -1,8 +1,10 @@
 """One path from a model to the global matrices and the DOF map.
 
 Global DOF order: the nodes of shaft 0 (6 DOFs each, ``x, y, z, θx, θy, θz``), then shaft 1, ...,
-then the pedestal (support) nodes, 2 DOFs each (``x, y``). Element matrices are scattered as
-COO triplets and summed into CSR matrices once.
+then the pedestal (support) nodes, 2 DOFs each (``x, y``), then the pad DOFs of the tilting-pad
+bearings with ``pad_dynamics`` (per bearing its pads' ``tilt_1, radial_1?, tilt_2, …``: rad and
+m, :mod:`gearrotor.elements.pad_bearing`). Element matrices are scattered as COO triplets and
+summed into CSR matrices once.
 
 The equations of motion at a reference speed Ω_ref are
 
@@ -29,6 +31,7 @@ from .elements import (
     CrossCoupling,
     DiskElement,
     MeshGeometry,
+    PadBearing,
     RadialBearing,
     ShaftElement,
     ThrustBearing,
@@ -87,24 +90,53 @@ class MeshInfo:
 
 @dataclass(frozen=True)
 class BearingInfo:
-    """A radial bearing resolved to global DOFs (x, y of the journal, and of its pedestal)."""
+    """A radial bearing resolved to global DOFs (x, y of the journal, and of its pedestal; the
+    pad DOFs of a bearing with pad dynamics)."""
 
     name: str
     shaft: int
     dofs: NDArray  # (2,) journal x, y
     support_dofs: NDArray | None  # (2,) pedestal x, y, or None for ground
-    element: RadialBearing
+    element: RadialBearing | PadBearing
     kind: str = "bearing"  # "bearing" or "seal" (an annular seal to ground, any sign)
+    pad_dofs: NDArray | None = None  # (m,) the pads' DOFs (PadBearing), in PadTable.dofs order
+
+    def local(self) -> tuple[NDArray, NDArray]:
+        """(global DOFs, T): the bearing's coordinates u = T q[dofs] (journal relative to the
+        housing, then the pads), ``dofs`` = journal, pedestal (if any), pads."""
+        parts = [self.dofs]
+        if self.support_dofs is not None:
+            parts.append(self.support_dofs)
+        m = 0 if self.pad_dofs is None else len(self.pad_dofs)
+        if m:
+            parts.append(self.pad_dofs)
+        d = np.concatenate(parts)
+        T = np.zeros((2 + m, len(d)))
+        T[:2, :2] = np.eye(2)
+        if self.support_dofs is not None:
+            T[:2, 2:4] = -np.eye(2)
+        if m:
+            T[2:, len(d) - m :] = np.eye(m)
+        return d, T
 
     def scatter(self, K: _Triplets, C: _Triplets, speed: float) -> None:
-        k, c = self.element.K(speed), self.element.C(speed)
-        if self.support_dofs is None:
-            K.add(self.dofs, k)
-            C.add(self.dofs, c)
+        if self.pad_dofs is not None:
+            k, c = self.element.pads.at(speed)
         else:
-            d = np.concatenate([self.dofs, self.support_dofs])
-            K.add(d, np.block([[k, -k], [-k, k]]))
-            C.add(d, np.block([[c, -c], [-c, c]]))
+            k, c = self.element.K(speed), self.element.C(speed)
+        d, T = self.local()
+        K.add(d, T.T @ k @ T)
+        C.add(d, T.T @ c @ T)
+
+    def journal_force(self, q: NDArray, qdot: NDArray, speed: float) -> NDArray:
+        """Film force (Fx, Fy) on the journal (N) about the equilibrium at global displacement
+        ``q`` and velocity ``qdot`` (n_dof,) or (n_dof, n_t): ``−(K u + C u̇)[x, y]``."""
+        d, T = self.local()
+        if self.pad_dofs is not None:
+            k, c = self.element.pads.at(speed)
+        else:
+            k, c = self.element.K(speed), self.element.C(speed)
+        return -(k @ T @ q[d] + c @ T @ qdot[d])[:2]
 
 
 @dataclass(frozen=True)
@@ -125,6 +157,12 @@ class Assembly:
     dof_labels: tuple[str, ...] = field(repr=False)
     support_offset: tuple[int, ...] = ()
 
+    @property
+    def pad_dofs(self) -> NDArray:
+        """Global indices of every pad DOF (bearings with pad dynamics), ascending."""
+        parts = [b.pad_dofs for b in self.bearings if b.pad_dofs is not None]
+        return np.concatenate(parts) if parts else np.zeros(0, int)
+
     # --- DOF helpers ------------------------------------------------------------------------
     def dof(self, shaft: int, node: int, direction: int) -> int:
         return int(self.node_offset[shaft][node] + direction)
@@ -133,11 +171,13 @@ class Assembly:
         return self.node_offset[shaft] + direction
 
     def dof_kind(self) -> NDArray:
-        """Per DOF: 0 lateral (x, y, θx, θy, pedestals), 1 axial (z), 2 torsional (θz)."""
+        """Per DOF: 0 lateral (x, y, θx, θy, pedestals), 1 axial (z), 2 torsional (θz), 3 pad
+        (the tilts and radial pivot DOFs of bearings with pad dynamics)."""
         kind = np.zeros(self.n_dof, int)
         for offs in self.node_offset:
             kind[offs + 2] = 1
             kind[offs + 5] = 2
+        kind[self.pad_dofs] = 3
         return kind
 
     # --- matrices at a speed -----------------------------------------------------------------
@@ -254,8 +294,9 @@ def mesh_stiffness(train: Train, k: int) -> float:
     )
 
 
-def _film_table(b, field: str, shaft) -> CoefficientTable:
-    """Speed table of a bearing from a saved file or from the fluid-film solver."""
+def _film_table(b, field: str, shaft) -> CoefficientTable | PadBearing:
+    """Speed table of a bearing from a saved file or from the fluid-film solver; a
+    :class:`PadBearing` (full coefficients, pad DOFs) for ``fluid_film.pad_dynamics``."""
     from .bearings import load_bearing
     from .bearings.io import load_table_file
 
@@ -266,8 +307,13 @@ def _film_table(b, field: str, shaft) -> CoefficientTable:
             vals = np.column_stack([t.kxx, t.kxy, t.kyx, t.kyy, t.cxx, t.cxy, t.cyx, t.cyy])
         else:
             ff = b.fluid_film
-            if ff.load is not None:
-                load = tuple(ff.load)
+            sign = 1.0 if shaft.speed_ratio >= 0 else -1.0  # the journal turns with its shaft
+            order = np.argsort(np.abs(ff.speeds), kind="stable")
+            rpm = tuple(sign * np.abs(np.asarray(ff.speeds)[order]) * 30 / np.pi)
+            if ff.loads is not None:
+                loads = tuple(tuple(ff.loads[i]) for i in order)
+            elif ff.load is not None:
+                loads = (tuple(ff.load),) * len(rpm)
             else:
                 case = load_bearing(ff.file)
                 if ff.load_case >= len(case.loads):
@@ -277,11 +323,13 @@ def _film_table(b, field: str, shaft) -> CoefficientTable:
                         value=ff.load_case,
                         expected=f"0..{len(case.loads) - 1} or a 'load'",
                     )
-                load = tuple(case.loads[ff.load_case])
-            sign = 1.0 if shaft.speed_ratio >= 0 else -1.0  # the journal turns with its shaft
-            rpm = tuple(sign * np.sort(np.abs(ff.speeds)) * 30 / np.pi)
+                loads = (tuple(case.loads[ff.load_case]),) * len(rpm)
             mtime = Path(ff.file).stat().st_mtime_ns if Path(ff.file).exists() else 0
-            speed, vals = _solve_film_table(ff.file, mtime, load, rpm)
+            pads = (ff.pad_inertia, ff.pad_mass, ff.pivot_stiffness)
+            if ff.pad_dynamics:
+                tab = _solve_pad_table(ff.file, mtime, loads, rpm, pads, field)
+                return PadBearing.from_pads(replace(tab, extrapolate=b.extrapolate))
+            speed, vals = _solve_film_table(ff.file, mtime, loads, rpm, pads, field)
     except ModelError as exc:
         raise ModelError(
             exc.message,
@@ -294,19 +342,93 @@ def _film_table(b, field: str, shaft) -> CoefficientTable:
     return CoefficientTable(speed[order], vals[order], b.extrapolate)
 
 
-@functools.lru_cache(maxsize=64)
-def _solve_film_table(file: str, mtime_ns: int, load: tuple, rpm: tuple):
-    """Solve a fluid-film table once per (file version, load, speeds): re-assembling a model
-    that only changes elsewhere (a destabiliser sweep, an override) reuses it."""
-    from .bearings import coefficients_table, load_bearing
+def _film_case(file: str, pads: tuple, field: str, pad_dynamics: bool):
+    """The bearing case of a file with the model's pad overrides (checked for pad dynamics)."""
+    from .bearings import load_bearing
+    from .bearings.geometry import TiltingPadBearing
+    from .bearings.pads import with_pad_properties
 
     case = load_bearing(file)
-    t = coefficients_table(case.bearing, load, list(rpm), options=case.options)
-    speed = np.abs(np.asarray(t.speed_rpm)) * np.pi / 30
-    vals = np.column_stack([t.kxx, t.kxy, t.kyx, t.kyy, t.cxx, t.cxy, t.cyx, t.cyy])
+    inertia, mass, kp = pads
+    if pad_dynamics or any(v is not None for v in pads):
+        if not pad_dynamics and not isinstance(case.bearing, TiltingPadBearing):
+            raise ModelError(
+                "pad properties are given for a bearing without tilting pads",
+                field=f"{field}.fluid_film",
+                value=f"a {type(case.bearing).__name__}",
+                expected="pad_inertia, pad_mass and pivot_stiffness only with a tilting-pad file",
+            )
+        bearing = (
+            with_pad_properties(
+                case.bearing,
+                inertia=inertia,
+                mass=mass,
+                pivot_stiffness=kp,
+                field=f"{field}.fluid_film",
+            )
+            if pad_dynamics
+            else replace(
+                case.bearing,
+                pads=tuple(
+                    replace(
+                        p,
+                        inertia=p.inertia if inertia is None else inertia,
+                        mass=p.mass if mass is None else mass,
+                        pivot_stiffness=p.pivot_stiffness if kp is None else kp,
+                    )
+                    for p in case.bearing.pads
+                ),
+            )
+        )
+        case = replace(case, bearing=bearing)
+    return case
+
+
+@functools.lru_cache(maxsize=64)
+def _solve_film_table(file: str, mtime_ns: int, loads: tuple, rpm: tuple, pads: tuple, field: str):
+    """Solve a fluid-film table once per (file version, loads, speeds, pad overrides):
+    re-assembling a model that only changes elsewhere (a destabiliser sweep, an override)
+    reuses it. The synchronously reduced coefficients (:func:`gearrotor.bearings.coefficients`)
+    at each speed's load."""
+    from .bearings import coefficients_table
+
+    case = _film_case(file, pads, field, False)
+    rows = []
+    if len(set(loads)) == 1:
+        t = coefficients_table(case.bearing, loads[0], list(rpm), options=case.options)
+        rows = [t.values()]
+    else:
+        for load, n in zip(loads, rpm, strict=True):
+            rows.append(coefficients_table(case.bearing, load, [n], options=case.options).values())
+    speed = np.abs(np.asarray(rpm)) * np.pi / 30
+    vals = np.vstack(rows)
     speed.setflags(write=False)
     vals.setflags(write=False)
     return speed, vals
+
+
+@functools.lru_cache(maxsize=64)
+def _solve_pad_table(file: str, mtime_ns: int, loads: tuple, rpm: tuple, pads: tuple, field: str):
+    """The full coefficients of a tilting-pad file (:func:`gearrotor.bearings.pads.pad_table`)
+    once per (file version, loads, speeds, pad overrides)."""
+    from .bearings import equilibrium
+    from .bearings.pads import pad_table_from_equilibria
+
+    case = _film_case(file, pads, field, True)
+
+    eqs, prev = [], None
+    for load, n in zip(loads, rpm, strict=True):
+        w = n * np.pi / 30
+        eq = equilibrium(
+            case.bearing,
+            load,
+            w,
+            options=case.options,
+            start=prev,
+        )
+        eqs.append(eq)
+        prev = eq
+    return pad_table_from_equilibria(case.bearing, eqs, options=case.options)
 
 
 def _seal_table(sl, field: str, shaft, train_speed: float) -> CoefficientTable:
@@ -368,6 +490,29 @@ def assemble(train: Train) -> Assembly:
             n += 2
         else:
             support_offset.append(-1)
+    # the bearing elements first: a bearing with pad dynamics adds its pads' DOFs
+    elements, shaft_of = [], []
+    for k, b in enumerate(train.bearings):
+        si, _ = train.node_index(b, f"bearings[{k}]")
+        shaft_of.append(si)
+        if b.table is not None:
+            t = b.table
+            vals = np.column_stack([t.kxx, t.kxy, t.kyx, t.kyy, t.cxx, t.cxy, t.cyx, t.cyy])
+            el = RadialBearing(table=CoefficientTable(np.asarray(t.speed), vals, t.extrapolate))
+        elif b.table_file is not None or b.fluid_film is not None:
+            tab = _film_table(b, f"bearings[{k}]", layout.shafts[si])
+            el = tab if isinstance(tab, PadBearing) else RadialBearing(table=tab)
+        else:
+            el = RadialBearing(*b.coefficients())
+        elements.append(el)
+    pad_offset = []
+    for k, el in enumerate(elements):
+        if isinstance(el, PadBearing):
+            pad_offset.append(n + np.arange(el.n_pad_dofs))
+            labels += [f"bearings[{k}].{d}" for d in el.pads.dofs[2:]]
+            n += el.n_pad_dofs
+        else:
+            pad_offset.append(None)
 
     M, K, C = _Triplets(), _Triplets(), _Triplets()
     G, Kc = [], []
@@ -407,14 +552,9 @@ def assemble(train: Train) -> Assembly:
     bearings = []
     for k, b in enumerate(train.bearings):
         si, dofs = node_dofs(b, f"bearings[{k}]", [0, 1])
-        if b.table is not None:
-            t = b.table
-            vals = np.column_stack([t.kxx, t.kxy, t.kyx, t.kyy, t.cxx, t.cxy, t.cyx, t.cyy])
-            el = RadialBearing(table=CoefficientTable(np.asarray(t.speed), vals, t.extrapolate))
-        elif b.table_file is not None or b.fluid_film is not None:
-            el = RadialBearing(table=_film_table(b, f"bearings[{k}]", layout.shafts[si]))
-        else:
-            el = RadialBearing(*b.coefficients())
+        el = elements[k]
+        if pad_offset[k] is not None:  # the pads' inertia (constant), on their own DOFs
+            M.add(pad_offset[k], el.M_full[2:, 2:])
         sup = None
         if b.support is not None:
             so = support_offset[k]
@@ -422,7 +562,7 @@ def assemble(train: Train) -> Assembly:
             M.add(sup, np.eye(2) * b.support.mass)
             K.add(sup, np.diag([b.support.kxx, b.support.kyy]))
             C.add(sup, np.diag([b.support.cxx, b.support.cyy]))
-        info = BearingInfo(b.name or f"bearings[{k}]", si, dofs, sup, el)
+        info = BearingInfo(b.name or f"bearings[{k}]", si, dofs, sup, el, pad_dofs=pad_offset[k])
         if not el.speed_dependent:
             info.scatter(K, C, 0.0)
         bearings.append(info)

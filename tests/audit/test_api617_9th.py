@@ -253,3 +253,56 @@ def test_unbalance_command_with_the_9th_edition(tmp_path):
     ):
         r = run(app, [*args, *bad])
         assert r.exit_code == 2 and r.stderr.startswith(f"error: {field}"), (bad, r.output)
+
+
+AUDIT_TABLE = """
+[api_audit]
+edition = "9th"
+qa = "1e4 N/m"
+at = [{ shaft = "s", node = 3 }]
+clearances = [
+  { shaft = "s", node = 3, diametral = "0.5 mm", name = "eye" },
+  { shaft = "s", node = 0, diametral = "200 um", name = "DE" },
+]
+"""
+
+
+def test_model_table_gives_the_edition_and_the_clearances(tmp_path):
+    """[api_audit] edition = "9th" and clearances: `gearrotor unbalance --api` runs the 9th
+    edition's unbalance and close-clearance check from the file; a clearance off its shaft is
+    an input error naming the key; a table without clearances serialises as before."""
+    from typer.testing import CliRunner
+
+    from gearrotor.cli import app
+    from gearrotor.io import load_model
+
+    p = tmp_path / "rotor.toml"
+    p.write_text(ROTOR_TOML + AUDIT_TABLE)
+    t = load_model(p)
+    assert [c.name for c in t.api_audit.clearances] == ["eye", "DE"]
+    assert t.api_audit.clearances[1].diametral == pytest.approx(200e-6)
+    r = CliRunner().invoke(
+        app,
+        [
+            "unbalance",
+            str(p),
+            "--api",
+            "--n-speeds",
+            "30",
+            "--max-speed",
+            "10000",
+            "--format",
+            "json",
+        ],
+    )
+    assert r.exit_code == 0, r.output
+    d = json.loads(r.stdout)
+    assert d["api617_edition"] == "API 617 9th edition (2022)"
+    assert [c["name"] for c in d["close_clearance_check"]["locations"]] == ["eye", "DE"]
+    bad = tmp_path / "bad.toml"
+    bad.write_text(ROTOR_TOML + AUDIT_TABLE.replace("node = 0, diametral", "node = 9, diametral"))
+    with pytest.raises(ModelError, match=r"api_audit.clearances\[1\]"):
+        load_model(bad)
+    plain = tmp_path / "plain.toml"
+    plain.write_text(ROTOR_TOML + AUDIT_TABLE.split("clearances")[0])
+    assert "clearances" not in json.loads(load_model(plain).model_dump_json())["api_audit"]

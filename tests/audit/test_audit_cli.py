@@ -117,6 +117,8 @@ def test_ucs_table(uniform):
         (["--plot", "map.svg"], ["--plot", "map.svg"]),
         (["--format", "xml"], ["--format"]),
         (["--n-points", "1"], ["--n-points"]),
+        (["--n-modes", "0"], ["--n-modes"]),
+        (["--n-modes", "1000"], ["--n-modes", "1000", "1..12"]),
     ],
 )
 def test_ucs_bad_input(uniform, args, needles):

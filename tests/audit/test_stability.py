@@ -125,6 +125,20 @@ def test_sign_follows_the_shaft_on_a_geared_train():
     assert r.threshold_q == pytest.approx(Q_ONSET, rel=2e-3)  # + the mesh's 1e3/2e6
     assert r.threshold_mode["shaft"] == "g"
     assert r.threshold_mode["whirl_per_shaft"]["g"] == "F"
+    # the two shafts are identical: Q on the pinion gives the same threshold and log dec (the
+    # modes they share are the first forward mode of either)
+    rp = level1(t, qa=Q_ONSET / 3, at=[("p", 2)], n_curve=0)
+    assert rp.threshold_q == pytest.approx(r.threshold_q, rel=1e-6)
+    assert rp.log_dec_at_qa == pytest.approx(r.log_dec_at_qa, rel=1e-6)
+
+
+def test_first_forward_mode_above_three_times_the_speed():
+    """A stiff rotor run far below its first critical (MCS 30 rad/s, first forward mode at
+    164 rad/s): the first forward mode lies above 3x the speed and is followed all the same
+    (it was "no forward lateral mode" before); its threshold is the Jeffcott one, c ω_n."""
+    r = level1(jeffcott(30.0), qa=Q_ONSET / 3, at=[("s", 2)], n_curve=0)
+    assert r.threshold_q == pytest.approx(Q_ONSET, rel=1e-3)
+    assert r.mode_at_qa["frequency_rpm"] * RPM > 3 * 30.0
 
 
 def test_mid_span_site():

@@ -265,3 +265,32 @@ def test_mode_dropdown_and_phase_slider(browser, report, tmp_path):
     _save_shot(fig.screenshot(), "modes_90deg.png", tmp_path)
     assert pg.errors == []
     page.close()
+
+
+def test_campbell_legend_hides_no_marker(browser, report, tmp_path):
+    """Issue 22: the Campbell legend sat on the plot area, over the modes' markers. In the
+    browser the legend's box lies outside the plot area's, and it lists the operating speed's
+    line, drawn at 6,500 rpm."""
+    pg = Page(browser, report.html.as_uri())
+    page = pg.page
+    fig = page.locator("#fig-campbell")
+    fig.scroll_into_view_if_needed()
+    page.wait_for_timeout(300)
+    st = page.evaluate(
+        """() => { const g = document.querySelector('#fig-campbell');
+            const box = e => { const r = e.getBoundingClientRect();
+                return [r.left, r.top, r.right, r.bottom]; };
+            const op = g._fullData.find(t => t.name.startsWith('operating speed'));
+            return { legend: box(g.querySelector('.legend')),
+                     plot: box(g.querySelector('.draglayer .nsewdrag')),
+                     texts: Array.from(g.querySelectorAll('.legend .legendtext'))
+                        .map(e => e.textContent),
+                     op_x: op ? Array.from(op.x) : null }; }"""
+    )
+    (l0, t0, r0, b0), (l1, t1, r1, b1) = st["legend"], st["plot"]
+    assert not (l0 < r1 and l1 < r0 and t0 < b1 and t1 < b0), st
+    assert "operating speed 6,500 rpm" in st["texts"], st["texts"]
+    assert st["op_x"] == pytest.approx([6500, 6500])
+    _save_shot(fig.screenshot(), "campbell.png", tmp_path)
+    assert pg.errors == []
+    page.close()

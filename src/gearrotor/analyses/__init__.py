@@ -1,18 +1,13 @@
-"""Analyses: free functions over a train (or its assembly) returning frozen result objects."""
+"""Analyses: free functions over a train (or its assembly) returning frozen result objects.
 
-from .audit import StabilityAudit, level1_inputs, stability_audit
+``modal`` and ``campbell`` are imported with the package (their names are also those of their
+modules); the others on first use (PEP 562), so that a command importing one analysis does not
+load the rest (the stability audit and the UCS map bring scipy.optimize).
+"""
+
 from .campbell import CampbellResult, ExcitationOrder, campbell, default_orders
 from .modal import ModalResult, modal
 from .operating import model_max_continuous_speed, model_operating_range
-from .stability import Level1Result, Level2Result, Site, Stage, level1, level2
-from .ucs import UCSResult, rigid_support_criticals, ucs_map
-from .unbalance import (
-    UnbalanceResult,
-    api617_required_margin,
-    api617_unbalance,
-    api617_vibration_limit,
-    unbalance_response,
-)
 
 __all__ = [
     "CampbellResult",
@@ -41,3 +36,35 @@ __all__ = [
     "ucs_map",
     "unbalance_response",
 ]
+
+_LAZY = {
+    **dict.fromkeys(("StabilityAudit", "level1_inputs", "stability_audit"), ".audit"),
+    **dict.fromkeys(
+        ("Level1Result", "Level2Result", "Site", "Stage", "level1", "level2"), ".stability"
+    ),
+    **dict.fromkeys(("UCSResult", "rigid_support_criticals", "ucs_map"), ".ucs"),
+    **dict.fromkeys(
+        (
+            "UnbalanceResult",
+            "api617_required_margin",
+            "api617_unbalance",
+            "api617_vibration_limit",
+            "unbalance_response",
+        ),
+        ".unbalance",
+    ),
+}
+
+
+def __getattr__(name: str):
+    if name in _LAZY:
+        import importlib
+
+        value = getattr(importlib.import_module(_LAZY[name], __name__), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_LAZY))

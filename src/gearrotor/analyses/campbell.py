@@ -16,7 +16,6 @@ import scipy.linalg as la
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from numpy.typing import NDArray
-from scipy.optimize import linear_sum_assignment
 
 from ..assembly import Assembly, assemble
 from ..errors import ModelError
@@ -255,6 +254,8 @@ def campbell(
         cost = 1.0 - mac(prev_phi, cand_phi)
         jump = np.abs(cand_f[None, :] - prev_f[:, None])
         cost = cost + frequency_weight * jump / np.maximum(prev_f[:, None], 1e-9)
+        from scipy.optimize import linear_sum_assignment  # scipy.optimize: on use
+
         rows, colsel = linear_sum_assignment(cost)
         return colsel[np.argsort(rows)]
 

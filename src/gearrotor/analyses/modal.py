@@ -54,9 +54,12 @@ alike (:attr:`ModalResult.mode_class`, :attr:`ModalResult.real_class`,
   block of the symmetric stiffness without the meshes, plus its part of the gear meshes' spring
   energy ``kg |δ|²``: the mesh deflection ``δ = w·φ = δ_L + δ_T + δ_A`` couples the groups, and
   each group takes the share ``|δ_g|² / Σ|δ_h|²`` of it (a mesh mode on rigid bearings is
-  ``T``; a mesh deflected by whirl and twist together is ``L-T``). The mode is named by every
-  group with a share of at least ``type_threshold`` (default 5 %): ``L``, ``T``, ``A``,
-  ``L-T``, ``L-T-A``, ... Both energies count because a stiff mesh couples without straining:
+  ``T``; a mesh deflected by whirl and twist together is ``L-T``). A mode with at least half
+  of its kinetic energy in the pad DOFs of tilting-pad bearings with pad dynamics is a pad mode,
+  type ``P`` (``pad_share``; its lateral, axial and torsional fractions are the shafts' shares of
+  the whole kinetic energy, pads included, so a pad mode is not a lateral mode). The mode is
+  named by every group with a share of at least ``type_threshold`` (default 5 %): ``L``, ``T``,
+  ``A``, ``L-T``, ``L-T-A``, ... Both energies count because a stiff mesh couples without straining:
   in the flagship's 5978 rpm mode the gears roll on each other as the shafts whirl (7 % of the
   kinetic energy in torsion, ~0 in the mesh spring), while in its 57,000 rpm mode the mesh
   spring holds 15 % of the strain energy. A strain-free (rigid-body) mode's shares are
@@ -73,7 +76,6 @@ import scipy.linalg as la
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from numpy.typing import NDArray
-from scipy.optimize import linear_sum_assignment
 
 from ..assembly import Assembly, assemble
 from ..errors import ModelError, SolverError
@@ -136,6 +138,8 @@ class ModalResult:
     n_eigenvalues: int  # eigenvalues with |λ| ≤ max_frequency (all returned if none given)
     shaft_names: tuple[str, ...]
     assembly: Assembly = field(repr=False)
+    # (n,) kinetic-energy fraction in the pad DOFs (bearings with pad dynamics; 0 without)
+    pad_share: NDArray | None = None
 
     @property
     def damped_frequency(self) -> NDArray:
@@ -235,6 +239,7 @@ class ModalResult:
                 "share_axial": float(self.energy_shares[i, 1]),
                 "share_torsional": float(self.energy_shares[i, 2]),
                 "share_mesh": float(self.energy_shares[i, 3]),
+                "energy_pads": float(self.pad_share[i]) if self.pad_share is not None else 0.0,
                 "class": self.mode_class[i],
                 "stable": not bool(self.unstable[i]),
                 "overdamped": bool(self.overdamped[i]),
@@ -515,6 +520,8 @@ def _refine(M, Cg, K, lam, X, max_frequency) -> tuple[NDArray, NDArray, dict]:
             mu, W = mu[ok], W[:c, ok]
             if len(mu) < c:
                 break
+            from scipy.optimize import linear_sum_assignment  # scipy.optimize: on use
+
             rows, cols = linear_sum_assignment(np.abs(lam[J][:, None] - mu[None, :]))
             new_l = mu[cols[np.argsort(rows)]]
             new_x = Q @ W[:, cols[np.argsort(rows)]]
@@ -536,8 +543,9 @@ class _KindData:
     kinds, the kinetic energy's kind-diagonal blocks, the meshes' DOFs per kind, the shape
     scale. Built once per Assembly (:func:`_kind_data`)."""
 
-    kind: NDArray  # (n,) int: 0 L, 1 A, 2 T (Assembly.dof_kind)
-    indicator: NDArray  # (3, n) float: row k is 1 on the DOFs of kind k
+    kind: NDArray  # (n,) int: 0 L, 1 A, 2 T, 3 pad (Assembly.dof_kind)
+    indicator: NDArray  # (3, n) float: row k is 1 on the DOFs of kind k (pads in none)
+    pads: NDArray  # (n,) float: 1 on the pad DOFs
     M_bd: sp.csr_array  # M with the entries between DOFs of different kinds removed
     meshes: tuple[tuple[float, tuple[tuple[NDArray, NDArray], ...]], ...]  # (k, per kind (dofs, w))
     scale: NDArray  # _scale_vector
@@ -556,7 +564,8 @@ def _kind_data(asm: Assembly) -> _KindData:
         return hit[1]
     kind = asm.dof_kind()
     indicator = np.zeros((3, asm.n_dof))
-    indicator[kind, np.arange(asm.n_dof)] = 1.0
+    shaft = kind < 3
+    indicator[kind[shaft], np.flatnonzero(shaft)] = 1.0
     meshes = []
     for m in asm.meshes:
         sel = kind[m.dofs]
@@ -566,6 +575,7 @@ def _kind_data(asm: Assembly) -> _KindData:
     data = _KindData(
         kind=kind,
         indicator=indicator,
+        pads=(kind == 3).astype(float),
         M_bd=_kind_diagonal(asm.M, kind),
         meshes=tuple(meshes),
         scale=_scale_vector(asm),
@@ -622,6 +632,9 @@ def _scale_vector(asm: Assembly) -> NDArray:
     for si, offs in enumerate(asm.node_offset):
         for d in (3, 4, 5):
             s[offs + d] = radius[si]
+    for b in asm.bearings:  # a pad tilt times its lever: the pad surface's motion
+        if b.pad_dofs is not None:
+            s[b.pad_dofs] = b.element.pads.lever[2:]
     return s
 
 
@@ -712,9 +725,18 @@ def _classify(lam, V, asm, speeds, K, *, rigid_tol, overdamped_zeta, type_thresh
 
     # kinetic-energy fractions by DOF kind (reported), and the energy shares that name the type
     kin = np.maximum(_by_kind(data, data.M_bd, phi.T), 0.0)
-    frac = kin / np.maximum(kin.sum(axis=1, keepdims=True), 1e-300)
+    pad_kin = np.zeros(len(idx))
+    if data.pads.any():
+        a, b = _split(phi.T)
+        pad_kin = np.maximum(data.pads @ (a * (data.M_bd @ a) + b * (data.M_bd @ b)), 0.0)
+    total_kin = np.maximum(kin.sum(axis=1) + pad_kin, 1e-300)
+    frac = kin / total_kin[:, None]
+    pad_share = pad_kin / total_kin
     shares = _energy_shares(phi, asm, K, kin)
-    types = shares_to_types(shares, type_threshold)
+    types = tuple(
+        "P" if p >= 0.5 else t
+        for t, p in zip(shares_to_types(shares, type_threshold), pad_share, strict=True)
+    )
 
     # whirl per shaft: the sense of the orbits weighted by amplitude, relative to the spin
     nominal = asm.speed_ratio
@@ -756,6 +778,7 @@ def _classify(lam, V, asm, speeds, K, *, rigid_tol, overdamped_zeta, type_thresh
         energy_shares=shares,
         mode_class=tuple(mode_class),
         real_class=real_class,
+        pad_share=pad_share,
     )
 
 
@@ -844,6 +867,7 @@ def modal(
             "energy_fractions",
             "overdamped",
             "energy_shares",
+            "pad_share",
         ):
             res[key] = res[key][:n_modes]
         for key in ("whirl_per_shaft", "whirl", "mode_type", "mode_class"):

@@ -38,7 +38,8 @@ the first forward mode against the applied cross-coupling; ROSS's ``run_level1``
 same mode). On a geared train that is the first forward mode *of the loaded shaft* (the shaft
 carrying the largest share of Q): at Q = 0, the lowest-frequency mode that is not over-damped,
 has at least ``min_lateral`` of its kinetic energy in lateral motion, whirls forward on that
-shaft and moves that shaft more than any other (:func:`first_forward_mode`). That mode is then
+shaft and moves that shaft at least as much as any other (identical shafts share their modes),
+at whatever frequency (:func:`first_forward_mode`). That mode is then
 followed over Q by continuation of its shape, not picked again at each Q by a rule: from the
 last Q where it is known, the mode at the next Q is the one whose shape matches (mass-weighted
 MAC ≥ ``MAC_MIN`` = 0.9, the runner-up at most ``MAC_MIN_GAP`` = 0.2 lower); when no mode
@@ -140,8 +141,9 @@ RATIO_SCREEN = 10.0  # Level I: the screening chart applies below this Q_0 / Q_A
 MAC_MIN = 0.9  # continuation: least shape correlation of the followed mode between two Q
 MAC_MIN_GAP = 0.2  # ... and by how much it must beat the runner-up
 MAX_HALVINGS = 16  # continuation: step halvings before a tie is taken as a degeneracy
-DEGENERATE = 1e-7  # |Δλ|/|λ| of a degenerate eigenvalue at Q = 0
 START_FRACTION = 1e-3  # × Q_A: the small Q that splits a degenerate first forward mode
+TIE = 1e-6  # relative: a shaft moving as much as the most moved one, to round-off
+FIRST_MODE_REACH = (2.0, 4.0, 8.0)  # × the window: where the first forward mode is sought
 #: the outcomes of a check, in every table, JSON file and report
 VERDICTS = ("pass", "level II required", "fail", "not evaluated")
 
@@ -746,7 +748,8 @@ def first_forward_mode(
             continue
         if res.whirl_per_shaft[i][shaft] != "F":
             continue
-        if int(np.argmax(_shaft_amplitudes(res, i))) != shaft:
+        amp = _shaft_amplitudes(res, i)
+        if amp[shaft] < (1.0 - TIE) * np.max(amp):  # ties: identical shafts share their modes
             continue
         return i
     return None
@@ -787,36 +790,37 @@ class _Follower:
         self.points: dict[float, _Point] = {}
         self.n_solves = 0
         self.n_unresolved = 0  # steps that stayed ambiguous after MAX_HALVINGS (degenerate)
-        res = self._solve(0.0, 2.0 * window)
-        i = first_forward_mode(res, shaft, min_lateral, window)
-        if i is None:
+        # The first forward mode of the limit Q -> 0+, at whatever frequency (a stiff pinion's
+        # may lie above 3x its speed: sought below 2, 4, then 8 times the window). It is chosen
+        # at a small Q, q_s = START_FRACTION × Q_A, which splits degenerate eigenvalues (an
+        # isotropic rigid rotor's forward and backward cylindrical modes, identical shafts'
+        # shared modes: any basis of such a cluster is an eigenvector basis at Q = 0) the way Q
+        # does; the point at Q = 0 is the mode of Q = 0 nearest in eigenvalue.
+        q_s = START_FRACTION * q_scale
+        for reach in FIRST_MODE_REACH:
+            res_s = self._solve(q_s, reach * window)
+            j = first_forward_mode(res_s, shaft, min_lateral)
+            if j is not None:
+                break
+        if j is None:
             raise ModelError(
                 "no forward lateral mode of the loaded shaft to follow",
                 field="at",
                 value=asm.train.shafts[shaft].name,
-                expected="a shaft with a forward lateral mode below 3x its speed at Q = 0 "
-                "(check the sites and the bearings)",
+                expected="a shaft with a forward lateral mode below 24x the fastest shaft speed "
+                "at Q = 0 (check the sites and the bearings)",
             )
-        lam0 = res.eigenvalues[i]
-        cluster = np.abs(res.eigenvalues - lam0) <= DEGENERATE * abs(lam0)
-        if np.count_nonzero(cluster) > 1:
-            # a degenerate eigenvalue at Q = 0 (an isotropic rigid rotor's forward and backward
-            # cylindrical modes, identical shafts): its eigenvectors are any basis of the
-            # cluster. The mode followed is the first forward mode of the limit Q -> 0+: chosen
-            # at a small Q that splits the cluster, with the eigenvalue of Q = 0.
-            q_s = START_FRACTION * q_scale
-            res_s = self._solve(q_s, 2.0 * window)
-            dist = np.abs(res_s.eigenvalues - lam0)  # the cluster's members moved ∝ q_s
-            n_c = min(np.count_nonzero(cluster), len(dist))
-            near = dist <= 2.0 * np.sort(dist)[n_c - 1] + DEGENERATE * abs(lam0)
-            j = first_forward_mode(res_s, shaft, min_lateral, window, among=near)
-            if j is not None:
-                self._store(0.0, res, i, 0)
-                p0 = self.points[0.0]
-                p0.shape = res_s.mode_shapes[j]
-                self._store(q_s, res_s, j, 0)
-                return
+        res = self._solve(0.0, reach * window)
+        i = int(np.argmin(np.abs(res.eigenvalues - res_s.eigenvalues[j])))
         self._store(0.0, res, i, 0)
+        self._store(q_s, res_s, j, 0)
+        # at Q = 0 the eigenvalue of Q = 0, and the shape and character of the mode Q splits off
+        p0, ps = self.points[0.0], self.points[q_s]
+        p0.shape = ps.shape
+        p0.mode = {
+            **ps.mode,
+            **{k: p0.mode[k] for k in ("frequency_rpm", "frequency_hz", "log_dec")},
+        }
 
     def _solve(self, q: float, fmax: float) -> ModalResult:
         self.n_solves += 1
@@ -961,10 +965,10 @@ def level1(
     exclude_bearings : names of ``[[bearings]]`` entries (seals given as bearings) left out of
         Level I; a ``[[seals]]`` entry's name is accepted too (seals are always left out)
     ratio_limit : Q_0 is searched up to ``ratio_limit × Q_A``
-    max_frequency : rad/s, the first forward mode is sought below it at Q = 0, and the least
-        log dec of every forward lateral mode is taken below it (default 3× the fastest shaft
-        speed), with any unstable forward lateral mode up to twice that (or 3× the followed
-        mode's frequency) too; the followed mode is traced wherever it goes
+    max_frequency : rad/s, the least log dec of every forward lateral mode is taken below it
+        (default 3× the fastest shaft speed), with any unstable forward lateral mode up to twice
+        that (or 3× the followed mode's frequency) too; the first forward mode is sought at any
+        frequency (below 24× the window) and traced wherever it goes
     min_lateral : lateral kinetic-energy fraction of a mode to be judged
     rtol : relative tolerance of Q_0
     n_curve : points of the log dec curve from 0 to beyond max(Q_A, Q_0) (the plot; 0: none)

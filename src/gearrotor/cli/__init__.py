@@ -40,7 +40,9 @@ from __future__ import annotations
 import functools
 import inspect
 import sys
+import typing
 from collections.abc import Callable
+from pathlib import Path
 
 import typer
 
@@ -94,16 +96,30 @@ def reflow(doc: str | None) -> str | None:
     return "\n\n".join(" ".join(p.split()) for p in paras)
 
 
+def _check_model_file(path: Path | None) -> None:
+    """A missing, unreadable or unparsable model file is reported at once, before the command
+    imports anything heavy (the model classes, the analyses): the same one-line error the
+    model reader gives (:func:`gearrotor.inputs.read_toml`)."""
+    if path is not None:
+        from ..inputs import read_toml
+
+        read_toml(path, "model")
+
+
 def common_options(fn: Callable) -> Callable:
     """Give a command function the options every command has (``--threads``), keeping the
     parameters Typer reads: the command then runs in a :func:`gearrotor.threads.scope` with
-    that setting (a bad ``GEARROTOR_THREADS`` is an input error, before anything runs)."""
+    that setting (a bad ``GEARROTOR_THREADS`` is an input error, before anything runs). A
+    command with a ``model`` file argument has the file read first (:func:`_check_model_file`)."""
     sig = inspect.signature(fn, eval_str=True)
     if "threads" in sig.parameters:
         return fn
     extra = inspect.Parameter(
         "threads", inspect.Parameter.KEYWORD_ONLY, default=None, annotation=ThreadsOpt
     )
+
+    model_arg = sig.parameters.get("model")
+    reads_model = model_arg is not None and typing.get_args(model_arg.annotation)[:1] == (Path,)
 
     @functools.wraps(fn)
     def command(*args, threads: str | None = None, **kwargs):
@@ -112,6 +128,8 @@ def common_options(fn: Callable) -> Callable:
         with threads_.using(threads):
             with cli_errors():
                 threads_.setting()  # GEARROTOR_THREADS is read (and checked) before anything runs
+                if reads_model:
+                    _check_model_file(sig.bind_partial(*args, **kwargs).arguments.get("model"))
             with threads_.scope():
                 return fn(*args, **kwargs)
 

@@ -85,7 +85,6 @@ def campbell_command(
     set_: SetOpt = None,
 ) -> None:
     """Campbell diagram with MAC mode tracking, excitation orders and crossing speeds."""
-    from ..analyses import campbell as run_campbell
     from ..io import load_model, parse_overrides
 
     check_format(format)
@@ -93,6 +92,8 @@ def campbell_command(
         check_output(plot, "file", field="--plot", parents=True)
     train = load_model(model, parse_overrides(set_))
     check_operating_point(train, operating_point)
+    from ..analyses import campbell as run_campbell
+
     lo, hi = sweep_range(train, min_speed, max_speed, 0.0, 1.25 * abs(train.speed) / RPM)
     speeds = speed_grid(lo, hi, n_speeds, "--min-speed/--max-speed")
     fmax = (max_frequency if max_frequency is not None else 3 * hi) * RPM
@@ -114,7 +115,15 @@ def campbell_command(
         )
         typer.echo(res.table())
     if plot is not None:
+        from ..analyses.operating import model_operating_range
         from ..plots import plot_campbell
 
-        plot_campbell(res, path=plot, max_frequency=fmax)
+        plot_campbell(
+            res,
+            path=plot,
+            max_frequency=fmax,
+            operating_speed=abs(train.speed),
+            max_continuous_speed=train.max_continuous_speed,
+            operating_range=model_operating_range(train),
+        )
         typer.echo(f"plot written to {plot}", err=format == "json")

@@ -73,8 +73,6 @@ def floquet_command(
     """Floquet exponents of the train under its periodic mesh stiffness (teeth in contact,
     constant speed): growth rate (1/s, positive = parametrically unstable), frequency and the
     modes involved, for each Ka/Kg and speed."""
-    from ..analyses.floquet import check_ka_ratio, floquet
-    from ..analyses.transient import build_system
     from ..io import load_model, parse_overrides
 
     check_format(format)
@@ -91,6 +89,9 @@ def floquet_command(
                 "speeds must be positive", field="--speeds", value=v, expected="> 0 rpm"
             )
     check_operating_point(train, operating_point)
+    from ..analyses.floquet import check_ka_ratio, floquet
+    from ..analyses.transient import build_system
+
     if operating_point is not None:
         from ..analyses.static.operating import model_at_operating_point
 
@@ -161,10 +162,28 @@ def _law_text(law: dict) -> str:
     )
 
 
+def _model_ka(r) -> float | None:
+    """The Ka/Kg the first mesh of a case ran with (None for a tabulated law)."""
+    laws = r.to_dict().get("mesh_laws") or [{}]
+    return laws[0].get("ka_ratio")
+
+
 def _plot(cases, n_speeds: int, kas: list[float | None], path: Path) -> None:
-    """Largest growth rate: one line per Ka/Kg against speed, or against Ka/Kg at one speed.
-    ``cases`` are ordered speed-major, Ka/Kg-minor."""
+    """Write :func:`growth_figure` to ``path`` (PNG)."""
+    import matplotlib.pyplot as plt
+
+    fig = growth_figure(cases, n_speeds, kas)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    save_figure(fig, path, dpi=120)
+    plt.close(fig)
+
+
+def growth_figure(cases, n_speeds: int, kas: list[float | None]):
+    """Largest growth rate: one line per Ka/Kg against speed, or against Ka/Kg at one speed
+    (a numeric axis: the model's own Ka/Kg at its value, marked "model"). ``cases`` are
+    ordered speed-major, Ka/Kg-minor. Returns the pyplot Figure."""
     import matplotlib
+    import numpy as np
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -189,8 +208,24 @@ def _plot(cases, n_speeds: int, kas: list[float | None], path: Path) -> None:
             )
         ax.set_xlabel("reference shaft speed (rpm)")
     else:
-        labels = ["model" if k is None else f"{k:g}" for k in kas]
-        ax.plot(labels, [shown(r) for r in cases], "o-", label="largest growth rate")
+        # a numeric Ka/Kg axis: the model's own Ka/Kg (None) at the value its mesh law used
+        xs = [k if k is not None else _model_ka(r) for k, r in zip(kas, cases, strict=True)]
+        ys = [shown(r) for r in cases]
+        if any(x is None for x in xs):  # a tabulated law has no Ka/Kg: categories
+            xs = ["model" if k is None else f"{k:g}" for k in kas]
+        else:
+            order = np.argsort(xs, kind="stable")
+            xs, ys = [xs[i] for i in order], [ys[i] for i in order]
+            for k, r in zip(kas, cases, strict=True):
+                if k is None:
+                    ax.annotate(
+                        "model",
+                        (_model_ka(r), shown(r)),
+                        textcoords="offset points",
+                        xytext=(4, 6),
+                        fontsize=8,
+                    )
+        ax.plot(xs, ys, "o-", label="largest growth rate")
         ax.set_xlabel("Ka/Kg")
     ax.axhspan(-band, band, color="0.85", zorder=0, label=f"neutral (|growth| ≤ {band:.1e} 1/s)")
     ax.axhline(0.0, color="k", lw=0.8)
@@ -201,6 +236,4 @@ def _plot(cases, n_speeds: int, kas: list[float | None], path: Path) -> None:
     ax.set_ylabel("largest Floquet growth rate (1/s)")
     ax.set_title("Parametric stability (above the neutral band: unstable)")
     ax.grid(alpha=0.3)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    save_figure(fig, path, dpi=120)
-    plt.close(fig)
+    return fig

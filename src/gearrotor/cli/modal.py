@@ -57,7 +57,6 @@ def modal_command(
     set_: SetOpt = None,
 ) -> None:
     """Damped eigenvalues at a speed: frequency, log dec, whirl per shaft, mode type."""
-    from ..analyses import modal as run_modal
     from ..io import load_model, parse_overrides
 
     check_format(format)
@@ -65,6 +64,8 @@ def modal_command(
         check_output(plot, "directory", field="--plot")
     train = load_model(model, parse_overrides(set_))
     check_operating_point(train, operating_point)
+    from ..analyses import modal as run_modal
+
     res = run_modal(
         train,
         speed=None if speed is None else speed * RPM,

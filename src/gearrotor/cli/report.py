@@ -49,8 +49,9 @@ def report_command(
         float | None,
         typer.Option(
             parser=rpm(0, strict=True),
-            help="highest damped frequency of modes and Campbell, cpm (default 1.1 × the mesh "
-            "frequency; 5 × speed without gears)",
+            help="highest damped frequency of modes and Campbell, cpm (default: every mode an "
+            "excitation can reach, 1.1 × 1.26 × the highest excitation at the top operating "
+            "speed, at least 5 × that speed)",
         ),
     ] = None,
     api: Annotated[
@@ -77,10 +78,11 @@ def report_command(
     """Self-contained HTML report: modes (3-D), stability, Campbell, Bode, orbits, API 684 checks,
     and a saved transient result's spectra, waterfall and whirl power; plus PNG figures."""
     from ..io import load_model, parse_overrides
-    from ..plots.report import make_report
 
     train = load_model(model, parse_overrides(set_))
     check_operating_point(train, operating_point)
+    from ..plots.report import make_report
+
     if all_operating_points and not train.operating_points:
         raise ModelError(
             "the model has no operating points",
@@ -102,4 +104,4 @@ def report_command(
     )
     typer.echo(f"report written to {rep.html}")
     for v in rep.summary.get("verdicts", []):
-        typer.echo(f"  {'pass' if v['ok'] else 'FAIL'}  {v['check']}: {v['detail']}")
+        typer.echo(f"  {v['result']}  {v['check']}: {v['detail']}")

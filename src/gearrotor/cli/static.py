@@ -49,7 +49,6 @@ def static_command(
     """Static operating point: bearing loads (and fluid-film journal equilibria), tooth forces,
     misalignment, shaft deflection, bending moment, torque and stress. Without an operating
     point: the weight alone at the model's speed."""
-    from ..analyses.static import static
     from ..io import load_model, parse_overrides
 
     check_format(format)
@@ -61,6 +60,8 @@ def static_command(
             expected="one operating point, or all of them",
         )
     check_operating_point(train, operating_point)
+    from ..analyses.static import static
+
     if all_ and not train.operating_points:
         raise ModelError(
             "the model has no operating points",

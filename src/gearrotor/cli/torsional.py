@@ -30,7 +30,7 @@ import numpy as np
 import typer
 
 from ..errors import ModelError
-from ..files import check_output
+from ..files import check_output, output_set
 from .errors import EXIT_CODES_HELP, cli_errors
 from .options import (
     MAX_SPEEDS,
@@ -513,8 +513,14 @@ def transient_command(
         train, t_end=t_end, dt=dt, mesh=mesh, initial_speed=initial_speed * RPM
     )
     fat = fatigue(res, sn)
-    if output is not None:
-        res.save(output, fatigue=fat)
+    with output_set():  # the result file and the figures appear together or not at all
+        if output is not None:
+            res.save(output, fatigue=fat)
+        if plot is not None:
+            from ..plots.torsional import plot_fatigue_damage, plot_torsional_transient
+
+            _close(plot_torsional_transient(res, path=plot / "torsional_transient.png"))
+            _close(plot_fatigue_damage(fat, path=plot / "torsional_fatigue.png"))
     if format == "json":
         _echo_json({**res.to_dict(), "fatigue": fat.to_dict()})
     else:
@@ -531,10 +537,6 @@ def transient_command(
     if output is not None:
         typer.echo(f"result written to {output}", err=format == "json")
     if plot is not None:
-        from ..plots.torsional import plot_fatigue_damage, plot_torsional_transient
-
-        _close(plot_torsional_transient(res, path=plot / "torsional_transient.png"))
-        _close(plot_fatigue_damage(fat, path=plot / "torsional_fatigue.png"))
         typer.echo(f"plots written to {plot}/", err=format == "json")
 
 

@@ -100,15 +100,6 @@ def transient_command(
     operating_point: OperatingPointOpt = None,
 ) -> None:
     """Nonlinear transient (time-varying mesh, backlash, free speed) of a train."""
-    from ..analyses.transient import (
-        RK4,
-        ModalRK4,
-        build_system,
-        rk4_max_step,
-        transient,
-        transient_at_operating_point,
-    )
-    from ..analyses.transient.plots import standard_figures
 
     def kept() -> str | None:  # what Ctrl-C leaves: the checkpoint to resume from, if any
         if checkpoint is not None and checkpoint.exists():
@@ -129,6 +120,16 @@ def transient_command(
 
         train = load_model(model, parse_overrides(set_))
         check_operating_point(train, operating_point)
+        from ..analyses.transient import (
+            RK4,
+            ModalRK4,
+            build_system,
+            rk4_max_step,
+            transient,
+            transient_at_operating_point,
+        )
+        from ..analyses.transient.plots import standard_figures
+
         if method == "rk4":
             if dt is None:
                 if operating_point is None:
@@ -174,8 +175,6 @@ def transient_command(
 
 def _checkpoint(path: Path | None, every: float | None, wall: float):
     """The :class:`Checkpoint` of the options, checked."""
-    from ..analyses.transient import Checkpoint
-
     if path is None:
         if every is not None:
             raise ModelError(
@@ -185,6 +184,8 @@ def _checkpoint(path: Path | None, every: float | None, wall: float):
                 expected="--checkpoint FILE as well",
             )
         return None
+    from ..analyses.transient import Checkpoint  # the transient package: only when used
+
     if every is not None and not (np.isfinite(every) and every > 0):
         raise ModelError(
             "the checkpoint interval must be positive",

@@ -60,7 +60,12 @@ def ucs_command(
         int, typer.Option(parser=count(2, 10_000), help="stiffness values, log spaced")
     ] = 31,
     n_modes: Annotated[
-        int, typer.Option(parser=count(1), help="forward critical speeds per shaft")
+        int,
+        typer.Option(
+            parser=count(1),
+            help="critical speeds of each shaft kept at each stiffness, the lowest (a few: "
+            "a map is read for its first modes; the bound is in the error)",
+        ),
     ] = 4,
     method: Annotated[
         str,
@@ -77,13 +82,25 @@ def ucs_command(
     set_: SetOpt = None,
     operating_point: OperatingPointOpt = None,
 ) -> None:
-    """Undamped critical speed map: criticals of every shaft against the bearing stiffness,
-    the bearings' Kxx/Kyy over speed, their intersections and the rigid-support criticals."""
-    from ..analyses.ucs import ucs_map
+    """Undamped critical speed map: criticals of every shaft against the bearing stiffness
+    (modes followed by shape; a critical of a shaft where the mode's forward whirl on it holds
+    the share of its energy that unbalance there excites), each shaft's own bearings' Kxx/Kyy
+    over speed and the exact intersections, the rigid-support criticals. With
+    --operating-point the bearing curves are at the point's static loads (its torque held)
+    at every speed of the curve."""
+    from ..analyses.ucs import MAX_MODES, ucs_map
     from ..io import load_model, parse_overrides
 
     check_format(format)
     check_png(plot)
+    if n_modes > MAX_MODES:
+        raise ModelError(
+            "too many critical speeds per shaft (every one asked for widens the band of modes "
+            "followed at every stiffness)",
+            field="--n-modes",
+            value=n_modes,
+            expected=f"an integer 1..{MAX_MODES}",
+        )
     if n_points < 2:
         raise ModelError(
             "too few stiffness values", field="--n-points", value=n_points, expected="at least 2"

@@ -81,7 +81,7 @@ def unbalance_command(
         typer.Option(
             help="9th edition close-clearance check: SHAFT:NODE:DIAMETRAL[:NAME], the minimum "
             "diametral running clearance at a node (e.g. 'pinion:3:0.3 mm:labyrinth'), "
-            "repeatable"
+            "repeatable (default: the model's [api_audit] clearances)"
         ),
     ] = None,
     format: FormatOpt = "table",
@@ -119,6 +119,8 @@ def unbalance_command(
     if ed is None and train.api_audit is not None:
         ed = pick_edition(train.api_audit.edition, "api_audit.edition")
     ed = pick_edition(None) if ed is None else ed
+    if not clearances and api and ed.key == "9th" and train.api_audit is not None:
+        clearances = [(c.shaft, c.node, c.diametral, c.name) for c in train.api_audit.clearances]
     if clearances and ed.key != "9th":
         raise ModelError(
             "the close-clearance check is the 9th edition's (6.8.2.10-6.8.2.11)",

@@ -4,6 +4,7 @@ from .bearing import CoefficientTable, CrossCoupling, RadialBearing, ThrustBeari
 from .coupling import CouplingElement
 from .disk import DiskElement
 from .mesh import MeshGeometry, buckingham_stiffness, iso6336_stiffness
+from .pad_bearing import PadBearing, PadTable, condense
 from .shaft import ShaftElement, shear_coefficient
 from .torsional_support import TorsionalSupportElement
 
@@ -13,11 +14,14 @@ __all__ = [
     "CrossCoupling",
     "DiskElement",
     "MeshGeometry",
+    "PadBearing",
+    "PadTable",
     "RadialBearing",
     "ShaftElement",
     "ThrustBearing",
     "TorsionalSupportElement",
     "buckingham_stiffness",
+    "condense",
     "iso6336_stiffness",
     "shear_coefficient",
 ]

@@ -13,6 +13,7 @@ can run the audit from the file alone. The analysis is
     # operating_speed = "10800 rpm"      # N_r of the formula (default: the model's speed)
     # suction_density / discharge_density, or average_density (kg/m^3): the screening chart
     # exclude_bearings = ["seal"]        # bearings or seals left out of Level I
+    # clearances = [{ shaft = "rotor", node = 5, diametral = "0.3 mm", name = "eye seal" }]
 
     [[api_audit.stages]]                 # one impeller / blade row
     shaft = "rotor"
@@ -28,13 +29,13 @@ from __future__ import annotations
 
 from typing import Literal
 
-from pydantic import Field, field_validator, model_validator
+from pydantic import Field, field_validator, model_serializer, model_validator
 
 from ..errors import ModelError
 from ..units import AngularSpeed, Density, Dimensionless, Length, Power, Stiffness
 from .components import Int, NodeRef, Spec
 
-__all__ = ["ApiAudit", "AuditSite", "AuditStage", "EDITIONS"]
+__all__ = ["ApiAudit", "AuditClearance", "AuditSite", "AuditStage", "EDITIONS"]
 
 #: the ``edition`` values accepted (any case): the API 617 8th edition (2014) or 9th (2022)
 EDITIONS = (
@@ -93,8 +94,25 @@ class AuditStage(Spec):
         return _positive(v, info.field_name.replace("_", " "))
 
 
+class AuditClearance(Spec):
+    """A close running clearance (seal, bearing, impeller eye) for the API 617 9th edition's
+    close-clearance check: its node and its minimum diametral clearance."""
+
+    shaft: str
+    node: Int = Field(ge=0)
+    diametral: Length
+    name: str = ""
+
+    @field_validator("diametral")
+    @classmethod
+    def _gap(cls, v):
+        return _positive(v, "diametral clearance")
+
+
 class ApiAudit(Spec):
-    """The Level I inputs (see the module docstring)."""
+    """The Level I inputs (see the module docstring), and the close clearances of the 9th
+    edition's close-clearance check (``clearances``, used by ``gearrotor unbalance --api
+    --edition 9th`` when no ``--clearance`` is given)."""
 
     edition: str = "8th"
     qa: Stiffness | None = None
@@ -105,6 +123,16 @@ class ApiAudit(Spec):
     suction_density: Density | None = None
     discharge_density: Density | None = None
     exclude_bearings: list[str] = Field(default_factory=list)
+    clearances: list[AuditClearance] = Field(default_factory=list)
+
+    @model_serializer(mode="wrap")
+    def _without_empty_clearances(self, handler):
+        # a table without clearances serialises as before the field existed (model JSON of
+        # existing models, study case keys and checkpoint fingerprints kept)
+        out = handler(self)
+        if not self.clearances:
+            out.pop("clearances", None)
+        return out
 
     @field_validator("edition")
     @classmethod
@@ -159,6 +187,8 @@ class ApiAudit(Spec):
                 train.node_index(NodeRef(shaft=s.shaft, node=s.node), f"api_audit.at[{k}]")
         for k, st in enumerate(self.stages):
             train.node_index(NodeRef(shaft=st.shaft, node=st.node), f"api_audit.stages[{k}]")
+        for k, c in enumerate(self.clearances):
+            train.node_index(NodeRef(shaft=c.shaft, node=c.node), f"api_audit.clearances[{k}]")
         names = [b.name or f"bearings[{k}]" for k, b in enumerate(train.bearings)]
         names += [sl.name or f"seals[{k}]" for k, sl in enumerate(train.seals)]
         for k, e in enumerate(self.exclude_bearings):

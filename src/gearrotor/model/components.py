@@ -328,6 +328,29 @@ class FluidFilm(Spec):
     load: tuple[Force, Force] | None = None
     load_case: Int = Field(default=0, ge=0)
     speeds: list[AngularSpeed] = Field(min_length=1)
+    #: one static load per speed instead of ``load`` (an operating point's loads, which follow
+    #: the speed when its power is held)
+    loads: list[tuple[Force, Force]] | None = None
+    #: tilting pads only: carry the pads' tilt (and, with a pivot stiffness, radial) DOFs into
+    #: the train with the full film coefficients, instead of synchronously reduced coefficients
+    pad_dynamics: Flag = False
+    #: overrides of the bearing file's pad properties (every pad): inertia about the pivot,
+    #: pad mass (on the radial DOF of a flexible pivot), radial pivot stiffness
+    pad_inertia: Inertia | None = Field(default=None, gt=0)
+    pad_mass: Mass | None = Field(default=None, gt=0)
+    pivot_stiffness: Stiffness | None = Field(default=None, gt=0)
+
+    @model_validator(mode="after")
+    def _loads(self) -> FluidFilm:
+        if self.loads is not None:
+            if self.load is not None:
+                raise ValueError("give either 'load' or 'loads' (one per speed), not both")
+            if len(self.loads) != len(self.speeds):
+                raise ValueError(
+                    f"'loads' has {len(self.loads)} entries, 'speeds' has {len(self.speeds)}: "
+                    "one load per speed"
+                )
+        return self
 
 
 class Bearing(NodeRef):

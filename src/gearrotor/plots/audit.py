@@ -17,67 +17,104 @@ LEVEL2_TOP = 3.0  # log dec: well-damped modes above it are cut off the Level II
 
 
 def plot_ucs_map(result, path=None, shafts=None):
-    """Critical speed map, one panel per shaft: forward synchronous critical speeds (rpm of the
-    shaft) against the bearing stiffness, the rigid-support limits (dotted), each bearing's Kxx
-    (solid) and Kyy (dashed) over its table speeds, the intersections (circles) and the
-    operating range / maximum continuous speed of the model when given (band, dash-dot line)."""
+    """Critical speed map, one panel per shaft (rpm of that shaft against the bearing
+    stiffness): each branch solid where it is a critical speed of the shaft and dotted where
+    its mode lives elsewhere (another shaft, the mesh), the rigid-support criticals (grey
+    dotted), the shaft's own bearings' Kxx (solid) and Kyy (dashed) over their table speeds
+    (identical curves drawn once), the intersections (circles), and the operating range (band)
+    and maximum continuous speed (dash-dot) of the model when given, labelled on the axes."""
     plt = _plt()
     names = [s.name for s in result.shafts] if shafts is None else list(shafts)
-    fig, axes = plt.subplots(1, len(names), figsize=(6.2 * len(names), 5.0), squeeze=False)
+    fig, axes = plt.subplots(len(names), 1, figsize=(10.5, 4.8 * len(names)), squeeze=False)
     k = result.stiffness
-    for ax, name in zip(axes[0], names, strict=True):
-        s = result.shaft(name)
-        ratio = abs(s.speed_ratio)
-        for j in range(s.critical_speeds.shape[1]):
-            c = s.critical_speeds[:, j] * RPM
-            ax.loglog(k, c, "-", marker=".", ms=3, color=f"C{j}", lw=1.4, label=f"critical {j + 1}")
-            r = s.rigid_critical_speeds[j]
-            if np.isfinite(r):
-                ax.axhline(r * RPM, color=f"C{j}", ls=":", lw=0.9)
-        styles = ("-", "--")
-        shown = [b for b in result.bearings if _same_speed(result, b, s)]
-        for bi, b in enumerate(shown):
-            for d, kv in enumerate((b.kxx, b.kyy)):
-                lab = f"{b.name} {'Kxx' if d == 0 else 'Kyy'}"
-                if b.speeds is None:
-                    if kv[0] > 0:
-                        ax.axvline(kv[0], color="0.3", ls=styles[d], lw=1.0, label=lab)
-                    continue
-                ok = kv > 0
-                ax.loglog(
-                    kv[ok],
-                    b.speeds[ok] * RPM,
-                    ls=styles[d],
-                    color=plt.get_cmap("tab10")((4 + bi) % 10),
-                    marker=".",
-                    ms=4,
-                    lw=1.2,
-                    label=lab,
-                )
-        for x in result.intersections:
-            if x.shaft == name:
-                ax.plot(x.stiffness, x.speed * RPM, "o", mfc="none", mec="k", ms=8)
-        if result.operating_range is not None:
-            lo, hi = (v * ratio * RPM for v in result.operating_range)
-            ax.axhspan(lo, hi, color="0.85", alpha=0.6, lw=0, label="operating range")
-        if result.max_continuous_speed is not None:
-            ax.axhline(
-                result.max_continuous_speed * ratio * RPM, color="k", ls="-.", lw=1.0, label="MCS"
-            )
-        ax.set_xlim(k[0], k[-1])
-        ax.set_xlabel("bearing stiffness (N/m)")
-        ax.set_ylabel(f"{name} speed (rpm)")
-        ax.set_title(f"{name}: undamped critical speed map")
-        ax.grid(alpha=0.3, which="both")
-        ax.legend(fontsize=7, loc="upper left")
+    for ax, name in zip(axes[:, 0], names, strict=True):
+        _ucs_panel(plt, ax, result, result.shaft(name), k)
     fig.tight_layout()
     return _save(fig, path)
 
 
-def _same_speed(result, b, s) -> bool:
-    names = [t.name for t in result.train.shafts]
-    other = result.shafts[names.index(b.shaft)]
-    return abs(abs(other.speed_ratio) - abs(s.speed_ratio)) <= 1e-12 * abs(s.speed_ratio)
+def _ucs_panel(plt, ax, result, s, k) -> None:
+    ratio = abs(s.speed_ratio)
+    shown = []  # every speed drawn in a solid line: the vertical range
+    for j in range(s.branch_speeds.shape[1]):
+        colour = f"C{j % 10}"
+        ax.loglog(k, s.branch_speeds[:, j] * RPM, ":", color=colour, lw=0.9)
+        c = s.critical_speeds[:, j] * RPM
+        ax.loglog(k, c, "-", marker=".", ms=3, color=colour, lw=1.5, label=f"critical {j + 1}")
+        shown.append(c[np.isfinite(c)])
+    rigid = s.rigid_critical_speeds[np.isfinite(s.rigid_critical_speeds)] * RPM
+    for i, r in enumerate(rigid):
+        lab = "rigid supports" if i == 0 else None
+        ax.axhline(r, color="0.45", ls=(0, (1, 2)), lw=1.0, label=lab)
+    shown.append(rigid)
+    curves: dict[tuple, list[tuple[str, str]]] = {}
+    for b in result.bearings:
+        if b.shaft != s.name:
+            continue
+        for d, kv in (("Kxx", b.kxx), ("Kyy", b.kyy)):
+            key = (None if b.speeds is None else tuple(b.speeds), tuple(kv))
+            curves.setdefault(key, []).append((b.name, d))
+    groups: dict[str, int] = {}  # one colour per set of bearings sharing a curve
+    for (speeds, kv), owners in curves.items():
+        kv = np.asarray(kv)
+        dirs = list(dict.fromkeys(d for _, d in owners))
+        who = ", ".join(dict.fromkeys(n for n, _ in owners))
+        lab = f"{who} {' = '.join(dirs)}"
+        ls = "-" if "Kxx" in dirs else "--"
+        bi = groups.setdefault(who, len(groups))
+        colour = "0.15" if speeds is None else plt.get_cmap("Dark2")(bi % 8)
+        if speeds is None:
+            if kv[0] > 0:
+                ax.axvline(kv[0], color=colour, ls=ls, lw=1.0, label=lab)
+            continue
+        ok = kv > 0
+        n = np.asarray(speeds)[ok] * RPM
+        ax.loglog(kv[ok], n, ls=ls, color=colour, marker="s", ms=3, lw=1.6, label=lab)
+        shown.append(n)
+    mine = [x for x in result.intersections if x.shaft == s.name]
+    for x in mine:
+        ax.plot(x.stiffness, x.speed * RPM, "o", mfc="none", mec="k", ms=9, mew=1.3)
+    if mine:
+        ax.plot([], [], "o", mfc="none", mec="k", ms=9, mew=1.3, label="intersection")
+    marks = []
+    if result.operating_range is not None:
+        lo, hi = (v * ratio * RPM for v in result.operating_range)
+        ax.axhspan(lo, hi, color="tab:red", alpha=0.22, lw=0, label="operating range")
+        ax.axhline(lo, color="tab:red", lw=0.8)
+        ax.axhline(hi, color="tab:red", lw=0.8)
+        marks.append((lo, f"operating range {lo:,.0f}–{hi:,.0f} rpm", "top"))
+        shown.append(np.array([lo, hi]))
+    if result.max_continuous_speed is not None:
+        mcs = result.max_continuous_speed * ratio * RPM
+        ax.axhline(mcs, color="tab:red", ls="-.", lw=1.6, label="MCS")
+        marks.append((mcs, f"MCS {mcs:,.0f} rpm", "bottom"))
+        shown.append(np.array([mcs]))
+    vals = np.concatenate(shown)
+    vals = vals[vals > 0]
+    if len(vals):
+        ax.set_ylim(vals.min() / 1.5, vals.max() * 1.5)
+    ax.set_xlim(k[0], k[-1])
+    for y, text, va in marks:
+        ax.annotate(
+            text,
+            (0.995, y),
+            xycoords=("axes fraction", "data"),
+            ha="right",
+            va=va,
+            fontsize=8,
+            color="tab:red",
+            xytext=(0, -3 if va == "top" else 3),
+            textcoords="offset points",
+        )
+    ax.set_xlabel("bearing stiffness (N/m)")
+    ax.set_ylabel(f"{s.name} speed (rpm)")
+    ax.set_title(
+        f"{s.name}: undamped critical speed map (solid: a critical of {s.name}, forward "
+        f"share ≥ {result.min_share:g}; dotted: the same mode elsewhere)",
+        fontsize=10,
+    )
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0)
 
 
 def plot_level1(result, path=None):

@@ -8,7 +8,15 @@ import numpy as np
 
 from ..files import make_directory, save_figure
 
-__all__ = ["mode_shape_curves", "plot_mode_shapes", "plot_campbell", "plot_bode", "plot_orbits"]
+__all__ = [
+    "campbell_markers",
+    "mode_shape_curves",
+    "plot_bode",
+    "plot_campbell",
+    "plot_mode_shapes",
+    "plot_orbits",
+    "place_labels",
+]
 
 RPM = 30 / np.pi
 
@@ -28,6 +36,87 @@ def _save(fig, path):
         make_directory(path.parent)  # (within an output set: removed with it on failure)
         save_figure(fig, path, dpi=130, bbox_inches="tight")
     return fig
+
+
+def place_labels(ax, x, y, texts, *, color="k", fontsize: float = 7, avoid=()) -> list:
+    """Label the points (x, y) (data coordinates of ``ax``, polar axes included) with
+    ``texts`` so that no two labels overlap and no label covers a point: each label takes
+    the first free place among offsets around its point, moving outwards (with a thin leader
+    line when it had to move away). ``avoid``: more points (x, y) labels must not cover.
+    Call it after the figure's layout is final (``tight_layout``; a constrained layout is
+    executed first). Returns the annotations."""
+    fig = ax.figure
+    fig.canvas.draw()  # the final layout, and a renderer for the text extents
+    renderer = fig.canvas.get_renderer()
+    px = fig.dpi / 72.0  # pixels per point
+    pts = ax.transData.transform(np.column_stack([np.asarray(x, float), np.asarray(y, float)]))
+    more = [ax.transData.transform(np.asarray(p, float)[None, :])[0] for p in avoid]
+    r = 3.5 * px  # a marker's half size
+    taken = [
+        (p[0] - r, p[1] - r, p[0] + r, p[1] + r) for p in [*pts, *more] if np.all(np.isfinite(p))
+    ]
+    for t in ax.texts:  # labels already placed (an earlier call): not covered either
+        e = t.get_window_extent(renderer)
+        taken.append((e.x0, e.y0, e.x1, e.y1))
+    frame = ax.get_window_extent(renderer)
+    out = []
+    data = list(zip(np.asarray(x, float), np.asarray(y, float), strict=True))
+    for (px0, py0), xy, text in zip(pts, data, texts, strict=True):
+        if not np.all(np.isfinite(xy)):  # a point that is not drawn gets no label
+            continue
+        probe = ax.annotate(text, (0, 0), fontsize=fontsize)
+        bb = probe.get_window_extent(renderer)
+        probe.remove()
+        w, h = bb.width, bb.height
+        best = None
+        for step in range(1, 9):
+            d = (5 + 6 * (step - 1)) * px
+            for dx, dy in (
+                (d, d * 0.4),
+                (d, -d * 0.4 - h),
+                (-d - w, d * 0.4),
+                (-d - w, -d * 0.4 - h),
+                (-w / 2, d),
+                (-w / 2, -d - h),
+                (d, -h / 2),
+                (-d - w, -h / 2),
+            ):
+                box = (px0 + dx, py0 + dy, px0 + dx + w, py0 + dy + h)
+                inside = (
+                    box[0] >= frame.x0
+                    and box[2] <= frame.x1
+                    and box[1] >= frame.y0
+                    and box[3] <= frame.y1
+                )
+                free = not any(
+                    box[0] < t[2] and t[0] < box[2] and box[1] < t[3] and t[1] < box[3]
+                    for t in taken
+                )
+                if inside and free:
+                    best = (dx, dy, box, step)
+                    break
+            if best is not None:
+                break
+        if best is None:  # nowhere free: the nearest place, as before
+            best = (3 * px, 3 * px, (px0, py0, px0 + w, py0 + h), 1)
+        dx, dy, box, step = best
+        taken.append(box)
+        out.append(
+            ax.annotate(
+                text,
+                xy,
+                xytext=(dx / px, dy / px),
+                textcoords="offset points",
+                ha="left",
+                va="bottom",
+                fontsize=fontsize,
+                color=color,
+                arrowprops=None
+                if step == 1
+                else dict(arrowstyle="-", lw=0.5, color=color, shrinkA=0, shrinkB=2),
+            )
+        )
+    return out
 
 
 def mode_shape_curves(result, m: int, shaft: int, orbit: bool = False) -> dict:
@@ -58,14 +147,26 @@ def mode_shape_curves(result, m: int, shaft: int, orbit: bool = False) -> dict:
     return {"z": sl.z, "lateral": lateral, "torsional": tors, "axial": axial, "dir": direction}
 
 
-def plot_mode_shapes(result, modes=None, path=None, max_modes: int = 8, orbit: bool = False):
+def plot_mode_shapes(
+    result,
+    modes=None,
+    path=None,
+    max_modes: int = 8,
+    orbit: bool = False,
+    statuses: list[str] | None = None,
+):
     """Mode shapes along every shaft (:func:`mode_shape_curves`): lateral (solid), torsional
     surface displacement θz·r (dashed), axial (dotted, when it shows), normalised as in the
     result (largest physical displacement = 1). Signed real parts by default; ``orbit=True``
-    plots the orbit size (semi-major axis) instead.
+    plots the orbit size (semi-major axis) instead. One legend for the figure names every kind
+    of curve drawn in any panel, and the bearing and gear marks.
 
     ``modes``: indices to plot (default: the first ``max_modes`` that are not over-damped).
+    ``statuses``: every mode's status (the report's words, e.g. ``stable``, ``no torsional
+    damping in the model``), printed under the mode's numbers.
     """
+    from matplotlib.lines import Line2D
+
     plt = _plt()
     asm = result.assembly
     layout = asm.train.layout()
@@ -76,10 +177,12 @@ def plot_mode_shapes(result, modes=None, path=None, max_modes: int = 8, orbit: b
     fig, axes = plt.subplots(
         len(modes),
         ns,
-        figsize=(4.2 * ns + 1.4, 2.1 * len(modes) + 0.6),
+        figsize=(4.2 * ns + 1.4, 2.1 * len(modes) + 1.0),
         squeeze=False,
         sharex="col",
+        layout="constrained",
     )
+    drawn = {"lateral"}  # the kinds of curve drawn somewhere, for the legend
     for row, m in enumerate(modes):
         for col, sl in enumerate(layout.shafts):
             ax = axes[row, col]
@@ -89,8 +192,11 @@ def plot_mode_shapes(result, modes=None, path=None, max_modes: int = 8, orbit: b
             lat = "lateral orbit size" if orbit else "lateral"
             ax.plot(z, c["lateral"], "C0-", lw=1.8, label=lat)
             ax.plot(z, c["torsional"], "C3--", lw=1.5, label="torsional θz·r")
+            if np.max(np.abs(c["torsional"])) > 0:
+                drawn.add("torsional")
             if np.max(np.abs(c["axial"])) > 0.05:
                 ax.plot(z, c["axial"], "C2:", lw=1.5, label="axial z")
+                drawn.add("axial")
             for b in asm.train.bearings:
                 if b.shaft == sl.name:
                     _, node = asm.train.node_index(b, "bearings")
@@ -107,76 +213,156 @@ def plot_mode_shapes(result, modes=None, path=None, max_modes: int = 8, orbit: b
                 ax.set_title(sl.name)
             if col == 0:
                 ws = "/".join(result.whirl_per_shaft[m])
+                st = f"\n{statuses[m]}" if statuses is not None else ""
                 ax.set_ylabel(
-                    f"mode {m}: {result.frequency_rpm[m]:.0f} rpm\nδ={result.log_dec[m]:.3g} "
-                    f"{ws} {result.mode_type[m]}\n"
+                    f"mode {m}: {result.frequency_rpm[m]:.0f} cpm\nδ={result.log_dec[m]:.3g} "
+                    f"{ws} {result.mode_type[m]}{st}\n"
                     + ("orbit size (max 1)" if orbit else f"Re({c['dir']}), θz·r (max 1)"),
                     fontsize=8,
                 )
             if row == len(modes) - 1:
                 ax.set_xlabel("axial position z (m)")
-    axes[0, -1].legend(loc="upper right", fontsize=7)
+    lat = "lateral orbit size" if orbit else "lateral"
+    handles = [
+        Line2D([], [], color="C0", ls="-", lw=1.8, label=lat),
+        Line2D([], [], color="C3", ls="--", lw=1.5, label="torsional θz·r"),
+        Line2D([], [], color="C2", ls=":", lw=1.5, label="axial z"),
+        Line2D([], [], color="k", marker="^", ls="none", ms=7, label="bearing"),
+        Line2D([], [], color="0.6", lw=0.8, label="gear"),
+    ]
+    keep = (True, "torsional" in drawn, "axial" in drawn, True, bool(asm.meshes))
     kind = "orbit size" if orbit else "signed real part, largest component real"
     fig.suptitle(
-        f"{asm.train.name}: mode shapes at {result.speed * RPM:.0f} rpm ({kind}; "
-        "▲ bearing, | gear)",
+        f"{asm.train.name}: mode shapes at {abs(result.speed) * RPM:.0f} rpm ({kind})",
         fontsize=10,
-        y=1.0,
     )
-    fig.tight_layout()
+    fig.legend(
+        handles=[h for h, k in zip(handles, keep, strict=True) if k],
+        loc="outside lower center",
+        ncol=5,
+        fontsize=8,
+        frameon=False,
+    )
     return _save(fig, path)
 
 
-def plot_campbell(result, path=None, max_frequency=None):
+def campbell_markers(
+    result,
+    max_frequency=None,
+    operating_speed=None,
+    max_continuous_speed=None,
+    operating_range=None,
+) -> dict:
+    """What a Campbell diagram of ``result`` draws besides the tracked modes (shared by the PNG
+    and the report's interactive figure): ``top`` (cpm, the frequency axis' end),
+    ``orders`` ((order, its line in cpm) for the lines that reach into the axes; an order line
+    above the axes over the whole sweep is neither drawn nor listed), ``off_scale`` (the labels
+    of those), ``speeds`` ((label, rpm) of the operating speed and the MCS inside the sweep)
+    and ``band`` (the operating range in rpm, or None)."""
+    s = result.speeds * RPM
+    f = result.damped_frequency * RPM
+    top = max_frequency * RPM if max_frequency else float(np.nanmax(f)) * 1.05
+    orders, off = [], []
+    for o in result.orders:
+        line = result.order_frequency(o) * RPM
+        if np.min(line) < top:
+            orders.append((o, line))
+        else:
+            off.append(o.label)
+    lo, hi = s[0], s[-1]
+    speeds = []
+    for label, v in (("operating speed", operating_speed), ("MCS", max_continuous_speed)):
+        if v is not None and lo <= abs(v) * RPM <= hi:
+            speeds.append((f"{label} {abs(v) * RPM:,.0f} rpm", abs(v) * RPM))
+    band = None
+    if operating_range is not None and operating_range[1] > operating_range[0]:
+        a, b = (max(lo, operating_range[0] * RPM), min(hi, operating_range[1] * RPM))
+        band = (a, b) if b > a else None
+    return {"top": top, "orders": orders, "off_scale": off, "speeds": speeds, "band": band}
+
+
+def plot_campbell(
+    result,
+    path=None,
+    max_frequency=None,
+    *,
+    operating_speed=None,
+    max_continuous_speed=None,
+    operating_range=None,
+):
     """Campbell diagram: tracked damped frequencies (colour = log dec; ○ forward, × backward
-    whirl), excitation lines and their crossings."""
+    whirl), excitation lines and their crossings, the operating speed and the maximum
+    continuous speed (rad/s, vertical lines; the operating range shaded). The legend sits below
+    the axes, so it hides no marker, and lists only lines that reach into the axes (the
+    off-scale orders are named under it).
+
+    ``max_frequency`` (rad/s): the top of the frequency axis (default: 5 % above the highest
+    tracked frequency)."""
+    from matplotlib.lines import Line2D
+
     plt = _plt()
-    fig, ax = plt.subplots(figsize=(8, 5.5))
+    fig, ax = plt.subplots(figsize=(8.5, 6.8))
     s = result.speeds * RPM
     f = result.damped_frequency * RPM
     ld = np.clip(result.log_dec, -0.5, 3.0)
+    mk = campbell_markers(
+        result, max_frequency, operating_speed, max_continuous_speed, operating_range
+    )
     sc = None
     for j in range(f.shape[1]):
         ax.plot(s, f[:, j], color="0.75", lw=0.8, zorder=1)
         fw = result.whirl[:, j] == "F"
-        sc = ax.scatter(
-            s[fw],
-            f[fw, j],
-            c=ld[fw, j],
-            cmap="viridis_r",
-            vmin=-0.5,
-            vmax=3.0,
-            marker="o",
-            s=12,
-            zorder=2,
+        for sel, marker, size in ((fw, "o", 12), (~fw, "x", 14)):
+            sc = ax.scatter(
+                s[sel],
+                f[sel, j],
+                c=ld[sel, j],
+                cmap="viridis_r",
+                vmin=-0.5,
+                vmax=3.0,
+                marker=marker,
+                s=size,
+                zorder=2,
+            )
+    handles = [
+        Line2D([], [], color="0.4", marker="o", ls="none", mfc="none", label="forward whirl"),
+        Line2D([], [], color="0.4", marker="x", ls="none", label="backward whirl"),
+    ]
+    for k, (o, line) in enumerate(mk["orders"]):
+        (h,) = ax.plot(s, line, ls="--", lw=1, color=f"C{k % 10}", label=o.label)
+        handles.append(h)
+    if result.crossings:
+        for c in result.crossings:
+            ax.plot(c.speed * RPM, c.frequency * RPM, "rs", ms=5, mfc="none", zorder=3)
+        handles.append(
+            Line2D([], [], color="r", marker="s", ls="none", mfc="none", label="crossing")
         )
-        ax.scatter(
-            s[~fw],
-            f[~fw, j],
-            c=ld[~fw, j],
-            cmap="viridis_r",
-            vmin=-0.5,
-            vmax=3.0,
-            marker="x",
-            s=14,
-            zorder=2,
-        )
-    top = max_frequency * RPM if max_frequency else np.nanmax(f) * 1.05
-    for k, o in enumerate(result.orders):
-        line = result.order_frequency(o) * RPM
-        ax.plot(s, line, ls="--", lw=1, color=f"C{k % 10}", label=o.label)
-    for c in result.crossings:
-        ax.plot(c.speed * RPM, c.frequency * RPM, "rs", ms=5, mfc="none")
-    ax.set_ylim(0, top)
+    if mk["band"] is not None:
+        handles.append(ax.axvspan(*mk["band"], color="C2", alpha=0.12, label="operating range"))
+    for (label, v), style in zip(mk["speeds"], ("-", ":"), strict=False):
+        handles.append(ax.axvline(v, color="k", ls=style, lw=1.1, label=label))
+    ax.set_ylim(0, mk["top"])
     ax.set_xlim(s[0], s[-1])
     ax.set_xlabel("reference shaft speed (rpm)")
     ax.set_ylabel("damped natural frequency (cpm)")
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=7, loc="upper left")
     if sc is not None:
-        fig.colorbar(sc, ax=ax, label="log decrement (○ forward, × backward)")
-    ax.set_title("Campbell diagram (□ crossings)")
-    fig.tight_layout()
+        fig.colorbar(sc, ax=ax, label="log decrement")
+    note = (
+        "\norders above the axes, not drawn: " + ", ".join(mk["off_scale"])
+        if mk["off_scale"]
+        else ""
+    )
+    ax.set_title("Campbell diagram" + note, fontsize=10)
+    fig.legend(
+        handles=handles,
+        loc="lower center",
+        ncol=3,
+        fontsize=7,
+        frameon=False,
+    )
+    n_rows = -(-len(handles) // 3)
+    fig.tight_layout(rect=(0, 0.02 + 0.024 * n_rows, 1, 1))
     return _save(fig, path)
 
 

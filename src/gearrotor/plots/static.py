@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .figures import _plt, _save
+from .figures import _plt, _save, place_labels
 
 __all__ = [
     "plot_bearing_loads",
@@ -62,25 +62,35 @@ def plot_bearing_loads(results, path=None, bearings=None):
         names = [n for n in names if n in set(bearings)]
     fig = plt.figure(figsize=(7.2, 6.4))
     ax = fig.add_subplot(projection="polar")
+    loci = []
     for i, name in enumerate(names):
         loads = [r.bearing(name) for r in results]
         ang = np.array([b.angle for b in loads])
         mag = np.array([b.magnitude for b in loads]) / 1e3
         ax.plot(ang, mag, "o-", color=f"C{i % 10}", ms=4, lw=1.2, label=name)
-        if i == 0 or len(names) <= 2:
-            for r, a, m in zip(results, ang, mag, strict=True):
-                ax.annotate(
-                    r.operating_point,
-                    (a, m),
-                    fontsize=7,
-                    color=f"C{i % 10}",
-                    xytext=(3, 3),
-                    textcoords="offset points",
-                )
+        loci.append((ang, mag))
     ax.set_title("Bearing loads over operating points (kN; angle from +x)", fontsize=10)
     ax.legend(fontsize=8, loc="lower left", bbox_to_anchor=(-0.15, -0.12))
     fig.tight_layout()
+    _label_loci(ax, loci, [r.operating_point for r in results])
     return _save(fig, path)
+
+
+def _label_loci(ax, loci, points: list[str]) -> None:
+    """Label the operating points of each locus (x, y arrays) without overlaps
+    (:func:`~.figures.place_labels`); a locus whose points lie (median) within 15 % of the
+    axes' size of those of one already labelled (two bearings of one shaft) is not labelled
+    again: its points follow the same order."""
+    ax.figure.canvas.draw()
+    done: list = []
+    xy_all = [ax.transData.transform(np.column_stack([x, y])) for x, y in loci]
+    size = max(ax.get_window_extent().width, ax.get_window_extent().height)
+    every = [(a, b) for x, y in loci for a, b in zip(x, y, strict=True)]
+    for i, (x, y) in enumerate(loci):
+        if any(np.median(np.hypot(*(xy_all[i] - xy_all[j]).T)) < 0.15 * size for j in done):
+            continue
+        done.append(i)
+        place_labels(ax, x, y, points, color=f"C{i % 10}", avoid=every)
 
 
 def plot_eccentricity_locus(results, path=None):
@@ -96,20 +106,13 @@ def plot_eccentricity_locus(results, path=None):
     t = np.linspace(0, 2 * np.pi, 241)
     ax.plot(np.cos(t), np.sin(t), color="0.5", lw=1.0)
     ax.plot([0], [0], "k+", ms=10)
+    loci = []
     for i, name in enumerate(names):
         bs = [r.bearing(name) for r in results]
         x = np.array([b.journal[0] / b.clearance for b in bs])
         y = np.array([b.journal[1] / b.clearance for b in bs])
         ax.plot(x, y, "o-", color=f"C{i % 10}", ms=4, lw=1.2, label=name)
-        for r, xi, yi in zip(results, x, y, strict=True):
-            ax.annotate(
-                r.operating_point,
-                (xi, yi),
-                fontsize=7,
-                color=f"C{i % 10}",
-                xytext=(3, 3),
-                textcoords="offset points",
-            )
+        loci.append((x, y))
     ax.set_aspect("equal")
     ax.set_xlim(-1.05, 1.05)
     ax.set_ylim(-1.05, 1.05)
@@ -121,6 +124,7 @@ def plot_eccentricity_locus(results, path=None):
     )
     ax.legend(fontsize=8, loc="lower left")
     fig.tight_layout()
+    _label_loci(ax, loci, [r.operating_point for r in results])
     return _save(fig, path)
 
 
@@ -130,8 +134,6 @@ def plot_log_dec_vs_power(power, log_dec, names=(), threshold=None, path=None):
     fig, ax = plt.subplots(figsize=(7.0, 4.2))
     p = np.asarray(power, float) / 1e3
     ax.plot(p, log_dec, "o-", color="C0")
-    for n, x, y in zip(names, p, log_dec, strict=False):
-        ax.annotate(n, (x, y), fontsize=7, xytext=(3, 3), textcoords="offset points")
     if threshold is not None:
         ax.axhline(threshold, color="C3", ls="--", lw=1.0, label=f"log dec {threshold}")
         ax.legend(fontsize=8)
@@ -140,5 +142,9 @@ def plot_log_dec_vs_power(power, log_dec, names=(), threshold=None, path=None):
     ax.set_ylabel("least-stable log dec")
     ax.grid(alpha=0.3)
     ax.set_title("Least-stable mode over operating points", fontsize=10)
+    ax.margins(x=0.08, y=0.12)  # room for the labels of the end points
     fig.tight_layout()
+    n = min(len(names), len(p))
+    if n:
+        place_labels(ax, p[:n], np.asarray(log_dec, float)[:n], list(names)[:n])
     return _save(fig, path)

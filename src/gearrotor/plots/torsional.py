@@ -20,9 +20,9 @@ RPM = 30 / np.pi
 
 def plot_torsional_modes(result, modes=None, path=None, max_modes: int = 6):
     """Twist of every shaft along z per mode, referred to the reference shaft: θ / (Ω_s/Ω_ref)
-    with the signed speed ratio, so a rigid rotation of the train is uniform and a shape is
-    continuous through a mesh; normalised to a largest value of 1; gear nodes dotted, the
-    largest-stress element shaded."""
+    with the signed speed ratio of the mesh kinematics, so a rigid rotation of the train is
+    uniform and a shape is continuous through a mesh; normalised to a largest value of 1; gear
+    nodes dotted, the largest-stress element shaded."""
     plt = _plt()
     tm = result.model
     if modes is None:
@@ -31,7 +31,7 @@ def plot_torsional_modes(result, modes=None, path=None, max_modes: int = 6):
     fig, axes = plt.subplots(
         len(modes), 1, figsize=(8.5, 1.9 * len(modes) + 0.8), sharex=True, squeeze=False
     )
-    ratio = tm.speed_ratio
+    ratio = tm.kinematic_ratio  # the meshes' radii: a rigid rotation is exactly flat
     for row, i in enumerate(modes):
         ax = axes[row, 0]
         ref = result.shapes[i] / ratio[tm.node_shaft]

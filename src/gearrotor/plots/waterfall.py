@@ -30,6 +30,7 @@ from numpy.typing import NDArray
 
 from ..errors import ModelError
 from ..files import save_figure
+from ..signals import DISPLAY_FLOOR
 
 __all__ = [
     "SpeedWaterfall",
@@ -343,13 +344,24 @@ def _order_lines(wf: SpeedWaterfall, lo: float, hi: float) -> list[tuple[int, st
     return out
 
 
-def _gain(wf: SpeedWaterfall, m: NDArray) -> tuple[float, float]:
-    """Offset per metre of amplitude that makes the largest spectrum in the band 4 window
-    spacings tall, and that largest amplitude (m)."""
+def _gain(wf: SpeedWaterfall, m: NDArray) -> tuple[float, float, str]:
+    """(offset per metre of amplitude, amplitude of the scale bar (m), a note): the largest
+    spectrum in the band is drawn 4 window spacings tall, unless it is below
+    :data:`~gearrotor.signals.DISPLAY_FLOOR` of the largest amplitude of the whole waterfall
+    (window leakage and round-off, e.g. near the mesh frequency of a constant mesh): then that
+    floor is 4 spacings, the band's content draws flat, and the note says how small it is."""
     span = float(np.ptp(wf.speed_rpm)) or float(wf.speed_rpm.max()) * 0.1 or 1.0
     spacing = span / max(len(wf.speed_rpm) - 1, 1)
     peak = float(np.max(wf.amplitude[:, m])) if m.any() else 0.0
-    return (4 * spacing / peak if peak > 0 else 0.0), peak
+    floor = DISPLAY_FLOOR * float(np.max(wf.amplitude, initial=0.0))
+    note = ""
+    if peak < floor:
+        note = (
+            f"largest {peak * 1e6:.2g} µm: below {DISPLAY_FLOOR:g} of the largest line "
+            "(leakage, round-off)"
+        )
+        peak = floor
+    return (4 * spacing / peak if peak > 0 else 0.0), peak, note
 
 
 def plot_speed_waterfall(wf: SpeedWaterfall, *, max_frequency: float | None = None, path=None):
@@ -366,7 +378,19 @@ def plot_speed_waterfall(wf: SpeedWaterfall, *, max_frequency: float | None = No
     f = wf.frequency_cpm
     for ax, (title, lo, hi) in zip(axes, bands, strict=True):
         m = (f >= lo) & (f <= hi)
-        gain, peak = _gain(wf, m)
+        gain, peak, note = _gain(wf, m)
+        if note:
+            ax.text(
+                0.5,
+                0.985,
+                note,
+                transform=ax.transAxes,
+                ha="center",
+                va="top",
+                fontsize=8,
+                zorder=10**5,
+                bbox=dict(facecolor="white", edgecolor="0.7", alpha=0.9),
+            )
         for z, i in enumerate(order):
             base = wf.speed_rpm[i]
             y = base + gain * wf.amplitude[i, m]

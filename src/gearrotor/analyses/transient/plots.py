@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from ...files import make_directory, save_figure
-from ...signals import spectrum
+from ...signals import DISPLAY_FLOOR, spectrum
 from .results import RPM, spectra_one_x_rpm
 
 __all__ = [
@@ -63,7 +63,10 @@ def plot_time_histories(result):
 
 def plot_spectra(result, *, segments: int = 4, window: str = "hann"):
     """Spectra (cpm) of gear-node x and shaft-1 speed over the second half of the run: full
-    range (log) and zooms near 1x/2x and near the mesh frequency (with ±1x sidebands)."""
+    range (log) and zooms near 1x/2x and near the mesh frequency (with ±1x sidebands). A zoom's
+    amplitude axis spans at least :data:`~gearrotor.signals.DISPLAY_FLOOR` of the spectrum's
+    largest line: content below that (window leakage, round-off, e.g. near the mesh frequency
+    of a constant mesh) draws flat and the panel says so."""
     from matplotlib.ticker import MaxNLocator
 
     ds = _ds(result)
@@ -91,10 +94,26 @@ def plot_spectra(result, *, segments: int = 4, window: str = "hann"):
         zooms = [(0, 3 * run_cpm, "near 1x / 2x")]
         if mesh_cpm is not None:
             zooms.append((mesh_cpm - 4 * run_cpm, mesh_cpm + 4 * run_cpm, "near mesh frequency"))
+        floor = DISPLAY_FLOOR * float(np.max(aa, initial=0.0)) * scale
         for c, (lo, hi, title) in enumerate(zooms, start=1):
             m = (ff >= lo) & (ff <= hi)
             ax[row, c].plot(ff[m], aa[m] * scale, lw=0.8)
             ax[row, c].set_title(f"{name}: {title}")
+            shown = float(np.max(aa[m], initial=0.0)) * scale
+            if shown < floor:  # leakage and round-off: not drawn as if it were signal
+                ax[row, c].set_ylim(0.0, floor)
+                ax[row, c].text(
+                    0.5,
+                    0.95,
+                    f"largest {shown:.2g} {unit}: below {DISPLAY_FLOOR:g} of the\n"
+                    "spectrum's largest line (leakage, round-off)",
+                    transform=ax[row, c].transAxes,
+                    ha="center",
+                    va="top",
+                    fontsize=8,
+                )
+            else:
+                ax[row, c].set_ylim(0.0, 1.05 * shown)
             for order in (1, 2):
                 ax[row, c].axvline(order * run_cpm, color="0.7", ls="--", lw=0.6)
             if mesh_cpm is not None:

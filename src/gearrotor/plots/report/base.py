@@ -47,7 +47,8 @@ class Context:
     notes : remarks shown under the summary (e.g. a sweep limited by bearing tables);
     directory : the temporary report directory the files go to (during ``write``);
     figures : the PNG files written, in page order; summary : the content of
-    ``report.json``; verdicts : the pass/fail checks of the summary table.
+    ``report.json``; verdicts : the checks of the summary table, one per check
+    (:meth:`verdict`).
     """
 
     assembly: Assembly
@@ -98,6 +99,16 @@ class Context:
         if note:
             self.notes.append(note)
         return speeds
+
+    def verdict(self, key: str, check: str, ok, detail: str, result: str | None = None) -> None:
+        """Add a line to the summary (:func:`~.verdicts.verdict`): one line per check, so a
+        check another section has already judged (same ``key``, e.g. the separation margins of
+        the unbalance and audit sections, from the same response) is not added twice."""
+        from .verdicts import verdict
+
+        if any(v["key"] == key for v in self.verdicts):
+            return
+        self.verdicts.append(verdict(key, check, ok, detail, result))
 
     def png(self, fn, name: str, *args, **kw) -> None:
         """Write ``fn(*args, path=<directory>/name, **kw)``, a figure function of

@@ -77,21 +77,49 @@ def parse_analyses(text: str | tuple[str, ...] | list[str]) -> tuple[str, ...]:
     return tuple(out)
 
 
-def _default_max_frequency(asm, w: float, given: float | None) -> tuple[float, str]:
-    """(rad/s, why): the given value, or 1.1 × the highest mesh frequency at the operating
-    speed ``w`` (the mesh-frequency region and the coupled L-T modes below it), or 5 × speed
-    for a train without gears."""
+#: Separation margin (fraction) the default frequency range allows an excitation: API 617's
+#: largest required margin of a critical from the operating range (10 + 17 (1 − 1/(AF − 1.5)) %,
+#: at most 26 %, above the maximum continuous speed), which also covers its 10 % torsional margin.
+SEPARATION_MARGIN = 0.26
+#: Headroom (factor) of the default frequency range above the highest frequency an excitation
+#: reaches with its margin: the modes just clear of every excitation are shown too.
+HEADROOM = 1.1
+#: The default range is at least this multiple of the top operating speed (a train without gears:
+#: its first bending modes, above 1x and 2x with margin).
+MIN_SPEED_MULTIPLE = 5.0
+
+
+def _default_max_frequency(asm, top: float, given: float | None) -> tuple[float, str]:
+    """(rad/s, why): the given value, or the highest frequency an excitation of the Campbell
+    diagram reaches over the operating range with its separation margin, with headroom:
+    ``HEADROOM × (1 + SEPARATION_MARGIN) × max(multiple × |shaft speed|)`` over the default
+    excitation orders (1x and 2x of every shaft, every gear-mesh frequency) at the top
+    operating speed ``top`` (rad/s: the maximum continuous speed or the operating speed,
+    whichever is higher), and at least ``MIN_SPEED_MULTIPLE × top``. Every mode an excitation
+    can come within its separation margin of is then in the tables and figures (the flagship's
+    lightly damped torsional mode at 215,670 cpm, 10.6 % above its mesh frequency)."""
     if given is not None:
         return float(given), "as given"
-    speeds = np.abs(asm.shaft_speeds(w))
-    mesh = [m.teeth[0] * speeds[m.shafts[0]] for m in asm.meshes]
-    if mesh and max(mesh) > 0:
-        f = max(mesh)
+    from ...analyses.campbell import default_orders
+
+    ratios = np.abs(asm.speed_ratio)
+    orders = [(o, o.multiple * ratios[o.shaft] * top) for o in default_orders(asm)]
+    order, f = max(orders, key=lambda x: x[1])
+    fmax = HEADROOM * (1 + SEPARATION_MARGIN) * f
+    floor = MIN_SPEED_MULTIPLE * top
+    if fmax >= floor:
         return (
-            1.1 * f,
-            f"default: 1.1 × the mesh frequency {f * RPM:,.0f} cpm at {w * RPM:,.0f} rpm",
+            fmax,
+            f"default: the highest excitation, {order.label} = {f * RPM:,.0f} cpm at "
+            f"{top * RPM:,.0f} rpm, + {SEPARATION_MARGIN:.0%} separation margin, "
+            f"× {HEADROOM:g} headroom",
         )
-    return 5 * w, f"default: 5 × the operating speed {w * RPM:,.0f} rpm (no gear mesh)"
+    return (
+        floor,
+        f"default: {MIN_SPEED_MULTIPLE:g} × the top operating speed {top * RPM:,.0f} rpm "
+        f"(above the highest excitation, {order.label} = {f * RPM:,.0f} cpm, with its "
+        f"{SEPARATION_MARGIN:.0%} separation margin and × {HEADROOM:g} headroom)",
+    )
 
 
 @managed
@@ -128,9 +156,11 @@ def make_report(
         range and maximum continuous speed when the model states them and no speed is given,
         else this speed
     max_frequency : rad/s, highest damped frequency of the modes and the Campbell diagram
-        (default: 1.1 × the highest mesh frequency at the operating speed, so that the coupled
-        lateral-torsional modes a gear engineer looks for are in; 5 × speed without meshes);
-        the report states the range and why
+        (default: every mode an excitation can reach within its separation margin over the
+        operating range, with headroom: 1.1 × (1 + 26 %) × the highest excitation frequency
+        (1x, 2x of every shaft, every mesh frequency) at the top operating speed, at least
+        5 × that speed; see :func:`_default_max_frequency`); the report states the range and
+        why
     transient : path of a transient result (NetCDF written by ``TransientResult.save``)
     api : the unbalance section uses the API 617 unbalance, 4 × 6350 W/N g·mm per plane of the
         model's unbalances (W the plane's share of its shaft's mass, kg; N its shaft's speed at
@@ -210,7 +240,11 @@ def make_report(
             value=None if speed is None else f"{w * RPM:.6g} rpm",
             expected="a speed > 0 rpm (the direction of rotation follows the model)",
         )
-    fmax, fmax_basis = _default_max_frequency(asm, w, max_frequency)
+    from ...analyses.operating import model_operating_range
+
+    operating_range = None if speed_given else model_operating_range(train)
+    top = max(w, operating_range[1]) if operating_range is not None else w
+    fmax, fmax_basis = _default_max_frequency(asm, top, max_frequency)
     if not (np.isfinite(fmax) and fmax > 0):
         raise ModelError(
             "the maximum frequency must be positive",
@@ -224,14 +258,12 @@ def make_report(
             value=(n_campbell, n_unbalance),
             expected="n_campbell >= 2 and n_unbalance >= 3",
         )
-    from ...analyses.operating import model_operating_range
-
     ctx = Context(
         asm,
         analyses,
         w,
         fmax,
-        operating_range=None if speed_given else model_operating_range(train),
+        operating_range=operating_range,
         api=api,
         transient_file=None if transient is None else Path(transient),
         n_campbell=n_campbell,

@@ -6,7 +6,8 @@ from __future__ import annotations
 
 import datetime as _dt
 
-from .blocks import _badge, _e
+from .blocks import _e
+from .verdicts import result_badge
 
 _CSS = """
 body { font-family: system-ui, -apple-system, 'Segoe UI', sans-serif; margin: 0; color: #222; }
@@ -45,8 +46,9 @@ def _page(train, sections, summary, figures, notes, *, source, command) -> str:
     vt = ["<table><tr><th class='l'>check</th><th>result</th><th class='l'>detail</th></tr>"]
     for v in verdicts:
         vt.append(
-            f"<tr class='{'' if v['ok'] else 'bad'}'><td class='l'>{_e(v['check'])}</td>"
-            f"<td>{_badge(v['ok'])}</td><td class='l'>{_e(v['detail'])}</td></tr>"
+            f"<tr class='{'bad' if v['ok'] is False else ''}'><td class='l'>"
+            f"{_e(v['check'])}</td><td>{result_badge(v['result'])}</td>"
+            f"<td class='l'>{_e(v['detail'])}</td></tr>"
         )
     vt.append("</table>")
     if not verdicts:

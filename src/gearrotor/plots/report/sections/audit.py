@@ -18,6 +18,7 @@ import base64
 from ....errors import ModelError
 from ..base import Context, Part, Section
 from ..blocks import RPM, _badge, _e, _fmt
+from ..verdicts import LEVEL2_REQUIRED, _range_words, result_badge
 from .unbalance import UnbalanceSection, _api_checks, _api_html, _unbalances, _unbalances_used
 
 __all__ = ["AuditSection"]
@@ -95,7 +96,7 @@ class AuditSection(Section):
             "response": checks,
             "stability": st,
         }
-        ctx.verdicts += _verdicts(checks, audit)
+        _verdicts(ctx, checks, audit)
         ctx.png(plot_ucs_map, FIGURES[0], ucs)
         ctx.png(plot_level1, FIGURES[1], audit.level1)
         ctx.png(plot_screening, FIGURES[2], audit.level1)
@@ -103,33 +104,56 @@ class AuditSection(Section):
         return [("api-audit", "API audit", _html(ctx, ucs, audit, checks))]
 
 
-def _verdicts(checks: dict, audit) -> list[dict]:
+def _verdicts(ctx: Context, checks: dict, audit) -> None:
+    """One line per check: the separation margins (the unbalance section's line when it ran:
+    the same response), Level I (pass, or "Level II required": not a failure) and Level II
+    (pass/FAIL when Level I sent the audit there, "not required" when Level I passed; the
+    audit's verdict is the deciding level's)."""
     nf = sum(c["result"] == "fail" for c in checks["criticals"])
-    l1 = audit.level1
+    lo, hi = checks["operating_range_rpm"]
+    ctx.verdict(
+        "separation_margins",
+        "API 684 separation margins from the " + _range_words(lo, hi),
+        nf == 0,
+        f"{len(checks['criticals'])} critical peaks, {nf} fail, "
+        f"{checks['undetermined']} with AF not determined",
+    )
+    l1, l2 = audit.level1, audit.level2
     ratio = "> search limit" if l1.ratio is None else f"{l1.ratio:.3f}"
-    low = audit.min_level2_log_dec
-    return [
-        {
-            "check": "API audit: separation margins over the operating range",
-            "ok": nf == 0,
-            "detail": f"{len(checks['criticals'])} critical peaks, {nf} fail",
-        },
-        {
-            "check": "API 617 Level I stability",
-            "ok": l1.passed,
-            "detail": f"Q_0/Q_A = {ratio}, log dec at Q_A {l1.log_dec_at_qa:.3f}: {l1.verdict}",
-        },
-        {
-            "check": "API 617 Level II stability",
-            "ok": audit.level2.passed,
-            "detail": f"least forward log dec {_fmt(low, '.3f')} (>= 0.1)",
-        },
-        {
-            "check": "API 617 stability audit",
-            "ok": audit.passed,
-            "detail": f"{audit.verdict} (decided by {audit.decided_by})",
-        },
-    ]
+    ctx.verdict(
+        "api617_level1",
+        "API 617 Level I stability",
+        True if l1.passed else None,
+        f"Q_0/Q_A = {ratio} (>= 2), log dec at Q_A {l1.log_dec_at_qa:.3f} (>= 0.1)"
+        + ("" if l1.passed else ": Level II decides"),
+        result="pass" if l1.passed else LEVEL2_REQUIRED,
+    )
+    low = _fmt(audit.min_level2_log_dec, ".3f")
+    if audit.decided_by == "Level I":
+        ctx.verdict(
+            "api617_level2",
+            "API 617 Level II stability",
+            None,
+            f"Level I passes; least forward log dec {low} (>= 0.1, for information)",
+            result="not required",
+        )
+    else:
+        ctx.verdict(
+            "api617_level2",
+            "API 617 Level II stability",
+            l2.passed,
+            f"least forward log dec {low} (>= 0.1): the audit's verdict, {audit.verdict}",
+        )
+
+
+def _level1_words(l1) -> str:
+    """Level I's verdict in the summary's words: ``pass`` or ``Level II required``."""
+    return "pass" if l1.passed else LEVEL2_REQUIRED
+
+
+def _criterion_badge(ok: bool | None) -> str:
+    """A Level I criterion that is not met sends the rotor to Level II: not a failure."""
+    return result_badge({True: "pass", False: LEVEL2_REQUIRED, None: "n/a"}[ok])
 
 
 def _img(ctx: Context, name: str, alt: str) -> str:
@@ -149,8 +173,12 @@ def _html(ctx: Context, ucs, audit, checks: dict) -> str:
         "model).</p>",
         "<h3>Undamped critical speed map</h3>",
         "<p>Every radial bearing replaced by the same stiffness k; the gear meshes, couplings "
-        "and pedestals kept. Bearing Kxx (solid) and Kyy (dashed) over speed; circles: "
-        "intersections; dotted: rigid supports.</p>",
+        "and pedestals kept. Each branch is a mode followed by its shape, solid where it is a "
+        "critical of the panel's shaft (its forward whirl there holds at least "
+        f"{ucs.min_share:g} of the mode's kinetic energy), dotted where the mode has moved to "
+        "another shaft or the mesh. The shaft's own bearings' Kxx (solid) and Kyy (dashed) "
+        "over speed; circles: intersections (exact roots); grey dotted: rigid supports; band "
+        "and dash-dot line: operating range and MCS.</p>",
         _img(ctx, FIGURES[0], "critical speed map"),
         "<table><tr><th class='l'>shaft</th><th>rigid-support criticals (rpm)</th></tr>",
     ]
@@ -167,14 +195,14 @@ def _html(ctx: Context, ucs, audit, checks: dict) -> str:
         + ", ".join(f"{_e(s.shaft)} node {s.node} ({s.weight:.3g})" for s in l1.sites)
         + f", at {abs(l1.speed) * RPM:.0f} rpm. Threshold Q_0 = {q0} N/m (root search, "
         f"rtol {l1.rtol:g}), Q_0/Q_A = {ratio}, log dec at Q_A {l1.log_dec_at_qa:.3f}. "
-        f"Verdict: <b>{_e(l1.verdict)}</b>.</p>",
+        f"Verdict: <b>{_e(_level1_words(l1))}</b>.</p>",
         "<table><tr><th class='l'>criterion</th><th>value</th><th class='l'>requirement</th>"
         "<th>result</th></tr>",
     ]
     for c in l1.criteria:
         parts.append(
             f"<tr><td class='l'>{_e(c.name)}</td><td>{_fmt(c.value, '.4g')}</td>"
-            f"<td class='l'>{_e(c.requirement)}</td><td>{_badge(c.ok)}</td></tr>"
+            f"<td class='l'>{_e(c.requirement)}</td><td>{_criterion_badge(c.ok)}</td></tr>"
         )
     parts += [
         "</table>",
@@ -199,6 +227,6 @@ def _html(ctx: Context, ucs, audit, checks: dict) -> str:
         "</table>",
         _img(ctx, FIGURES[3], "Level II log dec"),
         f"<p>Stability audit: <b>{_e(audit.verdict)}</b> (decided by {_e(audit.decided_by)}; "
-        f"Level I {_e(l1.verdict)}, Level II {_e(l2.verdict)}).</p>",
+        f"Level I {_e(_level1_words(l1))}, Level II {_e(l2.verdict)}).</p>",
     ]
     return "\n".join(parts)

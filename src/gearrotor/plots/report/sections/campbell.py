@@ -9,6 +9,7 @@ import numpy as np
 from ....errors import ModelError
 from ..base import Context, Part, Section
 from ..blocks import RPM, _color, _e, _figure_html, _go
+from ..verdicts import track_name, track_rows
 
 __all__ = ["CampbellSection", "campbell_figure"]
 
@@ -29,8 +30,16 @@ class CampbellSection(Section):
             ctx.results["campbell"] = campbell(
                 ctx.assembly, speeds=speeds, max_frequency=ctx.max_frequency
             )
-        except ModelError:
-            raise
+        except ModelError as exc:
+            if exc.field != "max_frequency":
+                raise
+            # the analysis' argument is the report's --max-frequency
+            raise ModelError(
+                f"the Campbell diagram cannot be made: {exc.message}",
+                field="--max-frequency",
+                value=f"{ctx.max_frequency * RPM:.6g} cpm",
+                expected="a maximum frequency above the lowest modes of the train",
+            ) from None
         except ValueError as exc:  # e.g. no mode below max_frequency: an input problem
             raise ModelError(
                 f"the Campbell diagram cannot be made: {exc}",
@@ -45,24 +54,63 @@ class CampbellSection(Section):
         camp = ctx.results.get("campbell")
         if camp is None:
             return []
-        ctx.summary["campbell"] = {
-            "crossings": camp.to_dict()["crossings"],
-            "orders": camp.to_dict()["orders"],
-        }
-        ctx.png(plot_campbell, "campbell.png", camp, max_frequency=ctx.max_frequency)
-        body = _figure_html(campbell_figure(camp, max_frequency=ctx.max_frequency), "fig-campbell")
-        body += _crossings_table(camp)
+        rows = track_rows(ctx.results.get("modal"), camp)
+        d = camp.to_dict()
+        crossings = []
+        for c, row in zip(d["crossings"], camp.crossings, strict=True):
+            # one numbering: the modal table's row (None for a track without one), and the track
+            crossings.append({**c, "mode": rows[row.mode], "track": row.mode})
+        ctx.summary["campbell"] = {"crossings": crossings, "orders": d["orders"]}
+        marks = _marks(ctx)
+        ctx.png(plot_campbell, "campbell.png", camp, max_frequency=ctx.max_frequency, **marks)
+        fig = campbell_figure(camp, max_frequency=ctx.max_frequency, mode_rows=rows, **marks)
+        body = _figure_html(fig, "fig-campbell")
+        body += _crossings_table(camp, rows)
         return [("campbell", "Campbell diagram", body)]
 
 
-def campbell_figure(result, max_frequency: float | None = None):
+def _marks(ctx: Context) -> dict:
+    """The operating speed, the MCS and the operating range (rad/s) the figures mark."""
+    train = ctx.train
+    op = ctx.operating_range
+    return {
+        "operating_speed": ctx.speed,
+        "max_continuous_speed": None
+        if op is None or train.max_continuous_speed is None
+        else abs(float(train.max_continuous_speed)),
+        "operating_range": op,
+    }
+
+
+def campbell_figure(
+    result,
+    max_frequency: float | None = None,
+    *,
+    mode_rows: list[int | None] | None = None,
+    operating_speed: float | None = None,
+    max_continuous_speed: float | None = None,
+    operating_range: tuple[float, float] | None = None,
+):
     """Campbell diagram of a :class:`~gearrotor.analyses.CampbellResult`: tracked modes
-    (colour = log dec, ● forward, ✕ backward whirl), excitation orders and crossings."""
+    (colour = log dec, ● forward, ✕ backward whirl), excitation orders and crossings, the
+    operating speed and MCS (rad/s, vertical lines) and the operating range (shaded).
+
+    ``mode_rows``: per track, its row of the modal table (hover and crossings name the mode
+    by it, ``track j`` without one). Order lines above the axes over the whole sweep are not
+    drawn (the title names them)."""
+    from ...figures import campbell_markers
+
     go = _go()
     fig = go.Figure()
     s = result.speeds * RPM
     f = result.damped_frequency * RPM
-    for j in range(f.shape[1]):
+    n = f.shape[1]
+    rows = mode_rows if mode_rows is not None else [None] * n
+    mk = campbell_markers(
+        result, max_frequency, operating_speed, max_continuous_speed, operating_range
+    )
+    for j in range(n):
+        name = track_name(rows, j)
         wh = np.asarray(result.whirl[:, j], dtype=str)
         ty = np.asarray(result.mode_type[:, j], dtype=str)
         ld = result.log_dec[:, j]
@@ -83,21 +131,21 @@ def campbell_figure(result, max_frequency: float | None = None):
                     showscale=j == 0,
                     colorbar=dict(title=dict(text="log dec"), x=1.02) if j == 0 else None,
                 ),
-                name=f"mode {j}",
+                name=name,
                 customdata=np.column_stack([ld, wh, ty]),
                 hovertemplate=(
-                    f"mode {j}<br>speed %{{x:.0f}} rpm<br>frequency %{{y:.0f}} cpm"
+                    f"{name}<br>speed %{{x:.0f}} rpm<br>frequency %{{y:.0f}} cpm"
                     "<br>log dec %{customdata[0]:.3g}<br>whirl %{customdata[1]}"
                     "<br>type %{customdata[2]}<extra></extra>"
                 ),
                 showlegend=False,
             )
         )
-    for k, o in enumerate(result.orders):
+    for k, (o, line) in enumerate(mk["orders"]):
         fig.add_trace(
             go.Scatter(
                 x=s,
-                y=result.order_frequency(o) * RPM,
+                y=line,
                 mode="lines",
                 line=dict(dash="dash", width=1.5, color=_color(k)),
                 name=o.label,
@@ -112,38 +160,69 @@ def campbell_figure(result, max_frequency: float | None = None):
                 marker=dict(symbol="square-open", size=10, color="red"),
                 name="crossings",
                 text=[
-                    f"mode {c.mode} × {c.order}: {c.speed * RPM:.0f} rpm, log dec "
+                    f"{track_name(rows, c.mode)} × {c.order}: {c.speed * RPM:.0f} rpm, log dec "
                     f"{c.log_dec:.3g}, {c.whirl}, {c.mode_type}"
                     for c in result.crossings
                 ],
                 hoverinfo="text",
             )
         )
-    top = max_frequency * RPM if max_frequency else float(np.nanmax(f)) * 1.05
+    top = mk["top"]
+    if mk["band"] is not None:
+        a, b = mk["band"]
+        fig.add_trace(
+            go.Scatter(
+                x=[a, b, b, a, a],
+                y=[0, 0, top, top, 0],
+                fill="toself",
+                mode="none",
+                fillcolor="rgba(44,160,44,0.12)",
+                name="operating range",
+                hoverinfo="skip",
+            )
+        )
+    for (label, v), dash in zip(mk["speeds"], ("solid", "dot"), strict=False):
+        fig.add_trace(
+            go.Scatter(
+                x=[v, v],
+                y=[0, top],
+                mode="lines",
+                line=dict(color="black", width=1.3, dash=dash),
+                name=label,
+            )
+        )
+    title = "Campbell diagram (● forward, ✕ backward whirl; □ crossings)"
+    if mk["off_scale"]:
+        title += "<br><sub>orders above the axes, not drawn: " + ", ".join(mk["off_scale"])
+        title += "</sub>"
     fig.update_layout(
-        title="Campbell diagram (● forward, ✕ backward whirl; □ crossings)",
+        title=title,
         xaxis=dict(title="reference shaft speed (rpm)", range=[s[0], s[-1]]),
         yaxis=dict(title="damped natural frequency (cpm)", range=[0, top]),
-        height=560,
-        legend=dict(x=0.01, y=0.99, bgcolor="rgba(255,255,255,0.7)"),
+        height=620,
+        # below the axes: the legend hides no marker
+        legend=dict(orientation="h", x=0.0, xanchor="left", y=-0.14, yanchor="top"),
+        margin=dict(b=140),
         meta=dict(kind="campbell"),
     )
     return fig
 
 
-def _crossings_table(camp) -> str:
+def _crossings_table(camp, rows: list[int | None]) -> str:
     if not camp.crossings:
         return "<p>No mode crosses an excitation line in the speed range.</p>"
-    rows = [
-        "<h3>Crossing speeds</h3><table><tr><th>mode</th><th class='l'>excitation</th>"
+    out = [
+        "<h3>Crossing speeds</h3><p>Modes numbered as in the modal table at the operating "
+        "speed (a Campbell track without a row there: <i>track j</i>).</p><table><tr>"
+        "<th>mode</th><th class='l'>excitation</th>"
         "<th>speed (rpm)</th><th>frequency (cpm)</th><th>log dec</th><th>whirl</th>"
         "<th>type</th></tr>"
     ]
     for c in camp.crossings:
-        rows.append(
-            f"<tr><td>{c.mode}</td><td class='l'>{_e(c.order)}</td><td>{c.speed * RPM:.0f}</td>"
-            f"<td>{c.frequency * RPM:.0f}</td><td>{c.log_dec:.3g}</td><td>{_e(c.whirl)}</td>"
-            f"<td>{_e(c.mode_type)}</td></tr>"
+        out.append(
+            f"<tr><td>{_e(track_name(rows, c.mode))}</td><td class='l'>{_e(c.order)}</td>"
+            f"<td>{c.speed * RPM:.0f}</td><td>{c.frequency * RPM:.0f}</td>"
+            f"<td>{c.log_dec:.3g}</td><td>{_e(c.whirl)}</td><td>{_e(c.mode_type)}</td></tr>"
         )
-    rows.append("</table>")
-    return "\n".join(rows)
+    out.append("</table>")
+    return "\n".join(out)

@@ -15,8 +15,10 @@ import numpy as np
 from ....analyses.modal import format_log_dec, format_zeta
 from ..base import Context, Part, Section
 from ..blocks import LOG_DEC_THRESHOLD, RPM, _color, _e, _figure_html, _go
+from ..verdicts import model_undamped_kinds, status_row_class
+from .stability import modal_statuses
 
-__all__ = ["ModesSection", "mode_shape_figure"]
+__all__ = ["ModesSection", "mode_shape_figure", "shown_modes"]
 
 
 class ModesSection(Section):
@@ -36,13 +38,23 @@ class ModesSection(Section):
         res = ctx.results.get("modal")
         if res is None:
             return []
-        ctx.summary["modal"] = res.to_dict()
-        el = [i for i in range(len(res)) if not res.overdamped[i]]
-        for k in range(0, min(len(el), 16), 8):
-            ctx.png(plot_mode_shapes, f"modes_{k // 8 + 1}.png", res, modes=el[k : k + 8])
-        body = _modes_table(res)
+        status = modal_statuses(res, model_undamped_kinds(ctx.assembly, res.speed))
+        d = res.to_dict()
+        for row, st in zip(d["modes"], status, strict=True):
+            row["status"] = st  # the words of the table, the stability checks and the figures
+        ctx.summary["modal"] = d
+        el = shown_modes(res, status)
+        for k in range(0, len(el), 8):
+            ctx.png(
+                plot_mode_shapes,
+                f"modes_{k // 8 + 1}.png",
+                res,
+                modes=el[k : k + 8],
+                statuses=status,
+            )
+        body = _modes_table(res, status)
         if el:
-            body += _figure_html(mode_shape_figure(res), "fig-modes")
+            body += _figure_html(mode_shape_figure(res, el, statuses=status), "fig-modes")
         else:
             body += (
                 "<p>Every mode below the maximum frequency is over-damped: no shape to draw.</p>"
@@ -50,9 +62,21 @@ class ModesSection(Section):
         return [("modes", f"Modes at {res.speed * RPM:.0f} rpm", body)]
 
 
-def _mode_title(result, m: int) -> str:
+def shown_modes(res, status: list[str], first: int = 16, most: int = 32) -> list[int]:
+    """The modes the figures draw: the ``first`` elastic (not over-damped) modes, and every
+    later one the summary names (a status other than ``stable``: low damping, unstable, not
+    judged), up to ``most`` in all, in frequency order."""
+    el = [i for i in range(len(res)) if not res.overdamped[i]]
+    named = [i for i in el[first:] if status[i] != "stable"]
+    return sorted(el[:first] + named[: max(most - first, 0)])
+
+
+def _mode_title(result, m: int, statuses: list[str] | None = None) -> str:
     whirl = "/".join(result.whirl_per_shaft[m])
-    state = "UNSTABLE" if result.unstable[m] else "stable"
+    if statuses is not None:
+        state = statuses[m]
+    else:
+        state = "UNSTABLE" if result.unstable[m] else "stable"
     return (
         f"mode {m}: {result.frequency_rpm[m]:.1f} cpm ({result.frequency_hz[m]:.2f} Hz), "
         f"log dec {result.log_dec[m]:.3g}, whirl {whirl}, type {result.mode_type[m]}, {state}"
@@ -66,6 +90,7 @@ def mode_shape_figure(
     n_phase: int = 12,
     scale: float | None = None,
     max_modes: int = 16,
+    statuses: list[str] | None = None,
 ):
     """3-D mode shapes of a :class:`~gearrotor.analyses.ModalResult`.
 
@@ -77,6 +102,8 @@ def mode_shape_figure(
     n_phase : number of phase steps over one period on the slider
     scale : drawn size (m) of a unit normalised deflection (default: 12 % of the longest shaft,
         at most 40 % of the smallest distance between shaft centres)
+    statuses : every mode's status (:mod:`~gearrotor.plots.report.verdicts`), shown in the
+        title (default: stable or UNSTABLE)
     """
     go = _go()
     asm = result.assembly
@@ -221,13 +248,13 @@ def mode_shape_figure(
                 label=f"{m}: {result.frequency_rpm[m]:.0f} cpm {result.mode_type[m]}",
                 args=[
                     {"visible": vis},
-                    {"sliders": [slider_for(m)], "title.text": _mode_title(result, m)},
+                    {"sliders": [slider_for(m)], "title.text": _mode_title(result, m, statuses)},
                 ],
             )
         )
     fig.update_layout(
         title=dict(
-            text=_mode_title(result, modes[0]),
+            text=_mode_title(result, modes[0], statuses),
             font=dict(size=13),
             x=0.01,
             xanchor="left",
@@ -295,18 +322,7 @@ def _markers(fig, x, y, z, text, name: str, **marker) -> int:
     return 1
 
 
-def _mode_status(res, i: int) -> str:
-    """The mode's class (as in the table and JSON of ``gearrotor modal``), with "low damping"
-    for a damped mode below the log dec threshold."""
-    cls = res.mode_class[i]
-    if cls == "unstable":
-        return "UNSTABLE"
-    if cls == "damped" and res.log_dec[i] < LOG_DEC_THRESHOLD:
-        return "low damping"
-    return "stable" if cls == "damped" else cls
-
-
-def _modes_table(res) -> str:
+def _modes_table(res, status: list[str]) -> str:
     head = (
         "<table><tr><th>#</th><th>frequency (cpm)</th><th>frequency (Hz)</th>"
         "<th>log dec</th><th>damping ratio</th><th>whirl "
@@ -315,8 +331,8 @@ def _modes_table(res) -> str:
     )
     rows = [head]
     for i in range(len(res)):
-        st = _mode_status(res, i)
-        cls = {"UNSTABLE": "bad", "low damping": "warn", "over-damped": "od"}.get(st, "")
+        st = status[i]
+        cls = status_row_class(st)
         fr = res.energy_shares[i] * 100
         rows.append(
             f"<tr class='{cls}'><td>{i}</td><td>{res.frequency_rpm[i]:.1f}</td>"
@@ -331,6 +347,9 @@ def _modes_table(res) -> str:
         "relative to that shaft's spin (F forward, B backward, – no lateral motion); type "
         "from energy shares (L lateral, T torsional, A axial: the larger of a group's kinetic "
         "and strain energy fractions, the mesh spring's energy shared by the groups that deflect "
-        "it; a group with 5 % or more names the mode). Undamped: log dec zero to round-off.</p>"
+        "it; a group with 5 % or more names the mode). Undamped: log dec zero to round-off. "
+        f"Status: as in the stability checks (log dec ≥ {LOG_DEC_THRESHOLD} for modes with lateral "
+        "motion; a mode without lateral motion in a model without damping on its DOFs is "
+        "“no torsional damping in the model”, not judged).</p>"
     )
     return "\n".join(rows) + extra

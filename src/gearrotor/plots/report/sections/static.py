@@ -81,12 +81,11 @@ class OperatingPointsSection(Section):
         ctx.summary["operating_points"] = summary
         lds = [ld for ld, _ in least if ld is not None]
         ok = bool(lds) and min(lds) >= LOG_DEC_THRESHOLD
-        ctx.verdicts.append(
-            {
-                "check": "least-stable log dec over the operating points",
-                "ok": ok,
-                "detail": f"min {min(lds):.3g} (threshold {LOG_DEC_THRESHOLD})" if lds else "-",
-            }
+        ctx.verdict(
+            "operating_points_stability",
+            "least-stable log dec over the operating points",
+            ok,
+            f"min {min(lds):.3g} (threshold {LOG_DEC_THRESHOLD})" if lds else "-",
         )
         imgs = []
         ctx.png(plot_bearing_loads, "op_bearing_loads.png", statics)

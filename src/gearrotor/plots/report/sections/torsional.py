@@ -102,13 +102,12 @@ class TorsionalSection(Section):
             "interference": inter.to_dict(),
         }
         n_fail = len(inter.failures)
-        ctx.verdicts.append(
-            {
-                "check": "API 617 torsional separation margins",
-                "ok": inter.passes,
-                "detail": f"{len(inter.crossings)} crossings, {n_fail} below the "
-                f"{inter.required_margin:.0%} margin",
-            }
+        ctx.verdict(
+            "torsional_separation_margins",
+            "API 617 torsional separation margins",
+            inter.passes,
+            f"{len(inter.crossings)} crossings, {n_fail} below the "
+            f"{inter.required_margin:.0%} margin",
         )
         ctx.png(plot_torsional_modes, "torsional_modes.png", modes)
         ctx.png(plot_interference, "torsional_interference.png", inter)

@@ -279,7 +279,21 @@ def speed_waterfall_figure(wf, *, max_frequency: float | None = None):
     for col, (_, lo, hi) in enumerate(bands, start=1):
         m = (f >= lo) & (f <= hi)
         fm = f[m]
-        gain, peak = _gain(wf, m)
+        gain, peak, note = _gain(wf, m)
+        if note:
+            xref = "x domain" if col == 1 else f"x{col} domain"
+            yref = "y domain" if col == 1 else f"y{col} domain"
+            fig.add_annotation(
+                x=0.5,
+                y=0.99,
+                xref=xref,
+                yref=yref,
+                text=note,
+                showarrow=False,
+                yanchor="top",
+                bgcolor="rgba(255,255,255,0.9)",
+                font=dict(size=11),
+            )
         for i in back_to_front:
             base = float(wf.speed_rpm[i])
             a = wf.amplitude[i, m]

@@ -11,6 +11,7 @@ import numpy as np
 from ....errors import ModelError
 from ..base import Context, Part, Section
 from ..blocks import RPM, _badge, _color, _e, _figure_html, _fmt, _go
+from ..verdicts import _range_words
 
 __all__ = ["UnbalanceSection", "bode_figure", "orbit_figure"]
 
@@ -70,7 +71,7 @@ class UnbalanceSection(Section):
                 for p in d["probes"]
             ],
         }
-        ctx.verdicts += _verdicts(checks)
+        _verdicts(ctx, checks)
         ctx.png(plot_bode, "bode.png", unb)
         k_op = int(np.argmin(np.abs(unb.speeds - unb.operating_range[1])))
         ctx.png(plot_orbits, "orbits_operating.png", unb, k_op)
@@ -430,28 +431,27 @@ def _api_html(api: dict) -> str:
     return "\n".join(parts)
 
 
-def _verdicts(api: dict) -> list[dict]:
-    out = []
+def _verdicts(ctx: Context, api: dict) -> None:
+    """The separation-margin and vibration-limit lines of the summary (the audit section's
+    separation margins are the same check: one line)."""
     nf = sum(x["result"] == "fail" for x in api["criticals"])
-    out.append(
-        {
-            "check": "API 684 separation margins",
-            "ok": nf == 0,
-            "detail": f"{len(api['criticals'])} critical peaks, {nf} fail, "
-            f"{api['undetermined']} with AF not determined",
-        }
+    lo, hi = api["operating_range_rpm"]
+    ctx.verdict(
+        "separation_margins",
+        "API 684 separation margins from the " + _range_words(lo, hi),
+        nf == 0,
+        f"{len(api['criticals'])} critical peaks, {nf} fail, "
+        f"{api['undetermined']} with AF not determined",
     )
     na = sum(x["result"] == "fail" for x in api["amplitudes"])
-    out.append(
-        {
-            "check": "API 617 vibration limit in the operating range",
-            "ok": na == 0,
-            "detail": f"{len(api['amplitudes'])} probes, {na} above the limit "
-            + (
-                "(with the API 617 unbalance)"
-                if api["unbalance"]["basis"] == "api617"
-                else "(with the model's unbalance)"
-            ),
-        }
+    ctx.verdict(
+        "vibration_limit",
+        "API 617 vibration limit in the operating range",
+        na == 0,
+        f"{len(api['amplitudes'])} probes, {na} above the limit "
+        + (
+            "(with the API 617 unbalance)"
+            if api["unbalance"]["basis"] == "api617"
+            else "(with the model's unbalance)"
+        ),
     )
-    return out

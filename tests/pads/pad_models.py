@@ -1,0 +1,124 @@
+"""Small models with tilting-pad bearings for the pad-dynamics tests (issue 24)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from gearrotor.io import load_model
+from gearrotor.model import Train
+
+#: 4 pads, load between pads, D = 100 mm, L = 50 mm: a coarse grid keeps each film solve ~ms
+BEARING = """
+[bearing]
+name = "test 4-pad"
+type = "tilting_pad"
+diameter = "100 mm"
+length = "50 mm"
+clearance = "80 um"
+pivots = ["45 deg", "135 deg", "225 deg", "315 deg"]
+arc = "70 deg"
+preload = 0.3
+offset = 0.5
+pad_inertia = "{inertia} kg*m^2"
+pad_mass = "0.4 kg"
+pad_thickness = "15 mm"
+viscosity = "0.02 Pa*s"
+{pivot}
+[bearing.grid]
+n_theta = 16
+n_z = 4
+
+[[bearing.loads]]
+fx = 0.0
+fy = "-2500 N"
+"""
+
+#: a 0.8 m shaft with a 60 kg disk between two identical tilting-pad bearings, unbalanced
+MODEL = """
+speed = "{speed} rpm"
+[materials.steel]
+E = "206 GPa"
+poisson = 0.3
+density = "7850 kg/m^3"
+[[shafts]]
+name = "rotor"
+material = "steel"
+sections = [{{ length = "0.8 m", outer_diameter = "0.1 m", elements = 6 }}]
+disks = [{{ node = 3, mass = "60 kg", polar = "1.2 kg*m^2", transverse = "0.7 kg*m^2" }}]
+[[bearings]]
+name = "left"
+shaft = "rotor"
+node = 0
+fluid_film.file = "pad.toml"
+fluid_film.speeds = ["3000 rpm", "6000 rpm", "9000 rpm"]
+fluid_film.pad_dynamics = {pads}
+[[bearings]]
+name = "right"
+shaft = "rotor"
+node = 6
+fluid_film.file = "pad.toml"
+fluid_film.speeds = ["3000 rpm", "6000 rpm", "9000 rpm"]
+fluid_film.pad_dynamics = {pads}
+[[unbalances]]
+shaft = "rotor"
+node = 3
+amount = "500 g*mm"
+[[probes]]
+name = "disk"
+shaft = "rotor"
+node = 3
+angle = "0 deg"
+"""
+
+
+def write(tmp_path, *, speed=6000, pads=True, inertia=2e-4, pivot=None) -> Train:
+    """The model (in ``tmp_path``) with pad dynamics on or off; ``pivot``: pivot stiffness in
+    N/m (None: rigid pivots)."""
+    piv = "" if pivot is None else f'pivot_stiffness = "{pivot} N/m"'
+    (tmp_path / "pad.toml").write_text(BEARING.format(inertia=inertia, pivot=piv))
+    p = tmp_path / "m.toml"
+    p.write_text(MODEL.format(speed=speed, pads=str(pads).lower()))
+    return load_model(p)
+
+
+def reduced_at(train: Train, asm, whirl: float) -> Train:
+    """The same train with every pad-dynamics bearing replaced by constant coefficients: its
+    pad model condensed at ``whirl`` (rad/s) at the model's speed."""
+    data = train.model_dump()
+    bearings = []
+    for b, info in zip(data["bearings"], asm.bearings, strict=True):
+        speed = abs(asm.shaft_speeds(train.speed)[info.shaft])
+        k, c = info.element.pads.reduced(speed, whirl)
+        # a one-row table held at every speed (constants may not have a negative direct
+        # stiffness, which the pads' reduction gives at high whirl frequencies)
+        table = {"speed": [speed], "extrapolate": "hold"}
+        for i, n in enumerate(("xx", "xy", "yx", "yy")):
+            table["k" + n] = [float(k.ravel()[i])]
+            table["c" + n] = [float(c.ravel()[i])]
+        bearings.append({**b, "fluid_film": None, "table": table})
+    data["bearings"] = bearings
+    return Train.model_validate(data)
+
+
+def rotor_impedance(asm, s: complex, speed: float) -> np.ndarray:
+    """Impedance of the shafts' DOFs at Laplace variable s with every pad bearing condensed at s
+    (``Z_r(s)``, Lund's pad assembly): the characteristic matrix whose singularity gives the pad
+    model's eigenvalues."""
+    from gearrotor.elements import condense
+
+    M, C, G, K = asm.matrices(speed)
+    Z = (s * s * M + s * (C + G) + K).toarray().astype(complex)
+    keep = np.setdiff1d(np.arange(asm.n_dof), asm.pad_dofs)
+    for b in asm.bearings:  # remove the pad model's own scatter, add the condensed one
+        if b.pad_dofs is None:
+            continue
+        d, T = b.local()
+        w = asm.shaft_speeds(speed)[b.shaft]
+        kf, cf = b.element.pads.at(w)
+        mf = b.element.pads.M
+        Z[np.ix_(d, d)] -= T.T @ (kf + s * cf + s * s * mf) @ T
+        zr = condense(kf, cf, mf, s)
+        jd = d[: len(d) - len(b.pad_dofs)]
+        Tj = T[:2, : len(jd)]
+        Z[np.ix_(jd, jd)] += Tj.T @ zr @ Tj
+    return Z[np.ix_(keep, keep)], keep
