@@ -8,8 +8,8 @@ Reproduces section 7 of ``docs/examples/steam_turbine_gearbox.md``:
    q = 5.68e7 N/m at the coupling hub; forward lateral modes below 3x running speed need
    log dec >= 0.1) at the operating points LC1..LC10 (computed journal loads, meshes on the
    loaded flank), at 10,800 and 11,340 rpm, for the original 2-lobe bearings, the 3-lobe
-   pressure-dam redesign and SPEC's min-clearance variant; the redesign also without the
-   destabiliser. These are the numbers ``gearrotor stability ... --operating-point LCk``
+   pressure-dam redesign, SPEC's min-clearance variant and the 0.10 mm dam the search below
+   found; the redesign also without the destabiliser. These are the numbers ``gearrotor stability ... --operating-point LCk``
    prints (the same functions, the same speeds).
 2. ``--search``: variants of the redesign (one change at a time, then combinations) at LC1
    (light load: the conical whirl) and LC10 (rated load: the pinion's bending mode), and the
@@ -55,6 +55,7 @@ DESIGNS = {
     "original": BEARINGS / "pinion_offset_halves.toml",
     "redesign": BEARINGS / "pinion_3lobe_dam.toml",
     "min clearance": BEARINGS / "pinion_3lobe_dam_minclearance.toml",
+    "0.10 mm dam": BEARINGS / "pinion_3lobe_dam_shallow.toml",  # the search's result
 }
 
 # The redesign's design space (SPEC 6.2 names 3-lobe pressure-dam variants: preload,
@@ -219,11 +220,7 @@ def main() -> None:
                 fine = variant_file(VARIANTS[name] | FINE_GRID, Path(tmp), name + " fine")
                 out["search_fine_grid"][name] = audit(fine, ("LC1", "LC10"))
                 print(name, "fine grid:", out["search_fine_grid"][name])
-    shown = dict(out["designs"])
-    if out.get("search_full"):  # the first variant that passes everywhere
-        name, rows = next(iter(out["search_full"].items()))
-        shown[f"redesign with {name}"] = rows
-    figure(shown, args.figures / "steam_turbine_level2_load_cases.png")
+    figure(out["designs"], args.figures / "steam_turbine_level2_load_cases.png")
     out["run_time_s"] = time.time() - t0
     args.json.parent.mkdir(parents=True, exist_ok=True)
     args.json.write_text(json.dumps(out, indent=1))
