@@ -439,3 +439,22 @@ def test_level1_against_ross():
     for q, d in zip(ROSS_Q[1:], ROSS_LOG_DEC[1:], strict=True):
         rq = level1(t, qa=q, at=[("s", 3)], n_curve=0)
         assert rq.log_dec_at_qa == pytest.approx(d, rel=1e-8)
+
+
+def test_continuation_cost_is_bounded(monkeypatch):
+    """Where no mode matches clearly at any step (forced here), the continuation halves each step
+    at most MAX_HALVINGS times and stops halving after SOLVE_BUDGET solves: the cost stays
+    bounded (without the budget the halvings of every sub-step would compound)."""
+    from gearrotor.analyses import stability
+
+    real = stability._Follower._match
+
+    def never_clear(self, qa, qb, res, last):
+        return real(self, qa, qb, res, last) if last else None
+
+    monkeypatch.setattr(stability._Follower, "_match", never_clear)
+    r = level1(jeffcott(), qa=Q_ONSET / 3, at=[("s", 2)], n_curve=0)
+    assert (
+        stability.MAX_HALVINGS < r.n_solves <= stability.SOLVE_BUDGET + 4 * stability.MAX_HALVINGS
+    )
+    assert r.threshold_q == pytest.approx(Q_ONSET, rel=1e-3)  # the nearest eigenvalue is right

@@ -52,6 +52,7 @@ node = 0
 fluid_film.file = "pad.toml"
 fluid_film.speeds = ["3000 rpm", "6000 rpm", "9000 rpm"]
 fluid_film.pad_dynamics = {pads}
+{extra}
 [[bearings]]
 name = "right"
 shaft = "rotor"
@@ -59,10 +60,8 @@ node = 6
 fluid_film.file = "pad.toml"
 fluid_film.speeds = ["3000 rpm", "6000 rpm", "9000 rpm"]
 fluid_film.pad_dynamics = {pads}
-[[unbalances]]
-shaft = "rotor"
-node = 3
-amount = "500 g*mm"
+{extra}
+{unbalance}
 [[probes]]
 name = "disk"
 shaft = "rotor"
@@ -71,13 +70,30 @@ angle = "0 deg"
 """
 
 
-def write(tmp_path, *, speed=6000, pads=True, inertia=2e-4, pivot=None) -> Train:
+UNBALANCE = """[[unbalances]]
+shaft = "rotor"
+node = 3
+amount = "500 g*mm"
+"""
+
+
+def write(
+    tmp_path, *, speed=6000, pads=True, inertia=2e-4, pivot=None, extra="", unbalance=True
+) -> Train:
     """The model (in ``tmp_path``) with pad dynamics on or off; ``pivot``: pivot stiffness in
-    N/m (None: rigid pivots)."""
+    N/m in the bearing file (None: rigid pivots); ``extra``: more ``fluid_film.*`` lines of
+    both bearings (the model's pad overrides)."""
     piv = "" if pivot is None else f'pivot_stiffness = "{pivot} N/m"'
     (tmp_path / "pad.toml").write_text(BEARING.format(inertia=inertia, pivot=piv))
     p = tmp_path / "m.toml"
-    p.write_text(MODEL.format(speed=speed, pads=str(pads).lower()))
+    p.write_text(
+        MODEL.format(
+            speed=speed,
+            pads=str(pads).lower(),
+            extra=extra,
+            unbalance=UNBALANCE if unbalance else "",
+        )
+    )
     return load_model(p)
 
 

@@ -71,6 +71,12 @@ def test_page_has_the_section_with_inline_figures(report):
     page = report.html.read_text(encoding="utf-8")
     assert "<section id='torsional'>" in page
     assert "Interference diagram" in page and "Torsional modes" in page
+    # what the mesh damping_ratio refers to, and where each mode's damping comes from (as
+    # `torsional modes` says it)
+    assert "is the mesh damper&#x27;s ζ on its mesh mode" in page or (
+        "is the mesh damper's ζ on its mesh mode" in page
+    )
+    assert "damped mostly by" in page
     # the section's figures inline (data URIs), nothing to fetch (other sections link theirs)
     section = page[page.index("<section id='torsional'>") :]
     section = section[: section.index("</section>")]

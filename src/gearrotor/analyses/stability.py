@@ -140,7 +140,8 @@ RATIO_MIN = 2.0  # Level I: Q_0 / Q_A
 RATIO_SCREEN = 10.0  # Level I: the screening chart applies below this Q_0 / Q_A
 MAC_MIN = 0.9  # continuation: least shape correlation of the followed mode between two Q
 MAC_MIN_GAP = 0.2  # ... and by how much it must beat the runner-up
-MAX_HALVINGS = 16  # continuation: step halvings before a tie is taken as a degeneracy
+MAX_HALVINGS = 12  # continuation: step halvings before a tie is taken as a degeneracy
+SOLVE_BUDGET = 200  # eigen-solves of one Level I after which every tie is taken so
 START_FRACTION = 1e-3  # × Q_A: the small Q that splits a degenerate first forward mode
 TIE = 1e-6  # relative: a shaft moving as much as the most moved one, to round-off
 FIRST_MODE_REACH = (2.0, 4.0, 8.0)  # × the window: where the first forward mode is sought
@@ -411,6 +412,7 @@ class Level1Result:
     curve_least_log_dec: NDArray = field(default_factory=lambda: np.zeros(0))
     least_log_dec_at_qa: float | None = None  # least of every forward lateral mode at Q_A
     mode_changes: tuple[dict, ...] = ()  # where the followed mode's character changes
+    unresolved_steps: int = 0  # continuation steps taken by the nearest eigenvalue after a tie
 
     @property
     def ratio(self) -> float | None:
@@ -450,6 +452,7 @@ class Level1Result:
             "verdict": self.verdict,
             "excluded": self.excluded,
             "n_solves": self.n_solves,
+            "unresolved_steps": self.unresolved_steps,
             "rtol": self.rtol,
             "curve": {
                 "q_N_per_m": [float(v) for v in self.curve_q],
@@ -886,7 +889,7 @@ class _Follower:
         is ambiguous."""
         prev = self.points[qa]
         res = self._solve(qb, max(2.0 * self.window, 3.0 * abs(prev.eigenvalue)))
-        k = self._match(qa, qb, res, depth >= MAX_HALVINGS)
+        k = self._match(qa, qb, res, depth >= MAX_HALVINGS or self.n_solves >= SOLVE_BUDGET)
         if k is not None:
             self._store(qb, res, k, depth)
             return
@@ -1171,6 +1174,7 @@ def level1(
         curve_least_log_dec=curve_least,
         least_log_dec_at_qa=pa.least_log_dec,
         mode_changes=tuple(changes),
+        unresolved_steps=f.n_unresolved,
     )
 
 

@@ -76,19 +76,30 @@ def resolve_operating_point(train: Train, operating_point) -> OperatingPoint:
 
 
 @functools.lru_cache(maxsize=32)
-def _bearing_case(file: str, mtime_ns: int):
+def _bearing_case(file: str, mtime_ns: int, pivot_stiffness: float | None = None):
     from ...bearings import load_bearing
 
-    return load_bearing(file)
+    case = load_bearing(file)
+    if pivot_stiffness is not None and hasattr(case.bearing.pads[0], "pivot_stiffness"):
+        # the model's pivot stiffness (fluid_film.pivot_stiffness) replaces the file's
+        pads = tuple(replace(p, pivot_stiffness=pivot_stiffness) for p in case.bearing.pads)
+        case = replace(case, bearing=replace(case.bearing, pads=pads))
+    return case
 
 
-def _case(file: str):
+def _case(file: str, pivot_stiffness: float | None = None):
     p = Path(file)
-    return _bearing_case(file, p.stat().st_mtime_ns if p.exists() else 0)
+    return _bearing_case(file, p.stat().st_mtime_ns if p.exists() else 0, pivot_stiffness)
 
 
 def journal_equilibrium(
-    file: str, load: tuple[float, float], speed: float, start=None, *, stiffness: bool = True
+    file: str,
+    load: tuple[float, float],
+    speed: float,
+    start=None,
+    *,
+    stiffness: bool = True,
+    pivot_stiffness: float | None = None,
 ):
     """Equilibrium and static stiffness of the bearing of ``file`` under ``load`` (N) at
     ``speed`` (rad/s, signed), cached by value (file version, load, speed):
@@ -97,11 +108,11 @@ def journal_equilibrium(
     statically determinate shaft it does not matter at all); it is computed when none is."""
     from ...bearings import equilibrium, static_stiffness
 
-    case = _case(file)
+    case = _case(file, pivot_stiffness)
     p = Path(file)
     version = p.stat().st_mtime_ns if p.exists() else 0  # an edited bearing file is re-solved
-    key = (file, version, float(load[0]), float(load[1]), float(speed))
-    last = (file, version, float(speed))
+    key = (file, version, float(load[0]), float(load[1]), float(speed), pivot_stiffness)
+    last = (file, version, float(speed), pivot_stiffness)
     hit = _JOURNAL_CACHE.get(key)
     if hit is None:
         if start is None:  # warm start from the last journal solved for this bearing and speed
@@ -275,6 +286,11 @@ def static(
 
     # --- stiffness without meshes, destabilisers and fluid-film journals ---------------------
     K = asm.K0.toarray()
+    pads = asm.pad_dofs
+    if len(pads):
+        # tilting pads with pad dynamics: their DOFs are measured from the pads' equilibrium at
+        # the journal's static position, so they are 0 in the static state (a unit spring)
+        K[pads, pads] += max(float(np.max(np.abs(np.diag(K)))), 1.0)
     for k, q in enumerate(train.cross_couplings):
         si, node = train.node_index(q, f"cross_couplings[{k}]")
         d = asm.node_offset[si][node] + np.arange(2)
@@ -522,7 +538,12 @@ def _solve_journal(k, spec, info, load, speed, start, exact):
     name = f"{info.name} (bearings[{k}])"
     try:
         eq, Kb = journal_equilibrium(
-            file, (float(load[0]), float(load[1])), speed, start, stiffness=exact
+            file,
+            (float(load[0]), float(load[1])),
+            speed,
+            start,
+            stiffness=exact,
+            pivot_stiffness=spec.fluid_film.pivot_stiffness,
         )
     except SolverError:
         raise ModelError(

@@ -14,9 +14,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...assembly import assemble
+from ...assembly import _film_case, assemble
 from ...model import OperatingPoint, Train
-from .analysis import _case, resolve_operating_point, static
+from .analysis import resolve_operating_point, static
 
 __all__ = ["at_operating_point", "model_at_operating_point"]
 
@@ -72,9 +72,27 @@ def at_operating_point(
     bearings = [b.model_dump() for b in train.bearings]
     for k in films:
         spec = train.bearings[k]
-        case = _case(spec.fluid_film.file)
+        ff = spec.fluid_film
+        # the bearing with the model's pad overrides (pad inertia, mass, pivot stiffness)
+        case = _film_case(
+            ff.file, (ff.pad_inertia, ff.pad_mass, ff.pivot_stiffness), f"bearings[{k}]", False
+        )
         si = train.shaft_index(spec.shaft, "")
         ratio = layout.shafts[si].speed_ratio
+        if spec.fluid_film.pad_dynamics:
+            # pads carried into the train: the film solved again (cached) at each speed's static
+            # load, its full coefficients tabulated by the assembly
+            loads = {abs(ratio * w): tuple(results[w].journals[k].load) for w in plan[k]}
+            speed = sorted(loads)
+            ff = {
+                **spec.fluid_film.model_dump(),
+                "speeds": speed,
+                "load": None,
+                "loads": [loads[v] for v in speed],
+            }
+            hold = "hold" if len(speed) == 1 else spec.extrapolate
+            bearings[k] = {**bearings[k], "fluid_film": ff, "extrapolate": hold}
+            continue
         rows = {}
         for w in plan[k]:
             eq = results[w].journals[k]

@@ -132,7 +132,7 @@ class TorsionalModes:
                 "rigid_body": bool(self.rigid_body[i]),
                 "max_stress_element": self._stress_entry(i),
             }
-            d["damping_sources"] = self._sources(i)
+            d["damping_sources"] = self.sources(i)
             if shapes:
                 d["shape"] = self.shaft_twist(i)
             modes.append(d)
@@ -144,7 +144,7 @@ class TorsionalModes:
             "mesh_damping": [dict(m) for m in self.mesh_modes],
         }
 
-    def _sources(self, i: int) -> dict[str, float]:
+    def sources(self, i: int) -> dict[str, float]:
         """{source: ζ it alone gives mode i}, largest first, sources below 1e-6 left out."""
         if self.damping_sources is None or self.rigid_body[i]:
             return {}
@@ -175,7 +175,7 @@ class TorsionalModes:
         rows = [head, "-" * len(head)]
         labels = self.model.element_labels()
         for i in range(len(self)):
-            src = self._sources(i)
+            src = self.sources(i)
             by = next(iter(src), "-") if src else "-"
             if self.rigid_body[i]:
                 note = "rigid-body rotation"

@@ -83,7 +83,14 @@ def transient_at_operating_point(model: Train | Assembly, operating_point) -> tu
         d = st.q[info.dofs].copy()
         if info.support_dofs is not None:
             d -= st.q[info.support_dofs]
-        kb = info.element.K(asm.shaft_speeds(w)[info.shaft])
+        if info.pad_dofs is not None:
+            # pad dynamics: the full matrices; the pads sit at their equilibrium for the static
+            # journal position (pad DOFs 0 in the static state), so they carry K_pj d_s
+            kf = info.element.pads.at(asm.shaft_speeds(w)[info.shaft])[0]
+            kb = kf[:2, :2]
+            f[info.pad_dofs] += kf[2:, :2] @ d
+        else:
+            kb = info.element.K(asm.shaft_speeds(w)[info.shaft])
         # a journal: −W_s + K d_s; a seal (no static load: analyses/static) K d_s, so that it
         # acts on the motion about the static state
         g = kb @ d - (st.bearings[k].force[:2] if spec is not None else 0.0)

@@ -35,7 +35,11 @@ The gear mesh is *not* in K: its force is ``−F w`` on the 12 DOFs of the two g
 ``F = k(φ_m) h(δ − e(φ_m)) + c (δ̇ − ė)`` (damping only in contact), see :mod:`.mesh`.
 Speed-dependent bearings (coefficient tables) are applied as forces with the coefficients at the
 shaft's instantaneous speed; constant bearings, couplings, thrust bearings and cross-coupling
-stay in K and C.
+stay in K and C. Tilting-pad bearings with pad dynamics (:class:`~gearrotor.elements.PadBearing`)
+are linearised at the operating point: their full film matrices at the nominal shaft speed are in
+K and C over the journal, the housing and the pad DOFs, and the pads' inertia is in M, so the pad
+equations are integrated with the rotor (the nonlinear film, and coefficients that follow the
+instantaneous speed, are a later step).
 
 The shafts' material damping is in C. The circulatory stiffness of rotating (internal) material
 damping, Σ_s Ω_s Kc_s, is in K at the *nominal* shaft speeds (not at the instantaneous Ω_s(t),
@@ -58,7 +62,7 @@ import scipy.sparse as sp
 from numpy.typing import NDArray
 from scipy.sparse.csgraph import connected_components
 
-from ...assembly import Assembly, assemble
+from ...assembly import Assembly, _Triplets, assemble
 from ...errors import ModelError
 from ...model import Train
 from ..torsional.drive_laws import check_transient_supports
@@ -221,6 +225,13 @@ def build_system(
         C[np.ix_(m.dofs, m.dofs)] = C[np.ix_(m.dofs, m.dofs)].toarray() - m.damping * ww
     K = sp.csr_array(K)
     C = sp.csr_array(C)
+    # tilting pads with pad dynamics: full matrices at the nominal speed (module docstring)
+    Kp, Cp = _Triplets(), _Triplets()
+    for b in asm.bearings:
+        if b.pad_dofs is not None:
+            b.scatter(Kp, Cp, speeds[b.shaft])
+    K = K + Kp.csr(n_all)
+    C = C + Cp.csr(n_all)
     # round-off of the subtraction: drop entries far below the matrix scale
     for A in (K, C):
         if A.nnz:
@@ -256,8 +267,7 @@ def build_system(
         link(nz)
         forced[nz] = True
     for b in asm.bearings:
-        d = b.dofs if b.support_dofs is None else np.concatenate([b.dofs, b.support_dofs])
-        link(d)
+        link(b.local()[0])
     unb = []
     for k, u in enumerate(train.unbalances):
         si, node = train.node_index(u, f"unbalances[{k}]")
@@ -363,7 +373,9 @@ def build_system(
         torque_dof=np.array([pos[d] for d in tq], int),
         bearing_dofs=np.array(brg, int).reshape(-1, 4),
         bearing_shaft=np.array([b.shaft for b in asm.bearings], int),
-        bearing_dynamic=np.array([b.element.speed_dependent for b in asm.bearings], bool),
+        bearing_dynamic=np.array(
+            [b.element.speed_dependent and b.pad_dofs is None for b in asm.bearings], bool
+        ),
         reactions=reactions,
         constant_force=None if constant_force is None else constant_force[active],
         bearing_preload=None if bearing_preload is None else np.asarray(bearing_preload, float),

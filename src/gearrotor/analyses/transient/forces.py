@@ -42,10 +42,8 @@ def _output_dofs(system: TransientSystem, full_state: bool) -> NDArray:
     glob = []
     for m in asm.meshes:
         glob.extend(m.dofs)
-    for b in asm.bearings:
-        glob.extend(b.dofs)
-        if b.support_dofs is not None:
-            glob.extend(b.support_dofs)
+    for b in asm.bearings:  # journal, pedestal and pad DOFs
+        glob.extend(b.local()[0])
     for group, prefix in (
         (train.unbalances, "unbalances"),
         (train.probes, "probes"),

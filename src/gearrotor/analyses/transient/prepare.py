@@ -20,7 +20,13 @@ from .equations import TransientSystem
 from .forces import _drive_laws, _force_dofs, _pack_forces
 from .kernels import etd_coefficients
 from .options import RK4, ModalRK4, excitation_frequency
-from .reduction import _harmonic_error, _harmonic_shapes, _modal_basis, _static_shapes
+from .reduction import (
+    _harmonic_error,
+    _harmonic_shapes,
+    _modal_basis,
+    _static_shapes,
+    basis_stiffness,
+)
 from .step_limits import _etd_unstable, _linearised, _rk4_step_limit, _unstable_step
 
 
@@ -178,13 +184,43 @@ def _prepare_physical(system: TransientSystem, integ: RK4, out: NDArray, frozen:
     )
 
 
+def _linear_growth(Phi: NDArray, K: NDArray, CG: NDArray, M: NDArray | None = None) -> float:
+    """Largest growth rate (1/s) of the linear model projected on Φ (M-orthonormal; ``M``
+    given: the full model, Φ = I) beyond round-off (1e-7 of the largest |λ|), else 0."""
+    Kr, Cr = Phi.T @ K @ Phi, Phi.T @ CG @ Phi
+    m = Kr.shape[0]
+    if M is not None:
+        Kr, Cr = la.solve(M, Kr), la.solve(M, Cr)
+    A = np.block([[np.zeros((m, m)), np.eye(m)], [-Kr, -Cr]])
+    with thread_limit(2 * m, "eig"):
+        lam = la.eigvals(A)
+    g = float(lam.real.max())
+    return g if g > 1e-7 * float(np.abs(lam).max()) else 0.0
+
+
+def _pad_shapes(system: TransientSystem) -> NDArray:
+    """Unit vectors (n, k) on the active pad DOFs and the journals of the bearings with pad
+    dynamics (none without them)."""
+    cols = []
+    for b in system.assembly.bearings:
+        if b.pad_dofs is None:
+            continue
+        for g in b.local()[0]:
+            i = system.index(int(g))
+            if i >= 0:
+                e = np.zeros(system.n)
+                e[i] = 1.0
+                cols.append(e)
+    return np.array(cols).T.reshape(system.n, -1)
+
+
 def _prepare_modal(
     system: TransientSystem, integ: ModalRK4, out: NDArray, save_dt: float | None = None
 ) -> _Prepared:
     M, K, C = system.linear_matrices()
     # modes of the symmetric part of K; its skew part (cross-coupled bearings and seals) acts
     # as a force on its few DOFs (kernel: k_idx, k_skew)
-    Ks = 0.5 * (K + K.T)
+    Ks = basis_stiffness(system, K)  # 0.5 (K + Kᵀ), pad blocks made semidefinite
     Ka = K - Ks
     with thread_limit(len(M), "eigh"):
         w2, V = la.eigh(Ks, M)
@@ -225,25 +261,46 @@ def _prepare_modal(
     # drives and loads get static correction shapes as the external torques do
     torqued = replace(system, torque_dof=np.concatenate([system.torque_dof, l_dof]))
     shapes = _static_shapes(torqued, M, K) if static else np.zeros((system.n, 0))
+    pad_shapes = _pad_shapes(system)
+    if pad_shapes.shape[1]:
+        # tilting pads with pad dynamics: every pad coordinate in the basis (a few DOFs per
+        # bearing), so that the pads' film coupling, much of it one-sided (K − Ks), is carried
+        # whole and not through truncated modes
+        shapes = np.hstack([shapes, pad_shapes])
     Phi, w2r = _modal_basis(M, Ks, V, w2, wcut, separated, shapes)
-    check = _harmonic_error(system, M, K, C, Phi, w2r, out)
+    check = _harmonic_error(system, M, K, C, Phi, w2r, out, Ka)
     if integ.cutoff is None and check > integ.tolerance:
         # the modes above the cut-off carry part of the 1x response (their quasi-static
         # compliance, heavily damped bearings): add the full model's 1x response shapes
         # before raising the cut-off (issue 16: 173 → 65 modes for the compressor example)
         shapes = np.hstack([shapes, _harmonic_shapes(system, M, K, C)])
         Phi, w2r = _modal_basis(M, Ks, V, w2, wcut, separated, shapes)
-        check = _harmonic_error(system, M, K, C, Phi, w2r, out)
+        check = _harmonic_error(system, M, K, C, Phi, w2r, out, Ka)
     while integ.cutoff is None and check > integ.tolerance and wcut < om_all.max():
         wcut *= 1.25
         Phi, w2r = _modal_basis(M, Ks, V, w2, wcut, separated, shapes)
-        check = _harmonic_error(system, M, K, C, Phi, w2r, out)
+        check = _harmonic_error(system, M, K, C, Phi, w2r, out, Ka)
     if integ.cutoff is None and check > integ.tolerance:
         raise SolverError(
             f"the modal reduction cannot reach the requested 1x accuracy: with every mode "
             f"kept the reduced model's linear unbalance response is {check:.3g} off the full "
             f"model's (tolerance {integ.tolerance:g}); use the RK4 method"
         )
+    if pad_shapes.shape[1]:
+        # with pad dynamics much of the stiffness is one-sided (K − Ks): a truncated basis may
+        # turn it into a growing mode the full model does not have; raise the cut-off until
+        # the reduced linear model is as stable as the full one
+        full = None
+        while (grow := _linear_growth(Phi, K, C + system.gyroscopic())) > 0.0:
+            if full is None:
+                full = _linear_growth(np.eye(system.n), K, C + system.gyroscopic(), M)
+            if full > 0.0 or integ.cutoff is not None or wcut >= om_all.max():
+                break
+            wcut *= 1.25
+            Phi, w2r = _modal_basis(M, Ks, V, w2, wcut, separated, shapes)
+        else:
+            grow = 0.0
+        check = _harmonic_error(system, M, K, C, Phi, w2r, out, Ka)
     lam = np.clip(w2r, 0.0, None)
     om = np.sqrt(lam)
     lam[om < 1e-6 * max(om.max(), 1.0)] = 0.0  # rigid-body modes exactly

@@ -11,6 +11,29 @@ from numpy.typing import NDArray
 from ...errors import ModelError
 
 
+def basis_stiffness(system, K: NDArray) -> NDArray:
+    """The symmetric stiffness the modal basis is built from (its remainder ``K − Ks`` acts as
+    a force on its few DOFs): the symmetric part of K, except on the tilting pads with pad
+    dynamics, whose symmetric film block is indefinite (the Couette terms couple the journal
+    and the pad tilts one-sidedly) and is replaced by its positive semidefinite part (negative
+    eigenvalues of the block set to 0). A basis from an indefinite Ks would have modes of
+    negative ω², which the reduced model cannot keep as oscillators."""
+    Ks = 0.5 * (K + K.T)
+    asm = system.assembly
+    for b in asm.bearings:
+        if b.pad_dofs is None:
+            continue
+        d, T = b.local()
+        idx = np.array([system.index(int(g)) for g in d])
+        on = idx >= 0
+        kf = b.element.pads.at(system.nominal_speeds[b.shaft])[0]
+        S = 0.5 * (kf + kf.T)
+        mu, V = la.eigh(S)
+        A = T.T @ ((V * np.clip(mu, 0.0, None)) @ V.T - S) @ T
+        Ks[np.ix_(idx[on], idx[on])] += A[np.ix_(on, on)]
+    return Ks
+
+
 def _static_shapes(system, M, K) -> NDArray:
     """Static correction shapes (n, k): the deflection, in the frame of the train's rigid
     rotation, under each mesh's unit normal force pattern w and each external torque."""
@@ -113,7 +136,7 @@ def _harmonic_shapes(system, M, K, C) -> NDArray:
     return np.array(cols).T.reshape(system.n, -1)
 
 
-def _harmonic_error(system, M, K, C, Phi, w2r, out) -> float:
+def _harmonic_error(system, M, K, C, Phi, w2r, out, Ka=None) -> float:
     """Largest relative error of the reduced model's linear 1x unbalance response at the
     recorded lateral DOFs (per distinct shaft speed), against the full model."""
     kind = system.assembly.dof_kind()[system.active]
@@ -126,7 +149,7 @@ def _harmonic_error(system, M, K, C, Phi, w2r, out) -> float:
         X = Xf[obs]
         A = (
             np.diag(w2r)
-            + Phi.T @ (0.5 * (K - K.T)) @ Phi
+            + Phi.T @ (0.5 * (K - K.T) if Ka is None else Ka) @ Phi
             - w**2 * np.eye(len(w2r))
             + 1j * w * (Phi.T @ (C + G) @ Phi)
         )

@@ -576,6 +576,18 @@ def build_result(
     bforce = np.zeros((nt, len(asm.bearings), 2))
     for j, b in enumerate(asm.bearings):
         el = b.element
+        if b.pad_dofs is not None:  # pad dynamics: the full matrices at the nominal speed
+            d, T = b.local()
+            k, c = el.pads.at(system.nominal_speeds[b.shaft])
+            qd = np.column_stack([hist(rq, g) for g in d])
+            vd = np.column_stack([hist(rv, g) for g in d])
+            f = -(qd @ (k @ T).T + vd @ (c @ T).T)[:, :2]
+            if system.bearing_preload is not None:
+                f = f + system.bearing_preload[j]
+            bforce[:, j] = f
+            whirl_names.append(f"bearing:{b.name}")
+            whirl.append(f[:, 0] * hist(rv, b.dofs[0]) + f[:, 1] * hist(rv, b.dofs[1]))
+            continue
         if el.speed_dependent:
             sp_ = np.abs(rom[:, b.shaft])
             c = np.column_stack(

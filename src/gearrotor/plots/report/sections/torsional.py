@@ -178,19 +178,22 @@ def _modes_html(modes) -> str:
         f"<p>Torsional model: {modes.model.n} DOF, {modes.model.mesh} meshes; modes hold at "
         "every speed (no speed-dependent term acts in torsion).</p>",
         "<h3>Torsional modes</h3><table><tr><th>#</th><th>frequency (Hz)</th>"
-        "<th>frequency (cpm)</th><th>damping ratio</th><th class='l'>largest stress</th></tr>",
+        "<th>frequency (cpm)</th><th>damping ratio</th><th class='l'>damped mostly by</th>"
+        "<th class='l'>largest stress</th></tr>",
     ]
     for i in range(min(len(modes), 10)):
         if modes.rigid_body[i]:
             note = "rigid-body rotation"
         else:
             note = labels[int(modes.max_stress_element[i])]
+        by = next(iter(modes.sources(i)), "–")
         rows.append(
             f"<tr><td>{i}</td><td>{modes.frequency_hz[i]:.2f}</td>"
             f"<td>{modes.frequency_rpm[i]:.0f}</td><td>{modes.damping_ratio[i]:.4f}</td>"
-            f"<td class='l'>{_e(note)}</td></tr>"
+            f"<td class='l'>{_e(by)}</td><td class='l'>{_e(note)}</td></tr>"
         )
     rows.append("</table>")
+    rows.extend(f"<p>{_e(line)}</p>" for line in modes.mesh_mode_notes())
     return "\n".join(rows)
 
 
