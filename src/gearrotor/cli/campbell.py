@@ -28,6 +28,7 @@ from .options import (
     sweep_at_operating_point,
     sweep_range,
 )
+from .progress import current
 
 __all__ = ["campbell_command", "parse_orders"]
 
@@ -109,6 +110,7 @@ def campbell_command(
             max_frequency=fmax,
             extra_orders=extra,
             operating_point=operating_point,
+            progress=current(),
         )
     if format == "json":
         typer.echo(json.dumps(res.to_dict(), indent=1))

@@ -25,6 +25,7 @@ __all__ = [
     "FormatOpt",
     "OperatingPointOpt",
     "SetOpt",
+    "ProgressOpt",
     "ThreadsOpt",
     "check_format",
     "check_operating_point",
@@ -165,6 +166,16 @@ def sweep_at_operating_point(train, name: str | None):
             f'the torque (operating_points[{k}].hold = "torque")',
             file=exc.file,
         ) from None
+
+
+ProgressOpt = Annotated[
+    bool | None,
+    typer.Option(
+        "--progress/--no-progress",
+        help="progress on stderr (default: when stderr is a terminal, for work over a second)",
+        show_default=False,
+    ),
+]
 
 
 def check_format(fmt: str) -> None:
