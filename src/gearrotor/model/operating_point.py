@@ -101,9 +101,7 @@ class OperatingPoint(Spec):
         _bounded(MAX_POWER, "W", "fifty times the largest turbine-generator sets (2 GW)")
     )
     _torque = field_validator("torque")(
-        _bounded(
-            MAX_TORQUE, "N*m", "a hundred times a 100 MW ship's shaft at 90 rpm (1.1e7 N*m)"
-        )
+        _bounded(MAX_TORQUE, "N*m", "a hundred times a 100 MW ship's shaft at 90 rpm (1.1e7 N*m)")
     )
     _gravity = field_validator("gravity_acceleration")(
         _bounded(
