@@ -25,6 +25,7 @@ from .options import (
     option_fields,
     rpm,
     speed_grid,
+    sweep_at_operating_point,
     sweep_range,
 )
 from .progress import current
@@ -99,7 +100,10 @@ def campbell_command(
     speeds = speed_grid(lo, hi, n_speeds, "--min-speed/--max-speed")
     fmax = (max_frequency if max_frequency is not None else 3 * hi) * RPM
     extra = parse_orders(orders)
-    with option_fields(max_frequency="--max-frequency"):
+    with (
+        option_fields(max_frequency="--max-frequency"),
+        sweep_at_operating_point(train, operating_point),
+    ):
         res = run_campbell(
             train,
             speeds=speeds,
