@@ -50,6 +50,7 @@ from .bearing import bearing_cli
 from .campbell import campbell_command
 from .errors import EXIT_CODES_HELP, OneLineGroup, cli_errors
 from .floquet import floquet_command
+from .mesh import mesh_command
 from .modal import modal_command
 from .options import ThreadsOpt
 from .report import report_command
@@ -151,6 +152,7 @@ _command("unbalance", unbalance_command)
 _command("static", static_command)
 _command("bearing", bearing_cli)
 _command("seal", seal_command)
+_command("mesh", mesh_command)
 _command("transient", transient_command)
 _command("transient-plot", plot_command)
 _command("report", report_command)
