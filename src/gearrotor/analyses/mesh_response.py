@@ -235,6 +235,51 @@ def _ellipse_major(X: NDArray, Y: NDArray) -> NDArray:
     return np.sqrt(0.5 * (a2 + np.abs(X**2 + Y**2)))
 
 
+@dataclass(frozen=True)
+class _Blocks:
+    """The harmonic-balance operator at one speed: K, M, C + G (mean meshes included), the
+    periodic part P, the harmonic indices, Ω_p, H, the rigid rotation's M r."""
+
+    K: sp.csr_array
+    M: sp.csr_array
+    C: sp.csr_array
+    P: sp.csr_array
+    hidx: NDArray
+    Wp: float
+    H: int
+    Mr: NDArray
+    speed: float
+
+
+def _solve(hb: _Blocks, nu: float, F: NDArray, border: bool) -> NDArray:
+    """Q_n (2H+1, n) for the forcing F (2H+1, n) at frequencies ν + nΩ_p; with ``border`` the
+    n = 0 response is kept M-orthogonal to the rigid rotation (its acceleration an unknown)."""
+    n = hb.K.shape[0]
+    nh = 2 * hb.H + 1
+    om = nu + hb.hidx * hb.Wp
+    A = (
+        sp.kron(sp.eye(nh), hb.K)
+        + sp.kron(sp.diags(-(om**2)), hb.M)
+        + sp.kron(sp.diags(1j * om), hb.C)
+        + hb.P
+    )
+    rhs = F.ravel()
+    if border:
+        c = np.zeros(nh * n)
+        c[hb.H * n : (hb.H + 1) * n] = hb.Mr
+        A = sp.bmat([[A, sp.csr_array(c[:, None])], [sp.csr_array(c[None, :]), None]])
+        rhs = np.concatenate([rhs, [0.0]])
+    try:
+        x = spla.splu(sp.csc_array(A)).solve(rhs.astype(complex))
+    except RuntimeError as exc:
+        raise SolverError(
+            f"harmonic balance singular at {hb.speed * _RPM:.1f} rpm: {exc}"
+        ) from None
+    if not np.all(np.isfinite(x)):
+        raise SolverError(f"harmonic balance failed at {hb.speed * _RPM:.1f} rpm")
+    return x[: nh * n].reshape(nh, n)
+
+
 @managed
 def mesh_response(
     model: Train | TransientSystem,
@@ -386,30 +431,10 @@ def mesh_response(
                 ) ** tq.speed_exponent
         rigid = np.linalg.norm(Kbar @ r) <= 1e-9 * np.abs(Kbar).max() * np.linalg.norm(r)
 
-        def solve(nu: float, F: NDArray, border: bool) -> NDArray:
-            om = nu + hidx * Wp
-            A = (
-                sp.kron(sp.eye(nh), Ks)
-                + sp.kron(sp.diags(-(om**2)), Ms)
-                + sp.kron(sp.diags(1j * om), Cs)
-                + P
-            )
-            rhs = F.ravel()
-            if border:
-                c = np.zeros(nh * n)
-                c[H * n : (H + 1) * n] = M @ r
-                A = sp.bmat([[A, sp.csr_array(c[:, None])], [sp.csr_array(c[None, :]), None]])
-                rhs = np.concatenate([rhs, [0.0]])
-            try:
-                lu = spla.splu(sp.csc_array(A))
-                x = lu.solve(rhs.astype(complex))
-            except RuntimeError as exc:
-                raise SolverError(
-                    f"harmonic balance singular at {speed * _RPM:.1f} rpm: {exc}"
-                ) from None
-            if not np.all(np.isfinite(x)):
-                raise SolverError(f"harmonic balance failed at {speed * _RPM:.1f} rpm")
-            return x[: nh * n].reshape(nh, n)
+        hb = _Blocks(Ks, Ms, Cs, P, hidx, Wp, H, M @ r, float(speed))
+
+        def solve(nu: float, F: NDArray, border: bool, hb: _Blocks = hb) -> NDArray:
+            return _solve(hb, nu, F, border)
 
         # ---- mesh family --------------------------------------------------------------------
         om0 = hidx * Wp
