@@ -20,6 +20,7 @@ from numpy.typing import NDArray
 from ..assembly import Assembly, assemble
 from ..errors import ModelError
 from ..model import Train
+from ..progress import Progress, part, report
 from ..threads import managed
 from .modal import (
     SPARSE_FRACTION,
@@ -185,6 +186,7 @@ def campbell(
     operating_point=None,
     reduced: bool = True,
     residual_tol: float = 3e-4,
+    progress: Progress | None = None,
 ) -> CampbellResult:
     """Track damped modes over reference-shaft ``speeds`` (rad/s) up to ``max_frequency`` (rad/s).
 
@@ -228,12 +230,18 @@ def campbell(
     ``operating_point`` (name or :class:`~gearrotor.model.OperatingPoint`): fluid-film bearings
     at the coefficients of the point's static loads at every speed, the point's ``hold``
     (power or torque) kept over the sweep (:func:`~gearrotor.analyses.static.at_operating_point`).
+
+    ``progress``: a :data:`gearrotor.progress.Progress` callback (the speeds; with an operating
+    point first its static solves).
     """
+    sweep = progress
     if operating_point is not None:
         # fluid-film bearings at the point's static loads at every speed (issue 11)
         from .static.operating import model_at_operating_point
 
-        model = model_at_operating_point(model, operating_point, np.asarray(speeds, float))[0]
+        at = part(progress, 0.0, 0.5, "operating point")
+        model = model_at_operating_point(model, operating_point, np.asarray(speeds, float), at)[0]
+        sweep = part(progress, 0.5, 1.0)
     asm = model if isinstance(model, Assembly) else assemble(model)
     speeds = np.asarray(speeds, float)
     orders = default_orders(asm, extra_orders) if orders is None else orders
@@ -259,7 +267,8 @@ def campbell(
         rows, colsel = linear_sum_assignment(cost)
         return colsel[np.argsort(rows)]
 
-    for w in speeds:
+    for i, w in enumerate(speeds):
+        report(sweep, i / len(speeds), f"speed {i + 1}/{len(speeds)}")
         r = None
         if space is not None and space.ready:
             out = space.tracked_modes(w, radius, n_track, include_overdamped, assign)
@@ -327,6 +336,7 @@ def campbell(
         solver=tuple(solver),
         residual=np.array(cols["res"]),
     )
+    report(progress, 1.0)
     return _with_crossings(res)
 
 

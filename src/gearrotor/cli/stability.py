@@ -36,6 +36,7 @@ from .options import (
     operating_range_from_options,
     rpm,
 )
+from .progress import current
 
 __all__ = ["stability_command", "parse_site", "parse_stage"]
 
@@ -338,6 +339,7 @@ def stability_command(
         average_density=rho,
         exclude_bearings=exclude_bearing or None,
         operating_point=operating_point,
+        progress=current(),
         edition=edition,
     )
     if format == "json":
