@@ -105,6 +105,10 @@ class MeshResponseResult:
     harmonics: int
     notes: tuple[str, ...] = ()
     laws: tuple[str, ...] = field(default=())
+    #: ISO 6336-1 method B K_v of the geometry meshes (NaN for others), (s, m), and the
+    #: reference-shaft speed at which the pinion runs at its resonance speed n_E1 (rad/s)
+    iso_kv: NDArray | None = None
+    iso_resonance_speed: NDArray | None = None
 
     @property
     def speed_rpm(self) -> NDArray:
@@ -133,6 +137,11 @@ class MeshResponseResult:
                     "min_force_N": lst(self.force_min[:, k]),
                     "dynamic_factor": lst(self.dynamic_factor[:, k]),
                     "contact_loss": [bool(x) for x in self.contact_loss[:, k]],
+                    "iso6336_kv": None if self.iso_kv is None else lst(self.iso_kv[:, k]),
+                    "iso6336_resonance_speed_rpm": None
+                    if self.iso_resonance_speed is None
+                    or not np.isfinite(self.iso_resonance_speed[k])
+                    else float(self.iso_resonance_speed[k] * _RPM),
                 }
             )
         probes = []
@@ -210,6 +219,38 @@ class MeshResponseResult:
             )
         lines += [f"  note: {n}" for n in self.notes]
         return "\n".join(lines)
+
+
+def _iso_kv(train: Train, asm, m, speeds: NDArray) -> tuple[NDArray, float]:
+    """ISO 6336-1 method B K_v of a geometry mesh over the reference speeds, and the reference
+    speed (rad/s) at which the pinion reaches the resonance speed n_E1."""
+    from ..gears.iso6336 import dynamic_factor
+    from ..gears.model_mesh import model_mesh
+
+    mm = model_mesh(train, m.spec_index)
+    spec = train.meshes[m.spec_index]
+    sides = (spec.gear, spec.mate) if mm.pinion_is_gear else (spec.mate, spec.gear)
+    dens, mods = [], []
+    for side in sides:
+        si = train.shaft_index(side.shaft, "meshes")
+        mat = train.materials[train.shafts[si].material]
+        dens.append(mat.density)
+        mods.append(side.E if side.E is not None else mat.E)
+    pinion_shaft = m.shafts[0] if mm.pinion_is_gear else m.shafts[1]
+    relief = max(
+        (r.amount for f in (mm.spec.modifications.pinion, mm.spec.modifications.gear)
+         for r in (f.tip_relief,) if r is not None),
+        default=0.0,
+    )  # fmt: skip
+    res = dynamic_factor(
+        mm.curves,
+        speeds * asm.speed_ratio[pinion_shaft],
+        tuple(dens),
+        mm.spec.bore_diameter,
+        modulus=tuple(mods),
+        tip_relief=relief,
+    )
+    return res.kv, res.resonance_speed / abs(asm.speed_ratio[pinion_shaft])
 
 
 def _law_harmonics(law, S: int) -> tuple[NDArray, NDArray]:
@@ -340,6 +381,12 @@ def mesh_response(
             from ..gears.model_mesh import model_mesh
 
             op_force[k] = model_mesh(train, m.spec_index).curves.force
+
+    iso_kv = np.full((len(speeds), nm), np.nan)
+    iso_res = np.full(nm, np.nan)
+    for k, m in enumerate(asm.meshes):
+        if kinds[k] == "geometry":
+            iso_kv[:, k], iso_res[k] = _iso_kv(train, asm, m, speeds)
 
     # ---- static loads ------------------------------------------------------------------------
     notes = []
@@ -574,6 +621,8 @@ def mesh_response(
         bearing_1x=out["b1"],
         bearing_mesh=out["bm"],
         operating_force=op_force,
+        iso_kv=iso_kv,
+        iso_resonance_speed=iso_res,
         harmonics=S,
         notes=tuple(notes),
         laws=tuple(kinds),
