@@ -247,15 +247,18 @@ def pair_geometry(
         t = ToothGeometry(z, module, pressure_angle, b, x, addendum, dedendum,
                           tip_radius_coefficient)  # fmt: skip
         a = t.alpha_t
-        rho_max = (dedendum - addendum) * module / (1 - np.sin(a)) if dedendum > addendum else 0.0
+        # the largest tip radius that fits the rack tooth's tip (tangent to the tip line and
+        # both flanks): the tip half width w_t over (1 − sin α)/cos α
+        w_tip = np.pi * t.transverse_module / 4 - dedendum * module * np.tan(a)
+        rho_max = max(w_tip, 0.0) * np.cos(a) / (1 - np.sin(a))
         if t.rho > rho_max * 1.01 + 1e-15:
             raise ModelError(
-                "the rack tip radius does not fit in the rack's root clearance",
+                "the rack tip radius does not fit on the rack tooth's tip",
                 field="root_radius_coefficient",
                 value=tip_radius_coefficient,
-                expected=f"at most (h_f* − h_a*)/(1 − sin α_t) = {rho_max / module:.4g}",
+                expected=f"at most {rho_max / module:.4g} for this rack",
             )
-        if t.rho > rho_max:  # ISO 53 profile A's 0.38 is the full radius 0.37995, rounded
+        if t.rho > rho_max:
             t = replace(t, tip_radius_coefficient=rho_max / module)
         _check_tooth(t, k, ("pinion", "gear")[k])
         teeth_.append(t)

@@ -59,11 +59,11 @@ _SAINSOT = np.array(
 )
 #: h_f = r_f / r_int covered by the fit: the coefficient values of Sainsot et al.'s fit
 #: (L* 6.82–6.94, M* 1.08–3.29, P* 2.56–13.47, Q* 0.141–0.62, the ranges ROSS 3.1 checks)
-#: are reached for h_f from about 1.4 to 7 at usual θ_f. Their finite-element bodies were
-#: clamped at the bore, so h_f grows with the body's depth and so does its compliance. A gear
-#: without a given bore is taken clamped close under its root (h_f at the lower end): the
-#: shaft it sits on, or a pinion's own shaft, is in the rotor model.
-SAINSOT_RANGE = (1.4, 7.0)
+#: are reached for h_f from about 2 to 7 at usual θ_f (0.04–0.08 rad). Their finite-element
+#: bodies were clamped at the bore, so h_f grows with the body's depth and so does its
+#: compliance. A gear without a given bore is taken clamped close under its root (h_f at the
+#: lower end): the shaft it sits on, or a pinion's own shaft, is in the rotor model.
+SAINSOT_RANGE = (2.0, 7.0)
 
 
 def sainsot_coefficients(h_f: float, theta_f: float) -> NDArray:
