@@ -140,7 +140,8 @@ def test_unmodified_pair_is_linear_and_load_is_shared_exactly():
 def test_excitation_law_reproduces_the_static_state():
     """The rotor model's law F = k (δ − e) with e = STE − F/k gives the operating force at the
     loaded STE, position by position, and its harmonics reconstruct the curves."""
-    c = mesh_curves(pair(modifications={"pinion": {"tip_relief": {"amount": 1e-5, "length": 2e-3}}}))
+    relief = {"tip_relief": {"amount": 1e-5, "length": 2e-3}}
+    c = mesh_curves(pair(modifications={"pinion": relief}))
     k_h, e_h, F = c.excitation(n=c.harmonics)
     tau = c.position
     E = np.exp(2j * np.pi * np.outer(tau, np.arange(len(k_h))))
