@@ -382,10 +382,19 @@ def mesh_curves(
     else:
         s_mid = g.s_E - roll
     s = s_mid[:, :, None] + shift[None, None, :]  # (n_pos, K, n_s)
-    inside = (s >= g.s_A - 1e-12 * pb) & (s <= g.s_E + 1e-12 * pb)
+    # the share of each slice's piece of contact line inside the path of contact (a helical
+    # slice spans Δb tan β_b of roll: contact lines enter and leave the face gradually)
+    half = 0.5 * db * g.lead_shift
+    if half > 0:
+        lo, hi = np.maximum(s - half, g.s_A), np.minimum(s + half, g.s_E)
+        share = np.clip((hi - lo) / (2 * half), 0.0, 1.0)
+    else:
+        share = ((s >= g.s_A - 1e-12 * pb) & (s <= g.s_E + 1e-12 * pb)).astype(float)
+    inside = share > 0
+    s_c = np.clip(s, g.s_A, g.s_E)
     # normal stiffness of each contact: its contact line Δb / cos β_b over the compliance
-    stiff = np.where(inside, db / cos_bb / np.interp(s, s_grid, total), 0.0)
-    gap = _profile_gap(mods.pinion, mods.gear, s, g) + _lead_gap(mods.pinion, mods.gear, z, b)
+    stiff = np.where(inside, share * db / cos_bb / np.interp(s_c, s_grid, total), 0.0)
+    gap = _profile_gap(mods.pinion, mods.gear, s_c, g) + _lead_gap(mods.pinion, mods.gear, z, b)
     gap = np.where(inside, gap * cos_bb, np.inf)  # modifications: transverse → normal
     if not inside.reshape(n_pos, -1).any(axis=1).all():
         raise ModelError("no tooth pair in contact at some mesh position", field="teeth")
