@@ -41,7 +41,13 @@ GROUP = typer.main.get_command(app)
 # static 5-10 s, torsional modes/campbell/response 3-6 s, an input error under a second).
 # Everything else (transient 10-60 s, study run 3-11 min, report 40 s, figures, sweeps of
 # hundreds of speeds, the API audit) is slow.
-FAST_KINDS = {("bearing",), ("static",), ("torsional", "modes"), ("torsional", "campbell")}
+FAST_KINDS = {
+    ("bearing",),
+    ("static",),
+    ("torsional", "modes"),
+    ("torsional", "campbell"),
+    ("mesh",),
+}
 
 
 def kind(cmd: PrintedCommand) -> tuple[str, ...]:

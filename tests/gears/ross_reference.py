@@ -43,6 +43,8 @@ out = {
     "tvms_min_N_per_m": float(np.min(k)),
     "double_contact_fraction": float(np.mean(k > 0.5 * (k.max() + k.min()))),
     "tooth_stiffness_form_to_tip_N_per_m": [float(gear._compute_stiffness(a)) for a in angles],
+    # one mesh cycle, 100 samples (ROSS's origin: the driving tooth at its involute's start)
+    "tvms_curve_N_per_m": [float(x) for x in k[::10]],
 }
 Path(__file__).with_name("ross_reference.json").write_text(json.dumps(out, indent=1) + "\n")
 print(json.dumps(out, indent=1))

@@ -107,12 +107,24 @@ class MeshResponseResult:
     laws: tuple[str, ...] = field(default=())
     #: ISO 6336-1 method B K_v of the geometry meshes (NaN for others), (s, m), and the
     #: reference-shaft speed at which the pinion runs at its resonance speed n_E1 (rad/s)
+    #: the largest Floquet growth rate at each speed (1/s; NaN without the check): where it is
+    #: positive the time-periodic equations are parametrically unstable (SPEC 2.4: the mesh
+    #: stiffness pumps a mode pair), a free vibration grows and the periodic response is not
+    #: what the machine does
+    floquet_growth: NDArray | None = None
     iso_kv: NDArray | None = None
     iso_resonance_speed: NDArray | None = None
 
     @property
     def speed_rpm(self) -> NDArray:
         return self.speed * _RPM
+
+    @property
+    def unstable(self) -> NDArray:
+        """(s,) bool: parametrically unstable speeds (Floquet growth > 0)."""
+        if self.floquet_growth is None:
+            return np.zeros(len(self.speed), bool)
+        return np.nan_to_num(self.floquet_growth, nan=0.0) > 0
 
     def to_dict(self) -> dict:
         """JSON-ready numbers, units in the key names."""
@@ -174,6 +186,8 @@ class MeshResponseResult:
             )
         return {
             "speed_rpm": lst(self.speed, _RPM),
+            "floquet_growth_1_s": None if self.floquet_growth is None else lst(self.floquet_growth),
+            "unstable": [bool(x) for x in self.unstable],
             "harmonics": self.harmonics,
             "meshes": meshes,
             "probes": probes,
@@ -216,6 +230,13 @@ class MeshResponseResult:
             lines.append(
                 f"  bearing {name}: 1x max {np.nanmax(self.bearing_1x[:, b]):.4g} N; mesh 1x max "
                 f"{a[i, k]:.4g} N at {self.speed_rpm[i]:.0f} rpm"
+            )
+        if self.unstable.any():
+            lines.append(
+                "  parametrically unstable at "
+                + ", ".join(f"{x:.0f}" for x in self.speed_rpm[self.unstable][:8])
+                + (" ..." if self.unstable.sum() > 8 else "")
+                + " rpm"
             )
         lines += [f"  note: {n}" for n in self.notes]
         return "\n".join(lines)
@@ -329,12 +350,15 @@ def mesh_response(
     harmonics: int = MESH_HARMONICS,
     unbalance: bool = True,
     samples: int | None = None,
+    stability: bool = True,
 ) -> MeshResponseResult:
     """Periodic steady state at each reference-shaft speed of ``speeds`` (rad/s, > 0).
 
     harmonics : mesh harmonics kept (of each mesh law, and in the response, of the highest mesh
         frequency); unbalance : include the unbalance families; samples : time samples per
-        period for the mesh force's extremes (default 16 per kept harmonic).
+        period for the mesh force's extremes (default 16 per kept harmonic); stability : check
+        the parametric stability at every speed (:func:`.floquet.floquet`, the same equations
+        and laws), reported as ``floquet_growth`` and ``unstable``.
     """
     system = model if isinstance(model, TransientSystem) else build_system(model)
     speeds = np.atleast_1d(np.asarray(speeds, float))
@@ -441,6 +465,7 @@ def mesh_response(
         "bm": np.zeros((ns, len(brg), nm, 2)),
     }
     sys0 = system
+    growth = np.full(len(speeds), np.nan)
     for i_s, speed in enumerate(speeds):
         sysw = sys0.at_speed(float(speed))
         rates = sysw.mesh_rates()
@@ -584,10 +609,22 @@ def mesh_response(
                     f = info.journal_force(qg, 1j * nu * qg, spd)
                     out["b1"][i_s, b] = _ellipse_major(f[0], f[1])
         out["dte_tot"][i_s] = np.sqrt(dte2)
+        if stability:
+            from .floquet import floquet
+
+            fl = floquet(sysw)
+            growth[i_s] = fl.growth[0] if fl.growth[0] > fl.neutral_tolerance else 0.0
 
     with np.errstate(divide="ignore", invalid="ignore"):
         dyn = np.where(out["F0"] > 0, out["Fmax"] / out["F0"], np.nan)
     loss = out["Fmin"] < 0
+    unstable = growth > 0
+    if unstable.any():
+        notes.append(
+            f"parametrically unstable at {int(unstable.sum())} of {ns} speeds (Floquet growth "
+            f"up to {np.nanmax(growth):.4g} 1/s): there a free vibration grows and the periodic "
+            "response is not what the train does (gearrotor floquet; the transient)"
+        )
     if loss.any():
         notes.append(
             f"contact loss at {int(loss.any(axis=1).sum())} of {ns} speeds (the mesh force "
@@ -621,6 +658,7 @@ def mesh_response(
         bearing_1x=out["b1"],
         bearing_mesh=out["bm"],
         operating_force=op_force,
+        floquet_growth=growth,
         iso_kv=iso_kv,
         iso_resonance_speed=iso_res,
         harmonics=S,

@@ -30,35 +30,53 @@ def _save(fig, path):
     return fig
 
 
+def _spans(ax, x, where, color, label=None):
+    """Shade the speeds where ``where`` holds, each point over half a step either side."""
+    if not np.any(where):
+        return
+    edges = np.concatenate([[x[0]], 0.5 * (x[1:] + x[:-1]), [x[-1]]])
+    idx = np.flatnonzero(where)
+    runs = np.split(idx, np.flatnonzero(np.diff(idx) > 1) + 1)
+    for j, run in enumerate(runs):
+        ax.axvspan(edges[run[0]], edges[run[-1] + 1], color=color, zorder=0,
+                   label=label if j == 0 else None)  # fmt: skip
+
+
+def _distinct_meshes(res) -> list[int]:
+    """The meshes whose frequencies differ (two helices of a double-helical mesh share theirs:
+    the probe and bearing responses at that frequency are one, drawn once)."""
+    keep: list[int] = []
+    for k in range(len(res.meshes)):
+        if not any(np.allclose(res.mesh_frequency[:, k], res.mesh_frequency[:, j]) for j in keep):
+            keep.append(k)
+    return keep
+
+
 def plot_mesh_response(res, path: str | Path | None = None, title: str | None = None):
     """Three panels against the reference-shaft speed (rpm): DTE rms (µm) under the mesh
-    excitation (solid) and with unbalance (dashed), contact loss shaded; the dynamic factor
-    max F / mean F and ISO 6336-1 method B K_v (dotted); probe amplitudes (µm, 0-pk, log) at
-    1x, 1x mesh and 2x mesh."""
+    excitation (solid) and with unbalance (dashed), contact loss shaded grey; the dynamic
+    factor max F / mean F and ISO 6336-1 method B K_v (dotted); probe amplitudes (µm, 0-pk,
+    log) at 1x, 1x mesh and 2x mesh. Parametrically unstable speeds are shaded red and the
+    periodic response is not drawn there."""
     fig = _figure(figsize=(8.6, 9.6), layout="constrained")
     ax1, ax2, ax3 = fig.subplots(3, 1, sharex=True)
     x = res.speed_rpm
+    bad = res.unstable
+    for ax in (ax1, ax2, ax3):
+        _spans(ax, x, bad, "#f4c7c3", "parametrically unstable" if ax is ax2 else None)
+        _spans(ax, x, res.contact_loss.any(axis=1) & ~bad, "0.85",
+               "contact loss (linear response invalid)" if ax is ax2 else None)  # fmt: skip
+
+    def ok(a):  # the periodic response where it is stable (it means nothing elsewhere)
+        return np.where(bad, np.nan, a)
+
     for k, name in enumerate(res.meshes):
         c = f"C{k}"
-        ax1.plot(x, res.dte_rms[:, k] * 1e6, color=c, label=f"{name}: mesh excitation")
+        ax1.plot(x, ok(res.dte_rms[:, k]) * 1e6, color=c, label=f"{name}: mesh excitation")
         if np.any(res.dte_rms_total[:, k] > res.dte_rms[:, k] * (1 + 1e-6)):
-            ax1.plot(x, res.dte_rms_total[:, k] * 1e6, color=c, ls="--", lw=1, label="+ unbalance")
-        loss = res.contact_loss[:, k]
-        if loss.any():
-            ax1.fill_between(
-                x, 0, 1, where=loss, color="0.85", transform=ax1.get_xaxis_transform(), zorder=0
-            )
-            ax2.fill_between(
-                x,
-                0,
-                1,
-                where=loss,
-                color="0.85",
-                transform=ax2.get_xaxis_transform(),
-                zorder=0,
-                label="contact loss (linear response invalid)" if k == 0 else None,
-            )
-        ax2.plot(x, res.dynamic_factor[:, k], color=c, label=f"{name}: max F / mean F")
+            ax1.plot(x, ok(res.dte_rms_total[:, k]) * 1e6, color=c, ls="--", lw=1,
+                     label="+ unbalance")  # fmt: skip
+        ax2.plot(x, ok(res.dynamic_factor[:, k]), color=c, label=f"{name}: max F / mean F")
         if res.iso_kv is not None and np.isfinite(res.iso_kv[:, k]).any():
             ax2.plot(x, res.iso_kv[:, k], color=c, ls=":", label=f"{name}: ISO 6336-1 K_v (B)")
     ax1.set_ylabel("DTE rms (µm)")
@@ -66,15 +84,19 @@ def plot_mesh_response(res, path: str | Path | None = None, title: str | None = 
     ax1.legend(fontsize=8)
     ax1.set_title(title or "periodic response to the mesh excitation and unbalance", fontsize=10)
     ax2.set_ylabel("dynamic factor")
-    ax2.set_yscale("log")
+    top = np.nanmax(np.where(bad[:, None], np.nan, res.dynamic_factor), initial=1.0)
+    if top > 3:
+        ax2.set_yscale("log")
     ax2.legend(fontsize=8)
     for p, name in enumerate(res.probes):
         c = f"C{p}"
-        ax3.plot(x, res.probe_1x[:, p] * 1e6, color=c, ls=":", label=f"{name} 1x")
-        for k in range(len(res.meshes)):
-            tag = f" ({res.meshes[k]})" if len(res.meshes) > 1 else ""
-            ax3.plot(x, res.probe_mesh[:, p, k, 0] * 1e6, color=c, label=f"{name} 1x mesh{tag}")
-            ax3.plot(x, res.probe_mesh[:, p, k, 1] * 1e6, color=c, ls="--", lw=1,
+        ax3.plot(x, ok(res.probe_1x[:, p]) * 1e6, color=c, ls=":", label=f"{name} 1x")
+        distinct = _distinct_meshes(res)
+        for k in distinct:
+            tag = f" ({res.meshes[k]})" if len(distinct) > 1 else ""
+            ax3.plot(x, ok(res.probe_mesh[:, p, k, 0]) * 1e6, color=c,
+                     label=f"{name} 1x mesh{tag}")  # fmt: skip
+            ax3.plot(x, ok(res.probe_mesh[:, p, k, 1]) * 1e6, color=c, ls="--", lw=1,
                      label=f"{name} 2x mesh{tag}")  # fmt: skip
     ax3.set_yscale("log")
     ax3.set_ylabel("probe amplitude (µm, 0-pk)")
@@ -94,7 +116,7 @@ def plot_bearing_forces(res, path: str | Path | None = None):
             continue
         c = f"C{b % 10}"
         ax.plot(x, res.bearing_1x[:, b], color=c, ls=":", label=f"{name} 1x")
-        for k in range(len(res.meshes)):
+        for k in _distinct_meshes(res):
             ax.plot(x, res.bearing_mesh[:, b, k, 0], color=c, label=f"{name} 1x mesh")
             ax.plot(x, res.bearing_mesh[:, b, k, 1], color=c, ls="--", lw=1,
                     label=f"{name} 2x mesh")  # fmt: skip
