@@ -272,8 +272,13 @@ def _disk_element(train: Train, shaft_i: int, k: int) -> DiskElement:
 
 
 def mesh_stiffness(train: Train, k: int) -> float:
-    """Average mesh stiffness Kg (N/m) of mesh k: given, Buckingham or ISO 6336-1."""
+    """Average mesh stiffness Kg (N/m) of mesh k: given, Buckingham, ISO 6336-1, or the mean
+    loaded stiffness of its tooth geometry (:func:`gearrotor.gears.model_mesh.model_mesh`)."""
     m = train.meshes[k]
+    if m.geometry is not None:
+        from .gears.model_mesh import model_mesh
+
+        return model_mesh(train, k).curves.mean_stiffness
     if isinstance(m.stiffness, float):
         return m.stiffness
     if m.stiffness.method == "value":
