@@ -169,3 +169,21 @@ def test_against_the_transient(examples, rpm):
         for order in (1, 2):
             amp = 2 * abs(np.mean(x * np.exp(-1j * order * 50 * rpm * RPM * tt)))
             assert hb.probe_mesh[0, p, 0, order - 1] == pytest.approx(amp, rel=0.03)
+
+
+@pytest.mark.slow
+def test_report_section(examples, tmp_path):
+    """``gearrotor report --analyses mesh_response``: the section, its figures, its numbers in
+    report.json and the contact verdict (the rig at 3,000 rpm keeps its teeth in contact)."""
+    out = tmp_path / "rep"
+    r = CliRunner().invoke(
+        app, ["report", str(examples / RIG), "-o", str(out), "--analyses", "mesh_response"]
+    )
+    assert r.exit_code == 0, r.output
+    assert (out / "mesh_response.png").exists() and (out / "mesh_bearing_forces.png").exists()
+    doc = json.loads((out / "report.json").read_text())
+    section = doc["mesh_response"]
+    assert section["meshes"][0]["law"] == "geometry" and len(section["speed_rpm"]) == 80
+    verdict = next(v for v in doc["verdicts"] if v["key"] == "mesh_contact")
+    assert verdict["result"] == "pass", verdict
+    assert "Gear mesh response over speed" in (out / "report.html").read_text()

@@ -612,8 +612,16 @@ def mesh_response(
         if stability:
             from .floquet import floquet
 
-            fl = floquet(sysw)
-            growth[i_s] = fl.growth[0] if fl.growth[0] > fl.neutral_tolerance else 0.0
+            try:
+                fl = floquet(sysw)
+            except ModelError as exc:
+                if exc.field != "cutoff":
+                    raise
+                # no elastic mode below 2.5x the mesh frequency (a low speed): none the mesh
+                # pumps into a combination resonance of its first harmonics
+                growth[i_s] = 0.0
+            else:
+                growth[i_s] = fl.growth[0] if fl.growth[0] > fl.neutral_tolerance else 0.0
 
     with np.errstate(divide="ignore", invalid="ignore"):
         dyn = np.where(out["F0"] > 0, out["Fmax"] / out["F0"], np.nan)
