@@ -36,15 +36,21 @@ from .elements import (
     ShaftElement,
     ThrustBearing,
     TorsionalSupportElement,
+    WhirlBearing,
+    WhirlRow,
     buckingham_stiffness,
+    fit_impedance,
     iso6336_stiffness,
 )
 from .errors import ModelError
+from .inputs import WHIRL_TABLE_COLUMNS, table_columns
 from .model import Train
 
-__all__ = ["Assembly", "MeshInfo", "BearingInfo", "assemble", "DOF_NAMES"]
+__all__ = ["Assembly", "MeshInfo", "BearingInfo", "assemble", "DOF_NAMES", "FIT_TOLERANCE"]
 
 DOF_NAMES = ("x", "y", "z", "θx", "θy", "θz")
+#: default largest relative misfit of a speed × whirl table's rational fit (``fit_tolerance``)
+FIT_TOLERANCE = 1e-4
 _TZ2 = [5, 11]  # θz of the two nodes of a shaft element
 
 
@@ -97,7 +103,7 @@ class BearingInfo:
     shaft: int
     dofs: NDArray  # (2,) journal x, y
     support_dofs: NDArray | None  # (2,) pedestal x, y, or None for ground
-    element: RadialBearing | PadBearing
+    element: RadialBearing | PadBearing | WhirlBearing
     kind: str = "bearing"  # "bearing" or "seal" (an annular seal to ground, any sign)
     pad_dofs: NDArray | None = None  # (m,) the pads' DOFs (PadBearing), in PadTable.dofs order
 
@@ -461,6 +467,103 @@ def _solve_seal_table(file: str, mtime_ns: int, speeds: tuple, sign: float):
     return speed, vals
 
 
+def _table_element(t, tolerance: float | None, field: str) -> RadialBearing | WhirlBearing:
+    """The element of a model's coefficient ``table``: a speed table, or a speed × whirl table
+    (a whirl table whose rows are constant in whirl is the speed table of its values, exactly
+    as the one-dimensional table gives it)."""
+    names = (t.kxx, t.kxy, t.kyx, t.kyy, t.cxx, t.cxy, t.cyx, t.cyy)
+    if t.whirl is not None and t.whirl_dependent:
+        from .bearings.whirl_tables import rows_of_table
+
+        return _whirl_element(rows_of_table(t), t.extrapolate, tolerance, field)
+    if t.whirl is not None:
+        names = tuple([row[0] for row in col] for col in names)
+    vals = np.column_stack(names)
+    return RadialBearing(table=CoefficientTable(np.asarray(t.speed), vals, t.extrapolate))
+
+
+def _whirl_file_element(b, field: str) -> RadialBearing | WhirlBearing:
+    """The element of a speed × whirl ``table_file`` (a ``whirl_rpm`` column)."""
+    from .bearings.whirl_tables import read_whirl_table
+
+    try:
+        rows = read_whirl_table(b.table_file)
+    except ModelError as exc:
+        raise ModelError(
+            exc.message,
+            field=f"{field}.table_file" + (f" ({exc.field})" if exc.field else ""),
+            value=exc.value,
+            expected=exc.expected,
+            file=exc.file,
+        ) from None
+    return _whirl_element(rows, b.extrapolate, b.fit_tolerance, f"{field}.table_file")
+
+
+def _seal_whirl_element(sl, field: str, shaft, train_speed: float) -> WhirlBearing | RadialBearing:
+    """A seal file solved over speed × whirl (``[[seals]] whirls``)."""
+    mtime = Path(sl.file).stat().st_mtime_ns if Path(sl.file).exists() else 0
+    spin = shaft.speed_ratio * (train_speed if train_speed else 1.0)
+    sign = 1.0 if spin >= 0 else -1.0
+    try:
+        rows = _solve_seal_whirl_table(sl.file, mtime, tuple(sl.speeds), tuple(sl.whirls), sign)
+    except ModelError as exc:
+        raise ModelError(
+            exc.message,
+            field=f"{field}.file" + (f" ({exc.field})" if exc.field else ""),
+            value=exc.value,
+            expected=exc.expected,
+            file=exc.file,
+        ) from None
+    return _whirl_element(rows, sl.extrapolate, sl.fit_tolerance, f"{field}.whirls")
+
+
+@functools.lru_cache(maxsize=32)
+def _solve_seal_whirl_table(file: str, mtime_ns: int, speeds: tuple, whirls: tuple, sign: float):
+    """A seal's speed × whirl rows once per (file version, speeds, whirls, sense of rotation)."""
+    from .seals import load_seal, seal_whirl_table
+
+    rows = seal_whirl_table(load_seal(file), speeds, whirls, sign)
+    for _, w, v in rows:
+        w.setflags(write=False)
+        v.setflags(write=False)
+    return rows
+
+
+def _whirl_element(rows, extrapolate: str, tolerance: float | None, field: str):
+    """A :class:`WhirlBearing` from checked rows ``(speed, whirl, values)``, each row's
+    impedance fitted (:func:`~gearrotor.elements.fit_impedance`); rows constant in whirl
+    everywhere give the speed table of their values (a :class:`RadialBearing`)."""
+    if all(np.all(v == v[0]) for _, _, v in rows):
+        speed = np.array([s for s, _, _ in rows])
+        vals = np.array([v[0] for _, _, v in rows])
+        return RadialBearing(table=CoefficientTable(speed, vals, extrapolate))
+    tol = FIT_TOLERANCE if tolerance is None else float(tolerance)
+    out = []
+    for s, w, v in rows:
+        w = np.ascontiguousarray(w, float)
+        v = np.ascontiguousarray(v, float)
+        fit, misfit = _fit_row(w.tobytes(), v.tobytes(), len(w), tol)
+        if misfit > tol:
+            raise ModelError(
+                f"the whirl dependence at {s * 30 / np.pi:.6g} rpm is not fitted within "
+                f"fit_tolerance = {tol:.3g} (best relative misfit {misfit:.3g}, "
+                f"{fit.n_poles} poles)",
+                field=field,
+                expected="a larger fit_tolerance (the misfit the table's accuracy allows), or "
+                "coefficients that vary smoothly with whirl",
+            )
+        out.append(WhirlRow(float(s), w, v, fit))
+    return WhirlBearing(tuple(out), extrapolate)
+
+
+@functools.lru_cache(maxsize=256)
+def _fit_row(whirl: bytes, values: bytes, n: int, tolerance: float):
+    """The rational fit of one row, once per (row values, tolerance)."""
+    w = np.frombuffer(whirl, float)
+    v = np.frombuffer(values, float).reshape(n, 8)
+    return fit_impedance(w, v, tolerance=tolerance)
+
+
 def _flank(train: Train, mesh, si: int, sj: int) -> int:
     """+1 (SPEC 2.3 normal) or −1 so that the contact force opposes the driver's rotation."""
     if mesh.driver is None:
@@ -496,9 +599,9 @@ def assemble(train: Train) -> Assembly:
         si, _ = train.node_index(b, f"bearings[{k}]")
         shaft_of.append(si)
         if b.table is not None:
-            t = b.table
-            vals = np.column_stack([t.kxx, t.kxy, t.kyx, t.kyy, t.cxx, t.cxy, t.cyx, t.cyy])
-            el = RadialBearing(table=CoefficientTable(np.asarray(t.speed), vals, t.extrapolate))
+            el = _table_element(b.table, b.fit_tolerance, f"bearings[{k}].table")
+        elif b.table_file is not None and table_columns(b.table_file) == WHIRL_TABLE_COLUMNS:
+            el = _whirl_file_element(b, f"bearings[{k}]")
         elif b.table_file is not None or b.fluid_film is not None:
             tab = _film_table(b, f"bearings[{k}]", layout.shafts[si])
             el = tab if isinstance(tab, PadBearing) else RadialBearing(table=tab)
@@ -569,11 +672,13 @@ def assemble(train: Train) -> Assembly:
     for k, sl in enumerate(train.seals):  # seals: like a bearing to ground, any sign
         si, dofs = node_dofs(sl, f"seals[{k}]", [0, 1])
         if sl.table is not None:
-            t = sl.table
-            vals = np.column_stack([t.kxx, t.kxy, t.kyx, t.kyy, t.cxx, t.cxy, t.cyx, t.cyy])
-            el = RadialBearing(table=CoefficientTable(np.asarray(t.speed), vals, t.extrapolate))
+            el = _table_element(sl.table, sl.fit_tolerance, f"seals[{k}].table")
+        elif sl.table_file is not None and table_columns(sl.table_file) == WHIRL_TABLE_COLUMNS:
+            el = _whirl_file_element(sl, f"seals[{k}]")
         elif sl.table_file is not None:
             el = RadialBearing(table=_film_table(sl, f"seals[{k}]", layout.shafts[si]))
+        elif sl.file is not None and sl.whirls is not None:
+            el = _seal_whirl_element(sl, f"seals[{k}]", layout.shafts[si], train.speed)
         elif sl.file is not None:
             el = RadialBearing(table=_seal_table(sl, f"seals[{k}]", layout.shafts[si], train.speed))
         else:

@@ -21,6 +21,7 @@ __all__ = [
     "MAX_DEPTH",
     "MAX_LISTED",
     "TABLE_COLUMNS",
+    "WHIRL_TABLE_COLUMNS",
     "TableFile",
     "depth_ok",
     "list_some",
@@ -28,6 +29,7 @@ __all__ = [
     "read_table",
     "read_text",
     "read_toml",
+    "table_columns",
 ]
 
 #: Largest input file read (bytes). The largest real models are a few tens of kB.
@@ -125,6 +127,30 @@ def read_toml(path: str | Path, kind: str = "input") -> dict:
 #: The columns of a bearing coefficient table file (rpm, N/m, N*s/m), as
 #: :func:`gearrotor.bearings.save_table` writes them.
 TABLE_COLUMNS = ("speed_rpm", "kxx", "kxy", "kyx", "kyy", "cxx", "cxy", "cyx", "cyy")
+
+
+#: The columns of a speed × whirl table file (rpm, rpm, N/m, N*s/m), as
+#: :func:`gearrotor.bearings.pads.save_whirl_table` writes them.
+WHIRL_TABLE_COLUMNS = ("speed_rpm", "whirl_rpm", *TABLE_COLUMNS[1:])
+
+
+def table_columns(path: str | Path) -> tuple[str, ...]:
+    """:data:`WHIRL_TABLE_COLUMNS` when a table file has a ``whirl_rpm`` column (CSV header or
+    TOML array), else :data:`TABLE_COLUMNS` (a file that cannot be read: the regular reader
+    reports it)."""
+    path = Path(path)
+    try:
+        text = read_text(path, "table")
+        if path.suffix.lower() == ".toml":
+            whirl = "whirl_rpm" in parse_toml(text, str(path), "table")
+        else:
+            first = next(
+                (ln for ln in text.splitlines() if ln.strip() and not ln.startswith("#")), ""
+            )
+            whirl = "whirl_rpm" in [h.strip() for h in first.split(",")]
+    except ModelError:
+        whirl = False
+    return WHIRL_TABLE_COLUMNS if whirl else TABLE_COLUMNS
 
 
 def read_table(path: str | Path, columns: tuple[str, ...] = TABLE_COLUMNS) -> TableFile:

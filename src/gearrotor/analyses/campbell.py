@@ -31,6 +31,8 @@ from .modal import (
     modal,
 )
 from .modal import _residuals as _residuals_of
+from .whirl import frequency_dependent
+from .whirl import residuals as whirl_residuals
 
 __all__ = ["CampbellResult", "ExcitationOrder", "Crossing", "campbell", "default_orders", "mac"]
 
@@ -217,6 +219,10 @@ def campbell(
     modes) and O(n·m) work; subspaces beyond half the model's DOFs are not used (every speed
     is then solved on the full model).
 
+    With speed × whirl tables (:mod:`gearrotor.analyses.whirl`) every speed is one eigensolve
+    of the model with the tables' states and ``reduced`` does not apply; the residual is that
+    of the nonlinear problem with the fitted impedances.
+
     ``method`` is the full solver: ``"sparse"`` finds only the eigenvalues within the circle of
     radius 1.5×max_frequency about a small negative shift by shift-invert Arnoldi, ``"dense"``
     computes the full spectrum (see :func:`~gearrotor.analyses.modal.modal`); ``"auto"``
@@ -252,7 +258,10 @@ def campbell(
     solver: list[str] = []
     k_hint = None
     radius = 1.5 * max_frequency
-    space = _Subspace(asm) if reduced else None
+    # speed × whirl tables: every speed is one eigensolve of the model with the tables'
+    # states (analyses/whirl.py); the reduced basis is for the quadratic problem
+    whirl_tables = frequency_dependent(asm)
+    space = _Subspace(asm) if reduced and not whirl_tables else None
     full_method = method
     if method == "auto":  # only the circle's modes are wanted: the measured crossover applies
         full_method = "sparse" if asm.n_dof >= _SPARSE_FROM else "dense"
@@ -302,7 +311,10 @@ def campbell(
                         expected="a higher max_frequency",
                     )
                 chosen = idx[assign(r.mode_shapes[idx], r.damped_frequency[idx])]
-            res = _residuals(asm, w, r.eigenvalues[chosen], r.mode_shapes[chosen])
+            if whirl_tables:
+                res = whirl_residuals(asm, w, r.eigenvalues[chosen], r.mode_shapes[chosen])
+            else:
+                res = _residuals(asm, w, r.eigenvalues[chosen], r.mode_shapes[chosen])
             solver.append("full")
             if space is not None and space.fits(2 * len(chosen)):
                 lam_c = r.eigenvalues[chosen]

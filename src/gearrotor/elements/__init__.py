@@ -5,8 +5,10 @@ from .coupling import CouplingElement
 from .disk import DiskElement
 from .mesh import MeshGeometry, buckingham_stiffness, iso6336_stiffness
 from .pad_bearing import PadBearing, PadTable, condense
+from .rational_fit import RationalImpedance, fit_impedance
 from .shaft import ShaftElement, shear_coefficient
 from .torsional_support import TorsionalSupportElement
+from .whirl_bearing import WhirlBearing, WhirlRow
 
 __all__ = [
     "CoefficientTable",
@@ -17,11 +19,15 @@ __all__ = [
     "PadBearing",
     "PadTable",
     "RadialBearing",
+    "RationalImpedance",
     "ShaftElement",
     "ThrustBearing",
     "TorsionalSupportElement",
+    "WhirlBearing",
+    "WhirlRow",
     "buckingham_stiffness",
     "condense",
+    "fit_impedance",
     "iso6336_stiffness",
     "shear_coefficient",
 ]

@@ -19,7 +19,7 @@ from typing import Any
 from pydantic import BaseModel, ValidationError
 
 from ..errors import ModelError
-from ..inputs import MAX_LISTED, read_table, read_toml
+from ..inputs import MAX_LISTED, read_table, read_toml, table_columns
 from ..model import Train
 
 __all__ = [
@@ -382,7 +382,7 @@ def _check_files(train: Train, file: str) -> None:
             field = f"{group}[{k}].table_file" if table is not None else f"{group}[{k}].fluid_film"
             try:
                 if table is not None:
-                    read_table(table)
+                    read_table(table, table_columns(table))
                 if ff is not None:
                     read_toml(ff.file, "bearing")
             except ModelError as exc:
