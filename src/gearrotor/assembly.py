@@ -37,20 +37,17 @@ from .elements import (
     ThrustBearing,
     TorsionalSupportElement,
     WhirlBearing,
-    WhirlRow,
     buckingham_stiffness,
-    fit_impedance,
+    fit_rows,
     iso6336_stiffness,
 )
 from .errors import ModelError
-from .inputs import WHIRL_TABLE_COLUMNS, table_columns
+from .inputs import WHIRL_TABLE_COLUMNS, read_whirl_table, table_columns
 from .model import Train
 
-__all__ = ["Assembly", "MeshInfo", "BearingInfo", "assemble", "DOF_NAMES", "FIT_TOLERANCE"]
+__all__ = ["Assembly", "MeshInfo", "BearingInfo", "assemble", "DOF_NAMES"]
 
 DOF_NAMES = ("x", "y", "z", "θx", "θy", "θz")
-#: default largest relative misfit of a speed × whirl table's rational fit (``fit_tolerance``)
-FIT_TOLERANCE = 1e-4
 _TZ2 = [5, 11]  # θz of the two nodes of a shaft element
 
 
@@ -473,9 +470,7 @@ def _table_element(t, tolerance: float | None, field: str) -> RadialBearing | Wh
     as the one-dimensional table gives it)."""
     names = (t.kxx, t.kxy, t.kyx, t.kyy, t.cxx, t.cxy, t.cyx, t.cyy)
     if t.whirl is not None and t.whirl_dependent:
-        from .bearings.whirl_tables import rows_of_table
-
-        return _whirl_element(rows_of_table(t), t.extrapolate, tolerance, field)
+        return _whirl_element(t.whirl_rows(), t.extrapolate, tolerance, field)
     if t.whirl is not None:
         names = tuple([row[0] for row in col] for col in names)
     vals = np.column_stack(names)
@@ -484,8 +479,6 @@ def _table_element(t, tolerance: float | None, field: str) -> RadialBearing | Wh
 
 def _whirl_file_element(b, field: str) -> RadialBearing | WhirlBearing:
     """The element of a speed × whirl ``table_file`` (a ``whirl_rpm`` column)."""
-    from .bearings.whirl_tables import read_whirl_table
-
     try:
         rows = read_whirl_table(b.table_file)
     except ModelError as exc:
@@ -496,7 +489,9 @@ def _whirl_file_element(b, field: str) -> RadialBearing | WhirlBearing:
             expected=exc.expected,
             file=exc.file,
         ) from None
-    return _whirl_element(rows, b.extrapolate, b.fit_tolerance, f"{field}.table_file")
+    return _whirl_element(
+        rows, b.extrapolate, b.fit_tolerance, f"{field}.table_file", file=b.table_file
+    )
 
 
 def _seal_whirl_element(sl, field: str, shaft, train_speed: float) -> WhirlBearing | RadialBearing:
@@ -529,39 +524,15 @@ def _solve_seal_whirl_table(file: str, mtime_ns: int, speeds: tuple, whirls: tup
     return rows
 
 
-def _whirl_element(rows, extrapolate: str, tolerance: float | None, field: str):
+def _whirl_element(rows, extrapolate: str, tolerance: float | None, field: str, file=None):
     """A :class:`WhirlBearing` from checked rows ``(speed, whirl, values)``, each row's
-    impedance fitted (:func:`~gearrotor.elements.fit_impedance`); rows constant in whirl
-    everywhere give the speed table of their values (a :class:`RadialBearing`)."""
+    impedance fitted (:func:`~gearrotor.elements.fit_rows`); rows constant in whirl everywhere
+    give the speed table of their values (a :class:`RadialBearing`)."""
     if all(np.all(v == v[0]) for _, _, v in rows):
         speed = np.array([s for s, _, _ in rows])
         vals = np.array([v[0] for _, _, v in rows])
         return RadialBearing(table=CoefficientTable(speed, vals, extrapolate))
-    tol = FIT_TOLERANCE if tolerance is None else float(tolerance)
-    out = []
-    for s, w, v in rows:
-        w = np.ascontiguousarray(w, float)
-        v = np.ascontiguousarray(v, float)
-        fit, misfit = _fit_row(w.tobytes(), v.tobytes(), len(w), tol)
-        if misfit > tol:
-            raise ModelError(
-                f"the whirl dependence at {s * 30 / np.pi:.6g} rpm is not fitted within "
-                f"fit_tolerance = {tol:.3g} (best relative misfit {misfit:.3g}, "
-                f"{fit.n_poles} poles)",
-                field=field,
-                expected="a larger fit_tolerance (the misfit the table's accuracy allows), or "
-                "coefficients that vary smoothly with whirl",
-            )
-        out.append(WhirlRow(float(s), w, v, fit))
-    return WhirlBearing(tuple(out), extrapolate)
-
-
-@functools.lru_cache(maxsize=256)
-def _fit_row(whirl: bytes, values: bytes, n: int, tolerance: float):
-    """The rational fit of one row, once per (row values, tolerance)."""
-    w = np.frombuffer(whirl, float)
-    v = np.frombuffer(values, float).reshape(n, 8)
-    return fit_impedance(w, v, tolerance=tolerance)
+    return WhirlBearing(fit_rows(rows, tolerance, field=field, file=file), extrapolate)
 
 
 def _flank(train: Train, mesh, si: int, sj: int) -> int:

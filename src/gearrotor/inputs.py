@@ -10,6 +10,7 @@ without bound or print a traceback.
 
 from __future__ import annotations
 
+import math
 import tomllib
 from pathlib import Path
 from typing import Any, NamedTuple
@@ -30,6 +31,8 @@ __all__ = [
     "read_text",
     "read_toml",
     "table_columns",
+    "read_whirl_table",
+    "check_whirl_rows",
 ]
 
 #: Largest input file read (bytes). The largest real models are a few tens of kB.
@@ -282,3 +285,54 @@ class TableFile(NamedTuple):
     columns: dict[str, list[float]]
     name: str
     load: tuple[float, float]
+
+
+#: a row of a speed × whirl table: (|shaft speed| rad/s, whirl frequencies (n_w,) rad/s,
+#: coefficients (n_w, 8) kxx … cyy in N/m and N*s/m), numpy arrays
+WhirlRow = tuple
+
+
+def read_whirl_table(path: str | Path) -> tuple[WhirlRow, ...]:
+    """The rows of a speed × whirl table file, grouped by speed (a row per distinct speed, in
+    the file's order of whirl frequencies), checked (:func:`check_whirl_rows`)."""
+    import numpy as np
+
+    t = read_table(path, WHIRL_TABLE_COLUMNS)
+    cols = {k: np.asarray(v, float) for k, v in t.columns.items()}
+    speed = np.abs(cols["speed_rpm"]) * (math.pi / 30)  # the rows of one |speed| together
+    whirl = cols["whirl_rpm"] * (math.pi / 30)
+    vals = np.column_stack([cols[c] for c in TABLE_COLUMNS[1:]])
+    rows = []
+    for s in dict.fromkeys(speed.tolist()):  # distinct speeds, in file order
+        sel = speed == s
+        rows.append((float(s), whirl[sel], vals[sel]))
+    return check_whirl_rows(rows, file=str(path))
+
+
+def check_whirl_rows(rows, *, file: str | None = None) -> tuple[WhirlRow, ...]:
+    """Sort the rows by speed (distinct) and check them: whirl frequencies ≥ 0 and strictly
+    increasing, each row covering its speed (the synchronous coefficients, whirl =
+    speed, are read from it). One-line errors naming ``file``."""
+    import numpy as np
+
+    rpm = math.pi / 30
+    rows = sorted(rows, key=lambda r: r[0])
+    for s, w, _ in rows:
+        if w[0] < 0 or np.any(np.diff(w) <= 0):
+            raise ModelError(
+                "the whirl frequencies of a speed must be >= 0 and strictly increasing",
+                field="whirl_rpm",
+                value=f"{(w / rpm).round(6).tolist()} at {s / rpm:.6g} rpm",
+                expected="increasing whirl frequencies >= 0, each once per speed",
+                file=file,
+            )
+        if w[0] > s * (1 + 1e-12) or w[-1] < s * (1 - 1e-12):
+            raise ModelError(
+                "the whirl frequencies of a speed must cover that speed (the synchronous "
+                "coefficients, whirl = speed, are read from them)",
+                field="whirl_rpm",
+                value=f"{w[0] / rpm:.6g}..{w[-1] / rpm:.6g} rpm at {s / rpm:.6g} rpm",
+                expected=f"whirl frequencies from <= {s / rpm:.6g} to >= {s / rpm:.6g} rpm",
+                file=file,
+            )
+    return tuple(rows)

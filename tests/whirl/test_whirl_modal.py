@@ -72,7 +72,7 @@ def test_the_synchronous_model_misses_what_the_table_carries(models):
     for b, info in zip(data["bearings"], asm.bearings, strict=True):
         c = info.element.coefficients(6000 * RPM)  # synchronous
         del b["table"], b["fit_tolerance"]
-        b.update(zip(("kxx", "kxy", "kyx", "kyy", "cxx", "cxy", "cyx", "cyy"), c.tolist()))
+        b.update(zip(("kxx", "kxy", "kyx", "kyy", "cxx", "cxy", "cyx", "cyy"), c, strict=True))
     rs = modal(Train.model_validate(data), max_frequency=TOP)
     assert _match(r0.eigenvalues[:3], rs.eigenvalues) > 1e-2
 

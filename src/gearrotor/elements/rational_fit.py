@@ -34,13 +34,14 @@ condensation), a bearing on a pedestal, a spring–damper in series (``tests/whi
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
 import scipy.linalg as la
 from numpy.typing import NDArray
 
-__all__ = ["RationalImpedance", "fit_impedance", "impedance_samples"]
+__all__ = ["RationalImpedance", "fit_impedance", "fit_row", "impedance_samples"]
 
 #: relative pole movement between two vector-fitting iterations at which the poles are final
 _POLE_TOL = 1e-11
@@ -298,3 +299,18 @@ def _realization(poles, X, npoly, top, misfit, whirl) -> RationalImpedance:
         misfit=misfit,
         whirl=(float(whirl.min()), float(whirl.max())),
     )
+
+
+def fit_row(whirl: NDArray, values: NDArray, tolerance: float) -> tuple[RationalImpedance, float]:
+    """:func:`fit_impedance` of one table row, computed once per (row, tolerance): the model's
+    check when it is read and the assembly share it."""
+    w = np.ascontiguousarray(whirl, float)
+    v = np.ascontiguousarray(values, float)
+    return _fit_cached(w.tobytes(), v.tobytes(), len(w), float(tolerance))
+
+
+@functools.lru_cache(maxsize=256)
+def _fit_cached(whirl: bytes, values: bytes, n: int, tolerance: float):
+    w = np.frombuffer(whirl, float)
+    v = np.frombuffer(values, float).reshape(n, 8)
+    return fit_impedance(w, v, tolerance=tolerance)

@@ -28,10 +28,14 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import NDArray
 
+from ..errors import ModelError
 from .bearing import CoefficientTable
-from .rational_fit import RationalImpedance
+from .rational_fit import RationalImpedance, fit_row
 
-__all__ = ["WhirlRow", "WhirlBearing"]
+__all__ = ["FIT_TOLERANCE", "WhirlRow", "WhirlBearing", "fit_rows"]
+
+#: default largest relative misfit of a table row's rational fit (a model's ``fit_tolerance``)
+FIT_TOLERANCE = 1e-4
 
 
 @dataclass(frozen=True)
@@ -167,3 +171,28 @@ class WhirlBearing:
     def impedance(self, speed: float, s: complex) -> NDArray:
         """Z(Ω, s) (2, 2) complex: the fitted impedance at shaft speed ``speed`` (rad/s)."""
         return self.realization(speed).at(s)
+
+
+def fit_rows(
+    rows, tolerance: float | None = None, *, field: str, file: str | None = None
+) -> tuple[WhirlRow, ...]:
+    """The rows ``(speed, whirl, values)`` of a speed × whirl table with their fits
+    (:func:`~gearrotor.elements.rational_fit.fit_row`, computed once per row); a row whose
+    misfit exceeds ``tolerance`` (default :data:`FIT_TOLERANCE`) is a one-line ModelError
+    naming ``field`` (and ``file``)."""
+    tol = FIT_TOLERANCE if tolerance is None else float(tolerance)
+    out = []
+    for s, w, v in rows:
+        fit, misfit = fit_row(w, v, tol)
+        if misfit > tol:
+            raise ModelError(
+                f"the whirl dependence at {s * 30 / np.pi:.6g} rpm is not fitted within "
+                f"fit_tolerance = {tol:.3g} (best relative misfit {misfit:.3g}, "
+                f"{fit.n_poles} poles from {len(w)} whirl frequencies)",
+                field=field,
+                expected="a fit_tolerance of at least the misfit the table's accuracy allows, "
+                "or more whirl frequencies",
+                file=file,
+            )
+        out.append(WhirlRow(float(s), np.asarray(w, float), np.asarray(v, float), fit))
+    return tuple(out)

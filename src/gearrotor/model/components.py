@@ -387,6 +387,19 @@ class BearingTable(Spec):
                 )
         return self
 
+    def whirl_rows(self) -> tuple:
+        """A speed × whirl table's rows ``(|speed|, whirl (n_w,), values (n_w, 8))`` in SI,
+        by increasing |speed| (valid by construction: the validator checked the whirl
+        frequencies and that they cover the speeds)."""
+        import numpy as np
+
+        w = np.asarray(self.whirl, float)
+        rows = []
+        for i, s in enumerate(self.speed):
+            cols = [np.asarray(getattr(self, n)[i], float) for n in _COEFFICIENT_NAMES]
+            rows.append((abs(float(s)), w.copy(), np.column_stack(cols)))
+        return tuple(sorted(rows, key=lambda r: r[0]))
+
     @property
     def whirl_dependent(self) -> bool:
         """True when a coefficient changes along a row (over whirl)."""
