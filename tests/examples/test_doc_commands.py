@@ -115,6 +115,13 @@ def test_docs_print_commands():
     assert ("stability",) in kinds and ("floquet",) in kinds and ("study", "run") in kinds
 
 
+def test_readme_table_lists_every_command():
+    """The README's table of commands has a row for every command ``gearrotor --help`` lists."""
+    readme = (ROOT / "README.md").read_text()
+    rows = set(re.findall(r"^\| `gearrotor ([a-z-]+)", readme, flags=re.M))
+    assert set(GROUP.commands) <= rows, set(GROUP.commands) - rows
+
+
 # --------------------------------------------------------------------------------------------
 # default suite: every command parses and loads its inputs
 # --------------------------------------------------------------------------------------------

@@ -420,6 +420,24 @@ class Support(Spec):
     cyy: Damping = 0.0
 
 
+def _distinct_speeds(v):
+    """Tabulation speeds (rad/s) are distinct in magnitude (the table's rows are at |speed|):
+    two rows at one speed would hold two sets of coefficients for it (issue 23)."""
+    if v is None:
+        return v
+    mags = [abs(float(x)) for x in v]
+    seen: dict[float, int] = {}
+    for k, m in enumerate(mags):
+        if m in seen:
+            raise ValueError(
+                f"speeds[{seen[m]}] and speeds[{k}] are the same speed "
+                f"({m * 30 / math.pi:.6g} rpm): a table has one row per speed; expected "
+                "distinct speeds"
+            )
+        seen[m] = k
+    return v
+
+
 class FluidFilm(Spec):
     """Coefficients from the fluid-film bearing solver: a bearing file (see docs/bearings.md),
     the static ``load`` (Fx, Fy) on this journal (default: the file's load case ``load_case``)
@@ -440,6 +458,8 @@ class FluidFilm(Spec):
     pad_inertia: Inertia | None = Field(default=None, gt=0)
     pad_mass: Mass | None = Field(default=None, gt=0)
     pivot_stiffness: Stiffness | None = Field(default=None, gt=0)
+
+    _speeds = field_validator("speeds")(_distinct_speeds)
 
     @model_validator(mode="after")
     def _loads(self) -> FluidFilm:
@@ -563,6 +583,8 @@ class Seal(NodeRef):
     @model_serializer(mode="wrap")
     def _without_absent_whirl(self, handler):
         return _drop_absent(handler, self, ("whirls", "fit_tolerance"))
+
+    _speeds = field_validator("speeds")(_distinct_speeds)
 
     @model_validator(mode="after")
     def _one_source(self) -> Seal:
