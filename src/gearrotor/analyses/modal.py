@@ -303,6 +303,19 @@ class ModalResult:
                 f"{self.mode_type[i]:>6}  {_NOTE[cls]}"
             )
         rows.append(self.counts_line())
+        fd = self.frequency_dependence
+        if fd is not None:
+            misfit = max((e["max_misfit"] for e in fd["elements"]), default=0.0)
+            rows.append(
+                f"speed × whirl tables: {fd['states']} fitted states (largest misfit "
+                f"{misfit:.2g}), {fd['eigensolves']} eigensolve; type P: modes of the tables' "
+                "own dynamics (the rotor barely moves)"
+            )
+            if fd["modes_beyond_whirl_tables"]:
+                rows.append(
+                    "modes above the tables' highest whirl frequency: "
+                    f"{fd['modes_beyond_whirl_tables']} (they see the fits' continuation)"
+                )
         return "\n".join(rows)
 
 
