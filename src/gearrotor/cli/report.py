@@ -37,7 +37,8 @@ def report_command(
         typer.Option(
             help="comma-separated: modal, campbell, unbalance, audit (the API 617 lateral audit: "
             "needs the model's operating range, MCS and [api_audit]), operating_points, "
-            "torsional (the torsional audit; not by default); transient: give --transient"
+            "torsional (the torsional audit; not by default), mesh_response (the periodic "
+            "gear-mesh response over speed; not by default); transient: give --transient"
         ),
     ] = "modal,campbell,unbalance",
     speed: Annotated[
