@@ -808,8 +808,12 @@ def _classify(
     internal = pad_share >= 0.5
     if state_amplitude is not None:
         # the states' amplitude only approximates a displacement: a mode is typed P (not
-        # judged as a lateral mode) only when the rotor barely moves (analyses/whirl.py)
-        internal |= state_share >= STATE_SHARE_P
+        # judged as a lateral mode) only when the rotor barely moves (analyses/whirl.py); its
+        # shafts' fractions are their share of it, the states taking the rest (as the pads'
+        # kinetic energy does in a pad mode)
+        in_states = state_share >= STATE_SHARE_P
+        internal |= in_states
+        frac[in_states] *= (1.0 - state_share[in_states])[:, None]
         pad_share = np.maximum(pad_share, state_share)
     shares = _energy_shares(phi, asm, K, kin)
     types = tuple(

@@ -620,8 +620,10 @@ def forward_lateral_modes(res: ModalResult, min_lateral: float = 0.5) -> NDArray
     """Indices of the modes the stability criteria apply to: not over-damped, at least
     ``min_lateral`` of the kinetic energy in lateral motion (the helical mesh's axial and the
     train's torsional modes are left out), whirling forward on the shaft with the largest
-    lateral amplitude (:attr:`ModalResult.whirl`)."""
+    lateral amplitude (:attr:`ModalResult.whirl`); not a bearing-internal mode (type ``P``: the
+    pads', or the fitted states' of a speed × whirl table)."""
     keep = (~res.overdamped) & (res.energy_fractions[:, 0] >= min_lateral)
+    keep &= np.array([t != "P" for t in res.mode_type], bool)
     keep &= np.array([w == "F" for w in res.whirl], bool)
     return np.flatnonzero(keep)
 
