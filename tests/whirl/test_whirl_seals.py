@@ -94,3 +94,16 @@ def test_level2_judges_the_rotor_modes_not_the_seals_own(models):
     assert all(m.energy_lateral < 0.1 for m in p)
     judged = [m for m in modes if m.forward]
     assert len(judged) == 2 and all(m.mode_type == "L" for m in judged)
+
+
+def test_campbell_tracks_the_rotor_modes(models):
+    """Campbell leaves the fitted states' own modes out: their number follows each row's fit
+    order (no identity over speed); the six rotor modes are tracked, their residual on the
+    nonlinear problem at round-off."""
+    from gearrotor.analyses.campbell import campbell
+
+    *_, whirl, _ = models
+    c = campbell(whirl, speeds=np.array([10000.0, 11000.0, 12000.0]) * RPM, max_frequency=TOP)
+    assert c.damped_frequency.shape == (3, 6)
+    assert set(np.ravel(c.mode_type)) == {"L"}
+    assert np.max(c.residual) < 1e-9
