@@ -430,7 +430,7 @@ class Lubricant:
                 "degC",
             )
         lo, hi = self.viscosity(np.array([self.pour_point, self.max_temperature]))
-        if not (np.isfinite(lo) and np.isfinite(hi) and lo > hi > 0):
+        if not (np.isfinite(lo) and np.isfinite(hi) and lo >= hi > 0):
             raise ModelError(
                 "the viscosity law does not decrease with temperature over the lubricant's range",
                 field="lubricant",

@@ -251,7 +251,8 @@ class ThermalResult:
     pads
         Per pad (in the bearing's pad order).
     journal_temperature
-        K (``"thd"``); NaN for the effective model.
+        K (``"thd"`` with heat transfer to the journal, or a given journal temperature); NaN
+        otherwise.
     iterations
         Film–temperature iterations.
     rho_c
@@ -924,7 +925,9 @@ def solve_thermal(
         model=model.model,
         supply_temperature=t_s,
         pads=pads,
-        journal_temperature=float(t_journal) if thd else float("nan"),
+        journal_temperature=float(t_journal)
+        if thd and (model.journal_heat_transfer > 0 or not auto_journal)
+        else float("nan"),
         iterations=iterations,
         rho_c=rho_c,
     )
