@@ -5,7 +5,12 @@ power, the two fluid-film pinion journals iterated to equilibrium with the shaft
 point and in total; then the same points again, which the journal cache answers. The table
 puts the pinion bearing loads beside the SPEC 6.2 load cases. Goal: <= 2 s for the ten points.
 
-    python benchmarks/static.py [--repeat 3]
+    python benchmarks/static.py [--repeat 3] [--scaling]
+
+``--scaling`` (issue 23): the flagship's two shafts at 20 to 10,000 elements each (the model's
+limit), the weight-only static solution by the sparse path (the default) and by the dense
+reference (``method="dense"``, up to 300 elements: its SVD is cubic), time and numpy's peak memory
+(tracemalloc; the dense path at 10,000 elements would need 107 GiB).
 
 Runs in the environment it is started in (gearrotor's default: one BLAS thread, the matrices
 are small); the ten points are timed again next to one busy process (``python -c "while True:
@@ -58,6 +63,7 @@ def _clear_caches() -> None:
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=3, help="cold timing repeats (best reported)")
+    ap.add_argument("--scaling", action="store_true", help="sparse vs dense against mesh size")
     args = ap.parse_args(argv)
     print(
         f"machine : {platform.node()} | {cpu_name()} | {os.cpu_count()} cpus | "
@@ -108,7 +114,57 @@ def main(argv: list[str] | None = None) -> int:
     print(f"total (cold caches, best of {args.repeat}): {best:.3f} s   goal <= 2 s: {verdict}")
     print(f"total again (journal cache warm): {cached:.3f} s")
     print(f"total next to one busy process (cold caches, one run): {busy:.3f} s")
+    t_dense = math.inf
+    for _ in range(args.repeat):
+        _clear_caches()
+        t1 = time.perf_counter()
+        for n in names:
+            static(asm, n, method="dense")
+        t_dense = min(t_dense, time.perf_counter() - t1)
+    print(f"total by the dense reference path (cold): {t_dense:.3f} s")
+    if args.scaling:
+        scaling()
     return 0
+
+
+def _pair(elements: int):
+    import re
+    import tomllib
+
+    from gearrotor.io import model_from_dict
+
+    text = (EXAMPLE.parent / "unity_gearbox.toml").read_text()
+    text = text.replace("elements = 20", f"elements = {elements}")
+    text = re.sub(r"node = 20\b", f"node = {elements}", text)
+    text = re.sub(r"node = 10\b", f"node = {elements // 2}", text)
+    return model_from_dict(tomllib.loads(text))
+
+
+def _timed(fn):
+    import tracemalloc
+
+    _clear_caches()
+    tracemalloc.start()
+    t0 = time.perf_counter()
+    try:
+        fn()
+        return time.perf_counter() - t0, tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+
+
+def scaling() -> None:
+    print()
+    print("flagship pair, weight only: static by the sparse path and the dense reference")
+    print(f"{'elements':>9}{'DOF':>8}{'sparse s':>10}{'peak MB':>9}{'dense s':>9}{'peak MB':>9}")
+    for ne in (20, 100, 300, 2000, 10000):
+        asm = gr.assemble(_pair(ne))
+        ts, ms = _timed(lambda asm=asm: static(asm))
+        dense = "-", "-"
+        if ne <= 300:
+            td, md = _timed(lambda asm=asm: static(asm, method="dense"))
+            dense = f"{td:.3f}", f"{md / 1e6:.0f}"
+        print(f"{ne:>9}{asm.n_dof:>8}{ts:>10.3f}{ms / 1e6:>9.0f}{dense[0]:>9}{dense[1]:>9}")
 
 
 if __name__ == "__main__":

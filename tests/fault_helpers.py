@@ -23,6 +23,7 @@ import uuid
 from collections.abc import Callable, Iterator
 from pathlib import Path
 
+import numpy as np
 import pytest
 from typer.testing import CliRunner
 
@@ -201,3 +202,23 @@ def rewrite_netcdf(src: Path, dst: Path, change: Callable) -> None:
         Path(dst).unlink()
     ds.to_netcdf(dst, engine="h5netcdf")
     xr.backends.file_manager.FILE_CACHE.clear()
+
+
+def netcdf_bomb(src: Path, dst: Path, shape: tuple[int, ...], *, coordinate: bool = False) -> int:
+    """Copy the NetCDF ``src`` to ``dst`` with one more variable, ``bomb``, of ``shape`` float64,
+    chunked and compressed, none of its chunks written: the file grows by a few kB, and a reader
+    that loads it unpacks ``prod(shape) * 8`` bytes of fill values (a decompression bomb).
+    ``coordinate``: a 1-D dimension coordinate (read when the file is opened). Returns the
+    bytes declared."""
+    import shutil
+
+    import h5netcdf
+
+    shutil.copyfile(src, dst)
+    dims = ("bomb",) if coordinate else tuple(f"bomb_{k}" for k in range(len(shape)))
+    with h5netcdf.File(dst, "a") as f:
+        for d, n in zip(dims, shape, strict=True):
+            f.dimensions[d] = n
+        chunks = tuple(min(n, 1000) for n in shape)
+        f.create_variable("bomb", dims, "f8", chunks=chunks, compression="gzip")
+    return int(np.prod(shape, dtype=np.float64)) * 8

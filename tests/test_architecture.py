@@ -178,6 +178,7 @@ LAYERS = {
     "inputs": 1,
     "files": 1,
     "threads": 1,
+    "progress": 0,
     "model": 1,
     "bearings": 2,
     "seals": 2,

@@ -247,6 +247,19 @@ def read_table(path: str | Path, columns: tuple[str, ...] = TABLE_COLUMNS) -> Ta
                 file=name,
                 expected="finite numbers",
             )
+    if "speed_rpm" in data:  # coefficients at a speed are one row (issue 23)
+        seen: dict[float, int] = {}
+        for k, v in enumerate(data["speed_rpm"]):
+            if abs(v) in seen:
+                raise ModelError(
+                    f"rows {seen[abs(v)] + 1} and {k + 1} are at the same speed (the speed's "
+                    "sign is the sense of rotation; a table row holds for either)",
+                    field="speed_rpm",
+                    file=name,
+                    value=v,
+                    expected="one row per speed",
+                )
+            seen[abs(v)] = k
     return TableFile(data, title, load)
 
 

@@ -204,3 +204,11 @@ def test_campbell_too_few_modes_names_max_frequency():
 def test_models_without_tables_keep_their_defaults():
     r = invoke("campbell", UNITY, "--n-speeds", "2", "--max-frequency", "8000", "--format", "json")
     assert json.loads(r.stdout)["speeds_rpm"][0] == 0.0
+
+
+@pytest.mark.parametrize("command", ["campbell", "unbalance"])
+def test_sweep_at_an_operating_point_says_how_to_fix_a_lost_film(command):
+    # LC10 holds 12.5 MW: at the tables' 2,000 rpm that is 5.4 x the rated torque, more than
+    # the journals carry; the error names the speed, the option and the model field
+    r = invoke(command, STEAM, "--operating-point", "LC10", "--n-speeds", "2")
+    error_line(r, "cannot carry its load", "at 2000 rpm", "--min-speed", 'hold = "torque"')

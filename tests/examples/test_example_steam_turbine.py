@@ -5,7 +5,9 @@
   and q = 5.68e7 N/m at the coupling hub the pinion's conical mode is unstable near 0.88x; with
   the 3-lobe pressure-dam redesign every mode is stable; over the load cases the original is
   unstable at light load only and the redesign is stable throughout;
-* the API 617 unbalance response of the redesign stays small at the probes.
+* the API 617 unbalance response of the redesign stays small at the probes;
+* section 7: Level II at the ten load cases as operating points, which load cases fail for
+  each bearing design, and the 0.10 mm dam that passes everywhere by 0.001 (slow).
 
 Numbers are regression values of this representative model. Tolerances: refining the pinion
 bearings' Reynolds grid (36x8 or 48x12 -> 72x16 and 96x24 per pad) moves the critical mode's
@@ -29,6 +31,7 @@ from doc_examples import run as run_process
 
 DOC = ROOT / "docs" / "examples" / "steam_turbine_gearbox.md"
 SCRIPT = ROOT / "examples" / "scripts" / "steam_turbine_stability.py"
+LOAD_CASES = ROOT / "examples" / "scripts" / "steam_turbine_load_cases.py"
 
 
 def run(args: list[str], timeout: float = 300) -> str:
@@ -99,8 +102,8 @@ def test_redesign_light_load_every_mode_stable(doc_runs):
     assert res["stable"] is True
     assert min(m["log_dec"] for m in res["modes"]) > 0.2
     m = pinion_mode(res["modes"], 9000, 10000)
-    assert m["frequency_rpm"] == pytest.approx(9482, rel=5e-3)
-    assert m["log_dec"] == pytest.approx(0.227, abs=0.05)
+    assert m["frequency_rpm"] == pytest.approx(9480, rel=5e-3)
+    assert m["log_dec"] == pytest.approx(0.228, abs=0.05)
     # rated load, no destabiliser: all stable, the conical mode well damped
     res = find_run(doc_runs, "modal", "load_case=9")
     assert res["stable"] is True
@@ -139,7 +142,7 @@ def test_load_cases_and_onset():
     r = json.loads(run([sys.executable, "-c", STUDY]))
     # light load (1, 4): original unstable, redesign stable; heavier load (6, 10): both stable
     for lc, orig_ld, dam_ld in (
-        (1, -0.379, 0.227),
+        (1, -0.379, 0.228),
         (4, -0.319, 0.690),
         (6, 0.440, 1.912),
         (10, 1.212, 2.697),
@@ -157,7 +160,7 @@ def test_load_cases_and_onset():
     assert r["redesign/q0"] == pytest.approx(1.574, abs=0.05)
     # onset of instability at light load
     assert r["original/onset"] == pytest.approx(3.98e7, rel=0.05)
-    assert r["redesign/onset"] == pytest.approx(7.38e7, rel=0.05)
+    assert r["redesign/onset"] == pytest.approx(7.39e7, rel=0.05)
     assert r["original/onset"] < 5.68e7 < r["redesign/onset"]
 
 
@@ -197,7 +200,7 @@ def test_study_script(tmp_path):
     qo = s["q_sweep_original"]
     assert qo["onset_q_N_per_m"] == pytest.approx(3.98e7, rel=0.05)
     assert qo["onset_whirl_ratio"] == pytest.approx(0.80, abs=0.02)
-    assert s["q_sweep_redesign"]["onset_q_N_per_m"] == pytest.approx(7.38e7, rel=0.05)
+    assert s["q_sweep_redesign"]["onset_q_N_per_m"] == pytest.approx(7.39e7, rel=0.05)
     ld = [c["log_dec"] for c in s["load_cases"]["redesign"]["q568"]]
     assert min(ld) > 0.15
     ld = [c["log_dec"] for c in s["load_cases"]["original"]["q568"]]
@@ -206,3 +209,34 @@ def test_study_script(tmp_path):
     c8 = s["load_cases"]["redesign"]["q0"][7]
     assert c8["frequency_rpm"] == pytest.approx(11401, rel=5e-3)
     assert c8["log_dec"] > 3.0
+
+
+@pytest.mark.slow
+def test_level2_at_every_load_case(tmp_path):
+    """Section 7: API 617 Level II at the ten operating points (computed loads, loaded flank,
+    10,800 and 11,340 rpm, q = 5.68e7 N/m at the hub), about 3 min single-threaded. Which load
+    cases fail is the doc's verdict; the log decs are checked to 0.005 (the finer 72 x 16 grid
+    per pad moves the rated-load value of the 0.10 mm dam by 3e-4)."""
+    run(
+        [sys.executable, str(LOAD_CASES), "--json", str(tmp_path / "lc.json")]
+        + ["--figures", str(tmp_path)],
+        timeout=3600,
+    )
+    assert (tmp_path / "steam_turbine_level2_load_cases.png").stat().st_size > 10_000
+    d = json.loads((tmp_path / "lc.json").read_text())["designs"]
+    fails = {n: [r["load_case"] for r in rows if r["verdict"] != "pass"] for n, rows in d.items()}
+    lc = [f"LC{k}" for k in range(1, 11)]
+    assert fails == {
+        "original": lc[:5] + ["LC10"],
+        "redesign": ["LC1", "LC8", "LC9", "LC10"],
+        "min clearance": lc[6:],
+        "0.10 mm dam": [],
+        "redesign, q = 0": [],
+    }
+    ld = {n: [r["least_forward_log_dec"] for r in rows] for n, rows in d.items()}
+    assert ld["redesign"][0] == pytest.approx(0.083, abs=5e-3)  # conical whirl at the MCS
+    assert ld["redesign"][9] == pytest.approx(-0.002, abs=5e-3)  # bending mode, rated load
+    assert d["redesign"][9]["frequency_rpm"] == pytest.approx(19994, rel=5e-3)
+    assert ld["0.10 mm dam"][9] == pytest.approx(0.101, abs=2e-3)  # passes by 0.001
+    assert min(ld["0.10 mm dam"]) == ld["0.10 mm dam"][9]
+    assert min(ld["redesign, q = 0"]) == pytest.approx(0.283, abs=5e-3)

@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from fault_helpers import rewrite_netcdf
+from fault_helpers import netcdf_bomb, rewrite_netcdf
 
 from .conftest import SMALL, check_refused, files_in, run
 
@@ -107,6 +107,62 @@ def test_hostile_result_refused_by_report(saved, small, tmp_path):
     r, dt = run("report", small, "-o", tmp_path / "rep", "--analyses", "modal", "--transient", bad)
     check_refused(r, dt, "bad.nc", "shaft_speed")
     assert not (tmp_path / "rep").exists()
+
+
+BOMBS = [
+    ("data-7TiB", (10**6, 10**6), False),
+    ("coordinate-7TiB", (10**12,), True),
+]
+
+
+@pytest.mark.parametrize("shape, coordinate", [b[1:] for b in BOMBS], ids=[b[0] for b in BOMBS])
+def test_decompression_bomb_refused_from_the_header(saved, tmp_path, shape, coordinate):
+    """Issue 23: a NetCDF of a few kB that unpacks to terabytes (chunks never written read as
+    fill values) crashed ``transient-plot`` and ``report --transient`` (SIGSEGV under a memory
+    limit; a MemoryError traceback without). Its arrays' sizes come from the header: one line,
+    exit 2, before any data (or the coordinates xarray reads on opening) is read."""
+    bomb = tmp_path / "bomb.nc"
+    declared = netcdf_bomb(saved, bomb, shape, coordinate=coordinate)
+    assert bomb.stat().st_size < 100_000 and declared > 8 * 1024**3
+    before = files_in(tmp_path)
+    r, dt = run("transient-plot", bomb, "-o", tmp_path / "figs")
+    check_refused(r, dt, "bomb.nc", "GiB of memory once unpacked", "nothing was read")
+    assert files_in(tmp_path) == before
+
+
+def test_decompression_bomb_refused_by_report(saved, small, tmp_path):
+    bomb = tmp_path / "bomb.nc"
+    netcdf_bomb(saved, bomb, (10**6, 10**6))
+    r, dt = run("report", small, "-o", tmp_path / "rep", "--analyses", "modal", "--transient", bomb)
+    check_refused(r, dt, "bomb.nc", "once unpacked")
+    assert not (tmp_path / "rep").exists()
+
+
+def test_result_larger_than_any_transient_writes(saved, tmp_path, monkeypatch):
+    """Below what the machine could allocate, the cap (the largest result a transient writes)
+    refuses it too; lowered here to 100 MB so that the 800 MB bomb costs nothing where the
+    check is missing."""
+    from gearrotor.analyses.transient import results
+
+    monkeypatch.setattr(results, "MAX_RESULT_BYTES", 100 * 1024**2)
+    bomb = tmp_path / "bomb.nc"
+    netcdf_bomb(saved, bomb, (10**4, 10**4))
+    r, dt = run("transient-plot", bomb, "-o", tmp_path / "figs")
+    check_refused(r, dt, "bomb.nc", "0.0977 GiB (the largest result a transient writes)")
+
+
+def test_result_larger_than_the_memory_left(saved, tmp_path, monkeypatch):
+    """Below the cap, the memory this process can still get decides (a memory limit, ulimit -v
+    or a cgroup's): a result needing more than half of it is refused, naming why."""
+    from gearrotor.analyses.transient import results
+
+    need = results.check_sizes(saved)
+    monkeypatch.setattr(results, "memory_available", lambda: need)  # half of it is too little
+    r, dt = run("transient-plot", saved, "-o", tmp_path / "figs")
+    check_refused(r, dt, "run.nc", "half the memory available")
+    monkeypatch.setattr(results, "memory_available", lambda: 2 * need)
+    r, _ = run("transient-plot", saved, "-o", tmp_path / "figs")
+    assert r.exit_code == 0, (r.output, r.exception)
 
 
 def test_genuine_result_still_reads(saved):

@@ -117,7 +117,12 @@ def test_report_verdict_names_static_divergence():
     t = _train(SMALL + '\n[[seals]]\nshaft = "s1"\nnode = 2\nk = "-3e7 N/m"\n')
     res = modal(t, speed=0.0)  # at rest: the divergence is a pair of real eigenvalues (x, y)
     assert not res.stable
-    v = _verdicts(_stability(res, None))[0]
+    from gearrotor.assembly import assemble
+    from gearrotor.plots.report.base import Context
+
+    ctx = Context(assembly=assemble(t), analyses=("modal",), speed=0.0, max_frequency=1e4)
+    _verdicts(ctx, _stability(res, None, frozenset()))
+    v = ctx.verdicts[0]
     assert not v["ok"]
     assert "[]" not in v["detail"]
     assert "2 positive real eigenvalues" in v["detail"] and "static divergence" in v["detail"]

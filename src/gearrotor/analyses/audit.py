@@ -27,6 +27,7 @@ import numpy as np
 from ..assembly import Assembly
 from ..errors import ModelError
 from ..model import Train
+from ..progress import Progress, part, report
 from ..threads import managed
 from .operating import model_max_continuous_speed
 from .stability import (
@@ -233,6 +234,7 @@ def stability_audit(
     n_curve: int = 11,
     rtol: float = 1e-4,
     operating_point=None,
+    progress: Progress | None = None,
     **level1_args,
 ) -> StabilityAudit:
     """Level I (at the model's MCS, inputs from :func:`level1_inputs` with ``level1_args``)
@@ -244,6 +246,9 @@ def stability_audit(
     ``operating_point`` (name or :class:`~gearrotor.model.OperatingPoint`): fluid-film bearings
     at the coefficients of the point's static loads, evaluated at the MCS and the Level II
     speeds, meshes on the loaded flank (:func:`~gearrotor.analyses.static.at_operating_point`).
+
+    ``progress``: a :data:`gearrotor.progress.Progress` callback (the operating point's static
+    solves, Level I, Level II).
     """
     train = model.train if isinstance(model, Assembly) else model
     mcs = model_max_continuous_speed(train, "the stability audit (Level I runs at the MCS)")
@@ -252,10 +257,15 @@ def stability_audit(
         from .static.operating import model_at_operating_point
 
         at = sorted({float(abs(w)) for w in [mcs, *ws]})
-        train = model_at_operating_point(train, operating_point, at)[0]
+        op = part(progress, 0.0, 0.6, "operating point")
+        train = model_at_operating_point(train, operating_point, at, op)[0]
+    start = 0.6 if operating_point is not None else 0.0
     kw = level1_inputs(train, **level1_args)
+    report(progress, start, "Level I")
     r1 = level1(train, n_curve=n_curve, rtol=rtol, **kw)
+    report(progress, start + 0.8 * (1 - start), "Level II")
     r2 = level2(train, speeds=ws, edition=kw["edition"])
+    report(progress, 1.0)
     if r1.passed:
         verdict, by = "pass", "Level I"
     else:

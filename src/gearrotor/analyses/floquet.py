@@ -273,7 +273,13 @@ def floquet(
         Ct[np.ix_(d[ok], d[ok])] += law.damping * np.outer(law.w[ok], law.w[ok])
     # basis: the undamped modes of the symmetric part (cross-coupled bearings and
     # CrossCoupling make K non-symmetric); the whole K, skew part included, is projected
-    w2, V = la.eigh(0.5 * (K + K.T), M)
+    # (tilting pads with pad dynamics: their indefinite symmetric film block is made
+    # semidefinite for the basis, and every pad coordinate is added to it, as in ModalRK4)
+    from .transient.prepare import _pad_shapes
+    from .transient.reduction import basis_stiffness
+
+    Ks = basis_stiffness(system, K)
+    w2, V = la.eigh(Ks, M)
     om = np.sqrt(np.clip(w2, 0.0, None))
     wcut = 2 * np.pi * cutoff if cutoff is not None else cutoff_factor * omega_m
     keep = (om <= wcut) & (om > 1e-6 * max(om.max(), 1.0))
@@ -281,6 +287,15 @@ def floquet(
         raise ModelError("no elastic mode below the cut-off", field="cutoff", value=wcut)
     Phi = V[:, keep]
     lam = w2[keep]
+    E = _pad_shapes(system)
+    if E.shape[1]:
+        for _ in range(2):  # M-orthogonal to the kept modes and to each other
+            E = E - Phi @ (Phi.T @ (M @ E))
+            gw, gv = la.eigh(E.T @ M @ E)
+            ok = gw > 1e-10 * gw.max()
+            E = E @ (gv[:, ok] / np.sqrt(gw[ok]))
+        Phi = np.hstack([Phi, E])
+        lam = np.concatenate([lam, np.einsum("ij,ij->j", E, Ks @ E)])
     m = Phi.shape[1]
     Cr = Phi.T @ Ct @ Phi
     Kr = Phi.T @ K @ Phi

@@ -88,6 +88,7 @@ from ..assembly import Assembly, _Triplets, assemble
 from ..elements import RadialBearing
 from ..errors import ModelError, SolverError
 from ..model import Train
+from ..progress import Progress, part, report
 from ..threads import managed
 
 __all__ = [
@@ -596,11 +597,12 @@ class _Sweep:
         self._solutions[k] = sol
         return sol
 
-    def run(self, grid: NDArray) -> None:
+    def run(self, grid: NDArray, progress: Progress | None = None) -> None:
         first = self._solve(float(grid[0]), None)
         nb = int(np.sum(first.w2 <= self.cap2))
         self._record(float(grid[0]), first.w2[:nb], first.V[:, :nb], first.q[:, :nb])
-        for k in grid[1:]:
+        for i, k in enumerate(grid[1:]):
+            report(progress, (i + 1) / len(grid), f"stiffness {i + 2}/{len(grid)}")
             self._step(float(k), 0)
         self._solutions.clear()
 
@@ -878,6 +880,7 @@ def ucs_map(
     method: str = "auto",
     rigid_tol: float = 1e-2,
     operating_point=None,
+    progress: Progress | None = None,
 ) -> UCSResult:
     """Undamped critical speed map (see the module docstring).
 
@@ -898,6 +901,7 @@ def ucs_map(
     operating_point : name or :class:`~gearrotor.model.OperatingPoint`: the fluid-film
         bearings' Kxx/Kyy curves at the point's static loads (its torque held), at each of the
         speeds their ``fluid_film.speeds`` list
+    progress : a :data:`gearrotor.progress.Progress` callback (the stiffness sweep)
     """
     if operating_point is not None:
         model = _at_operating_point(model, operating_point)
@@ -932,12 +936,13 @@ def ucs_map(
     inter: list[Intersection] = []
     n_refined = 0
     for g, r in enumerate(keys):
+        report(progress, g / len(keys), f"speed-ratio group {g + 1}/{len(keys)}")
         members = np.flatnonzero(group == g)
         rigid, top = _rigid(prob, r, members, n_modes, min_share, method)
         highest = np.nanmax(np.concatenate(list(rigid.values())), initial=-np.inf)
         cap2 = (CAP * (highest if np.isfinite(highest) else np.sqrt(top))) ** 2
         sweep = _Sweep(prob, r, method, cap2, members, n_modes, min_share)
-        sweep.run(ks)
+        sweep.run(ks, part(progress, g / len(keys), (g + 1) / len(keys)))
         n_refined += sweep.n_refined
         grid = np.searchsorted(sweep.ks, ks)
         W, Q = sweep.table(grid)
@@ -953,6 +958,7 @@ def ucs_map(
             inter += _intersections(s, branches, sweep, curves, ks, min_share)
     order = {s.name: i for i, s in enumerate(train.shafts)}
     inter.sort(key=lambda x: (order[x.shaft], x.mode, x.speed))
+    report(progress, 1.0)
     return UCSResult(
         stiffness=ks,
         shafts=tuple(shafts),

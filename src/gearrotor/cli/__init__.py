@@ -51,7 +51,7 @@ from .campbell import campbell_command
 from .errors import EXIT_CODES_HELP, OneLineGroup, cli_errors
 from .floquet import floquet_command
 from .modal import modal_command
-from .options import ThreadsOpt
+from .options import ProgressOpt, ThreadsOpt
 from .report import report_command
 from .ross import export_command, import_ross_command
 from .seal import seal_command
@@ -106,41 +106,58 @@ def _check_model_file(path: Path | None) -> None:
         read_toml(path, "model")
 
 
-def common_options(fn: Callable) -> Callable:
-    """Give a command function the options every command has (``--threads``), keeping the
-    parameters Typer reads: the command then runs in a :func:`gearrotor.threads.scope` with
-    that setting (a bad ``GEARROTOR_THREADS`` is an input error, before anything runs). A
-    command with a ``model`` file argument has the file read first (:func:`_check_model_file`)."""
+def common_options(fn: Callable, name: str | None = None) -> Callable:
+    """Give a command function the options every command has, keeping the parameters Typer
+    reads: ``--threads`` (the command runs in a :func:`gearrotor.threads.scope` with that
+    setting; a bad ``GEARROTOR_THREADS`` is an input error, before anything runs) and
+    ``--progress/--no-progress`` (a :func:`.progress.reporting` titled ``name``; commands with
+    their own ``progress`` option keep it). A command with a ``model`` file argument has the
+    file read first (:func:`_check_model_file`)."""
     sig = inspect.signature(fn, eval_str=True)
     if "threads" in sig.parameters:
         return fn
-    extra = inspect.Parameter(
-        "threads", inspect.Parameter.KEYWORD_ONLY, default=None, annotation=ThreadsOpt
-    )
-
+    title = name or fn.__name__.removesuffix("_command")
+    own_progress = "progress" in sig.parameters
     model_arg = sig.parameters.get("model")
     reads_model = model_arg is not None and typing.get_args(model_arg.annotation)[:1] == (Path,)
 
     @functools.wraps(fn)
     def command(*args, threads: str | None = None, **kwargs):
         from .. import threads as threads_
+        from .progress import reporting
 
+        show = None if own_progress else kwargs.pop("show_progress", None)
         with threads_.using(threads):
             with cli_errors():
                 threads_.setting()  # GEARROTOR_THREADS is read (and checked) before anything runs
                 if reads_model:
                     _check_model_file(sig.bind_partial(*args, **kwargs).arguments.get("model"))
-            with threads_.scope():
+            with threads_.scope(), reporting(title, False if own_progress else show):
                 return fn(*args, **kwargs)
 
-    params = list(sig.parameters.values())
-    command.__signature__ = sig.replace(parameters=[*params, extra])
-    command.__annotations__ = {**fn.__annotations__, "threads": ThreadsOpt}
+    extra = [
+        inspect.Parameter(
+            "threads", inspect.Parameter.KEYWORD_ONLY, default=None, annotation=ThreadsOpt
+        )
+    ]
+    annotations = {"threads": ThreadsOpt}
+    if not own_progress:
+        extra.append(
+            inspect.Parameter(
+                "show_progress",
+                inspect.Parameter.KEYWORD_ONLY,
+                default=None,
+                annotation=ProgressOpt,
+            )
+        )
+        annotations["show_progress"] = ProgressOpt
+    command.__signature__ = sig.replace(parameters=[*sig.parameters.values(), *extra])
+    command.__annotations__ = {**fn.__annotations__, **annotations}
     return command
 
 
 def _command(name: str, fn) -> None:
-    app.command(name, help=reflow(fn.__doc__), epilog=EXIT_CODES_HELP)(common_options(fn))
+    app.command(name, help=reflow(fn.__doc__), epilog=EXIT_CODES_HELP)(common_options(fn, name))
 
 
 _command("show", show_command)
@@ -161,7 +178,7 @@ _command("import-ross", import_ross_command)
 _command("export", export_command)
 for _group in (study_app, torsional_app):  # the options every command has, also in the groups
     for _info in _group.registered_commands:
-        _info.callback = common_options(_info.callback)
+        _info.callback = common_options(_info.callback, _info.name)
 app.add_typer(study_app, name="study")
 app.add_typer(torsional_app, name="torsional")
 

@@ -21,8 +21,10 @@ import typer
 
 from ..errors import ModelError
 from ..files import check_output, make_directory, output_set
+from ..progress import part, steps
 from .errors import cli_errors
 from .options import FormatOpt
+from .progress import current
 
 if TYPE_CHECKING:
     from ..bearings.coefficients import Coefficients
@@ -327,7 +329,12 @@ def bearing_command(
                 file=str(path),
             )
     t0 = time.perf_counter()
-    results = [coefficients(case.bearing, ld, w, options=case.options) for ld in loads]
+    bar = current()
+    share = 0.5 if plot is not None else 1.0  # the figures take about as long
+    results = [
+        coefficients(case.bearing, ld, w, options=case.options)
+        for ld in steps(part(bar, 0.0, share), loads, "load case")
+    ]
     wall = time.perf_counter() - t0
     rows = [_row(k, n, co) for k, (n, co) in enumerate(zip(names, results, strict=True))]
     b = case.bearing
@@ -362,7 +369,7 @@ def bearing_command(
         )
     if plot is not None:
         with output_set():  # the figures appear together or not at all
-            _plots(case.bearing, results, Path(plot))
+            _plots(case.bearing, results, Path(plot), part(bar, share, 1.0, "figures"))
     return results
 
 
@@ -399,12 +406,12 @@ def _oil_text(case) -> str:
     return f"{name}, {th.model} model, supply {_c(th.supply_temperature):.1f} °C"
 
 
-def _plots(bearing, results: list[Coefficients], outdir: Path) -> list[Path]:
+def _plots(bearing, results: list[Coefficients], outdir: Path, progress=None) -> list[Path]:
     from ..bearings.plots import plot_coefficients, plot_locus, plot_pressure
 
     make_directory(outdir, field="--plot")
     out = []
-    for k, co in enumerate(results):
+    for k, co in enumerate(steps(progress, results, "pressure field")):
         p = outdir / f"pressure_case{k + 1:02d}.png"
         plot_pressure(co.equilibrium, bearing, p)
         out.append(p)

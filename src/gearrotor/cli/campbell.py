@@ -25,8 +25,10 @@ from .options import (
     option_fields,
     rpm,
     speed_grid,
+    sweep_at_operating_point,
     sweep_range,
 )
+from .progress import current
 
 __all__ = ["campbell_command", "parse_orders"]
 
@@ -98,13 +100,17 @@ def campbell_command(
     speeds = speed_grid(lo, hi, n_speeds, "--min-speed/--max-speed")
     fmax = (max_frequency if max_frequency is not None else 3 * hi) * RPM
     extra = parse_orders(orders)
-    with option_fields(max_frequency="--max-frequency"):
+    with (
+        option_fields(max_frequency="--max-frequency"),
+        sweep_at_operating_point(train, operating_point),
+    ):
         res = run_campbell(
             train,
             speeds=speeds,
             max_frequency=fmax,
             extra_orders=extra,
             operating_point=operating_point,
+            progress=current(),
         )
     if format == "json":
         typer.echo(json.dumps(res.to_dict(), indent=1))

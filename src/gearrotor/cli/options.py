@@ -25,6 +25,7 @@ __all__ = [
     "FormatOpt",
     "OperatingPointOpt",
     "SetOpt",
+    "ProgressOpt",
     "ThreadsOpt",
     "check_format",
     "check_operating_point",
@@ -36,6 +37,7 @@ __all__ = [
     "MAX_SPEEDS",
     "choice",
     "option_fields",
+    "sweep_at_operating_point",
     "count",
     "duration",
     "number",
@@ -140,6 +142,40 @@ def option_fields(**options: str):
                     expected=exc.expected,
                 ) from None
         raise
+
+
+@contextlib.contextmanager
+def sweep_at_operating_point(train, name: str | None):
+    """A speed sweep at an operating point: a journal that cannot carry the point's load at
+    some speed of the sweep (12.5 MW held down to 2,000 rpm is 5.4 times the rated torque)
+    says which option and which model field change that."""
+    try:
+        yield
+    except ModelError as exc:
+        if name is None or "cannot carry its load" not in exc.message:
+            raise
+        points = list(train.operating_points)
+        k = next(i for i, p in enumerate(points) if p.name == name)
+        held = points[k].held
+        raise ModelError(
+            exc.message,
+            field=exc.field,
+            value=exc.value,
+            expected=f"{exc.expected}; the sweep at --operating-point {name} holds the point's "
+            f"{held} at every speed: start it nearer the point's speed (--min-speed), or hold "
+            f'the torque (operating_points[{k}].hold = "torque")',
+            file=exc.file,
+        ) from None
+
+
+ProgressOpt = Annotated[
+    bool | None,
+    typer.Option(
+        "--progress/--no-progress",
+        help="progress on stderr (default: when stderr is a terminal, for work over a second)",
+        show_default=False,
+    ),
+]
 
 
 def check_format(fmt: str) -> None:

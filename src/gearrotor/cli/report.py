@@ -18,6 +18,7 @@ import typer
 from ..errors import ModelError
 from .errors import cli_errors
 from .options import RPM, OperatingPointOpt, SetOpt, check_operating_point, rpm
+from .progress import current
 
 __all__ = ["report_command"]
 
@@ -101,6 +102,7 @@ def report_command(
         command=shlex.join(["gearrotor", *sys.argv[1:]]) if sys.argv else None,
         operating_point=operating_point,
         operating_points=[p.name for p in train.operating_points] if all_operating_points else None,
+        progress=current(),
     )
     typer.echo(f"report written to {rep.html}")
     for v in rep.summary.get("verdicts", []):

@@ -11,6 +11,7 @@ import typer
 
 from ..errors import ModelError
 from ..files import check_output, make_directory, output_set, unique_names, write_text
+from ..progress import steps
 from .errors import cli_errors
 from .options import (
     RPM,
@@ -21,6 +22,7 @@ from .options import (
     check_operating_point,
     rpm,
 )
+from .progress import current
 
 __all__ = ["static_command"]
 
@@ -75,7 +77,10 @@ def static_command(
     from ..assembly import assemble
 
     asm = assemble(train)
-    results = [static(asm, n, speed=w) for n in names]
+    results = [
+        static(asm, n, speed=w)
+        for n in steps(current(), names, lambda i, k, name: f"operating point {name} ({i}/{k})")
+    ]
     if format == "json":
         out = (
             results[0].to_dict()

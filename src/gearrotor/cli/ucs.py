@@ -24,6 +24,7 @@ from .options import (
     count,
     operating_range_from_options,
 )
+from .progress import current
 
 __all__ = ["ucs_command"]
 
@@ -131,6 +132,7 @@ def ucs_command(
         n_modes=n_modes,
         method=method,
         operating_point=operating_point,
+        progress=current(),
     )
     if format == "json":
         typer.echo(json.dumps({"model": train.name, **res.to_dict()}, indent=1))

@@ -26,6 +26,7 @@ from .options import (
     operating_range_from_options,
     rpm,
     speed_grid,
+    sweep_at_operating_point,
     sweep_range,
 )
 
@@ -149,7 +150,10 @@ def unbalance_command(
             unb = placed.unbalances()
         else:
             unb = api617_unbalances(asm, mcs_ref)
-    res = unbalance_response(asm, speeds=speeds, unbalances=unb, operating_point=operating_point)
+    with sweep_at_operating_point(train, operating_point):
+        res = unbalance_response(
+            asm, speeds=speeds, unbalances=unb, operating_point=operating_point
+        )
     if clearances:
         check = clearance_check(
             res.assembly,

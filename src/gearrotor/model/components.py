@@ -7,6 +7,7 @@ checked when a :class:`~gearrotor.model.Train` is built.
 
 from __future__ import annotations
 
+import math
 from typing import Annotated, Literal
 
 from pydantic import (
@@ -319,6 +320,24 @@ class Support(Spec):
     cyy: Damping = 0.0
 
 
+def _distinct_speeds(v):
+    """Tabulation speeds (rad/s) are distinct in magnitude (the table's rows are at |speed|):
+    two rows at one speed would hold two sets of coefficients for it (issue 23)."""
+    if v is None:
+        return v
+    mags = [abs(float(x)) for x in v]
+    seen: dict[float, int] = {}
+    for k, m in enumerate(mags):
+        if m in seen:
+            raise ValueError(
+                f"speeds[{seen[m]}] and speeds[{k}] are the same speed "
+                f"({m * 30 / math.pi:.6g} rpm): a table has one row per speed; expected "
+                "distinct speeds"
+            )
+        seen[m] = k
+    return v
+
+
 class FluidFilm(Spec):
     """Coefficients from the fluid-film bearing solver: a bearing file (see docs/bearings.md),
     the static ``load`` (Fx, Fy) on this journal (default: the file's load case ``load_case``)
@@ -339,6 +358,8 @@ class FluidFilm(Spec):
     pad_inertia: Inertia | None = Field(default=None, gt=0)
     pad_mass: Mass | None = Field(default=None, gt=0)
     pivot_stiffness: Stiffness | None = Field(default=None, gt=0)
+
+    _speeds = field_validator("speeds")(_distinct_speeds)
 
     @model_validator(mode="after")
     def _loads(self) -> FluidFilm:
@@ -442,6 +463,8 @@ class Seal(NodeRef):
     file: str | None = None
     speeds: list[AngularSpeed] | None = Field(default=None, min_length=1)
     extrapolate: Literal["error", "hold"] = "error"
+
+    _speeds = field_validator("speeds")(_distinct_speeds)
 
     @model_validator(mode="after")
     def _one_source(self) -> Seal:

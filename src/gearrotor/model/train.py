@@ -464,10 +464,20 @@ class Train(Spec):
 
     def check_operating_point(self, p: OperatingPoint, field: str = "operating_point") -> None:
         """Check an operating point's nodes and speed against the train (ModelError)."""
+        nodes = {}
         for key in ("drive", "load"):
             ref = getattr(p, key)
             if ref is not None:
-                self.node_index(ref, f"{field}.{key}")
+                nodes[key] = self.node_index(ref, f"{field}.{key}")
+        if (p.power or p.torque) and len(nodes) == 2 and nodes["drive"] == nodes["load"]:
+            si, node = nodes["load"]
+            raise ModelError(
+                "the load node is the drive node: the torque would react itself there and "
+                "nothing would be transmitted through the train",
+                field=f"{field}.load",
+                value=f"shaft {self.shafts[si].name!r}, node {node}",
+                expected="the node where the power leaves the train (another node than 'drive')",
+            )
         for j, f in enumerate(p.forces):
             self.node_index(f, f"{field}.forces[{j}]")
         if p.power and p.reference_speed(self.speed) == 0.0:

@@ -44,6 +44,9 @@ def _read_netcdf(path: Path, expected: str) -> xr.Dataset:
         raise ModelError("file not found", file=str(path), expected=expected)
     if path.is_dir():
         raise ModelError("a directory, not a file", file=str(path), expected=expected)
+    from ..analyses.transient.results import check_sizes
+
+    check_sizes(path)  # a decompression bomb is refused from the header, before any read
     try:
         with xr.open_dataset(path, engine="h5netcdf") as ds:
             return ds.load()

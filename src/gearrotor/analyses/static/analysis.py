@@ -7,7 +7,11 @@ of the operating point: weight (the consistent mass times the gravity field: sha
 gear bodies, pedestals), the drive and load torques and static forces. The rigid-body motions
 the stiffness leaves free (the train's rotation, an axial float without thrust bearing) are
 held by the solver's constraint; a load that one of them would have to react (a torque that
-does not balance, an axial force without thrust bearing) is an input error.
+does not balance, an axial force without thrust bearing) is an input error. Everything stays
+sparse (``method="sparse"``, memory and time linear in the mesh size; issue 23): the rigid
+motions are the null space within the shafts' kinematic rigid motions
+(:func:`.solver.rigid_modes_in`), the solve a sparse LU; ``method="dense"`` is the reference
+(dense LU, SVD of the whole stiffness) the sparse path is tested against.
 
 Fluid-film journals are nonlinear: each is replaced by its film force linearised about a
 journal equilibrium, ``F(d) ≈ −W_b − K_b (d − d_b)`` (``d_b`` the equilibrium position of the
@@ -38,9 +42,10 @@ from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
+import scipy.sparse as sp
 from numpy.typing import NDArray
 
-from ...assembly import Assembly, _shaft_elements, assemble
+from ...assembly import Assembly, _shaft_elements, _Triplets, assemble
 from ...elements import CrossCoupling
 from ...errors import ModelError, SolverError
 from ...model import OperatingPoint, Train
@@ -53,7 +58,7 @@ from .results import (
     StaticResult,
     StaticSweep,
 )
-from .solver import Contact, rigid_modes, solve_static
+from .solver import Contact, rigid_modes, rigid_modes_in, solve_static
 
 __all__ = ["static", "static_sweep", "resolve_operating_point", "journal_equilibrium"]
 
@@ -135,16 +140,58 @@ def journal_equilibrium(
 _RIGID_CACHE: dict = {}
 
 
-def _rigid_modes_cached(K: NDArray) -> NDArray:
-    """:func:`.solver.rigid_modes` (right null space), cached by the matrix's bytes: the
-    operating points of one train share it."""
-    key = hashlib.blake2b(np.ascontiguousarray(K).tobytes(), digest_size=16).digest()
+def _rigid_modes_cached(asm: Assembly, K) -> NDArray:
+    """The right null space of K (the rigid-body motions it leaves free), cached by the
+    matrix's bytes: the operating points of one train share it. Sparse K: within the span of
+    the train's kinematic rigid motions (:func:`.solver.rigid_modes_in`, :func:`_candidates`);
+    dense K: the SVD of the whole matrix (:func:`.solver.rigid_modes`)."""
+    h = hashlib.blake2b(digest_size=16)
+    if sp.issparse(K):
+        K = sp.csr_array(K)
+        K.sort_indices()
+        for a in (K.data, K.indices, K.indptr):
+            h.update(np.ascontiguousarray(a).tobytes())
+    else:
+        h.update(np.ascontiguousarray(K).tobytes())
+    key = (sp.issparse(K), h.digest())
     hit = _RIGID_CACHE.get(key)
     if hit is None:
         if len(_RIGID_CACHE) >= 64:
             _RIGID_CACHE.pop(next(iter(_RIGID_CACHE)))
-        hit = _RIGID_CACHE[key] = rigid_modes(K)[0]
+        hit = rigid_modes_in(K, _candidates(asm)) if sp.issparse(K) else rigid_modes(K)[0]
+        _RIGID_CACHE[key] = hit
     return hit
+
+
+def _candidates(asm: Assembly) -> NDArray:
+    """(n_dof, p) the motions the train's stiffness can leave free: the six rigid motions of
+    each shaft (a chain of Timoshenko elements, elastic in every other motion: x, y, z, the
+    tilts θx (y = −z θx) and θy (x = z θy) about its mid-length, and the spin θz), and each
+    pedestal's x and y. Every null vector of the train is a combination of them."""
+    layout = asm.train.layout()
+    cols = []
+    for i, offs in enumerate(asm.node_offset):
+        z = layout.shafts[i].z
+        z = z - 0.5 * (z.min() + z.max())
+        for dofs, vals in (
+            ((0,), (1.0,)),
+            ((1,), (1.0,)),
+            ((2,), (1.0,)),
+            ((1, 3), (-z, 1.0)),
+            ((0, 4), (z, 1.0)),
+            ((5,), (1.0,)),
+        ):
+            v = np.zeros(asm.n_dof)
+            for d, val in zip(dofs, vals, strict=True):
+                v[offs + d] = val
+            cols.append(v)
+    for so in asm.support_offset:
+        if so >= 0:
+            for d in (0, 1):
+                v = np.zeros(asm.n_dof)
+                v[so + d] = 1.0
+                cols.append(v)
+    return np.column_stack(cols)
 
 
 def _start_flanks(asm: Assembly, op: OperatingPoint) -> list[int]:
@@ -180,12 +227,16 @@ def _start_flanks(asm: Assembly, op: OperatingPoint) -> list[int]:
     return out
 
 
-def _scatter(A: NDArray, dofs: NDArray, sup: NDArray | None, k: NDArray) -> None:
-    A[np.ix_(dofs, dofs)] += k
-    if sup is not None:
-        A[np.ix_(sup, sup)] += k
-        A[np.ix_(dofs, sup)] -= k
-        A[np.ix_(sup, dofs)] -= k
+def _scatter(A: _Triplets, dofs: NDArray, sup: NDArray | None, k: NDArray) -> None:
+    """A bearing's 2x2 stiffness ``k`` between its journal DOFs and ground or its pedestal."""
+    if sup is None:
+        A.add(dofs, k)
+    else:
+        A.add(np.concatenate([dofs, sup]), np.block([[k, -k], [-k, k]]))
+
+
+#: Largest matrix the dense reference path (``method="dense"``) allocates, bytes.
+DENSE_MAX_BYTES = 512 * 1024**2
 
 
 def _gravity_field(asm: Assembly, op: OperatingPoint) -> NDArray:
@@ -256,13 +307,18 @@ def static(
     operating_point: str | OperatingPoint | None = None,
     *,
     speed: float | None = None,
+    method: str = "sparse",
 ) -> StaticResult:
     """Static deflection, bearing loads and tooth forces of a train at an operating point.
 
     model : the train (or its assembly); operating_point : the name of one of the model's
     ``operating_points``, an :class:`~gearrotor.model.OperatingPoint`, or None (weight only at
     the model's speed); speed : reference-shaft speed (rad/s) instead of the point's own (a
-    sweep: the point's ``hold`` says whether its power or its torque is kept).
+    sweep: the point's ``hold`` says whether its power or its torque is kept); method :
+    ``"sparse"`` (sparse LU; the rigid-body motions as the null space of the stiffness within
+    the shafts' kinematic rigid motions: memory and time linear in the mesh size) or
+    ``"dense"`` (dense LU and the SVD of the whole stiffness: the reference the sparse path is
+    tested against, refused above :data:`DENSE_MAX_BYTES` per matrix).
 
     Raises :class:`ModelError` on bad input (unknown point or shaft, power at zero speed, a
     torque or load nothing reacts, a journal that cannot carry its load: no equilibrium or a
@@ -281,25 +337,37 @@ def static(
             value=f"{op.power:.6g} W at 0 rpm",
             expected="a non-zero speed, or an operating point by torque",
         )
+    if method not in ("sparse", "dense"):
+        raise ValueError(f"unknown method {method!r}; expected 'sparse' or 'dense'")
+    n = asm.n_dof
+    if method == "dense" and 8 * (n + 8) ** 2 > DENSE_MAX_BYTES:
+        raise ModelError(
+            f"the dense static solver would need {8 * (n + 8) ** 2 / 1024**3:.3g} GiB per "
+            f"matrix for {n:,} DOF",
+            field="method",
+            value="dense",
+            expected=f"method='sparse' (dense up to {DENSE_MAX_BYTES / 1024**2:.0f} MiB)",
+        )
+    dense = method == "dense"
     speeds = asm.shaft_speeds(w_ref)
-    M = asm.M.toarray()
+    M = asm.M.toarray() if dense else asm.M
 
     # --- stiffness without meshes, destabilisers and fluid-film journals ---------------------
-    K = asm.K0.toarray()
+    change = _Triplets()
     pads = asm.pad_dofs
     if len(pads):
         # tilting pads with pad dynamics: their DOFs are measured from the pads' equilibrium at
         # the journal's static position, so they are 0 in the static state (a unit spring)
-        K[pads, pads] += max(float(np.max(np.abs(np.diag(K)))), 1.0)
+        k_pad = max(float(np.max(np.abs(asm.K0.diagonal()))), 1.0)
+        change.add(pads, k_pad * np.eye(len(pads)))
     for k, q in enumerate(train.cross_couplings):
         si, node = train.node_index(q, f"cross_couplings[{k}]")
-        d = asm.node_offset[si][node] + np.arange(2)
-        K[np.ix_(d, d)] -= CrossCoupling(q.q).K()
+        change.add(asm.node_offset[si][node] + np.arange(2), -CrossCoupling(q.q).K())
     for m in asm.meshes:
-        K[np.ix_(m.dofs, m.dofs)] -= m.stiffness * np.outer(m.w, m.w)
+        change.add(m.dofs, -m.stiffness * np.outer(m.w, m.w))
     for info in _seals(asm):  # no static load on seals (module docstring)
         if not info.element.speed_dependent:  # a constant seal is in K0; a tabulated one never
-            K[np.ix_(info.dofs, info.dofs)] -= info.element.K(0.0)
+            change.add(info.dofs, -info.element.K(0.0))
     films = []
     for k, (spec, info) in enumerate(zip(train.bearings, _bearings(asm), strict=True)):
         if spec.fluid_film is not None:
@@ -312,7 +380,10 @@ def static(
                 )
             films.append((k, spec, info))
         elif info.element.speed_dependent:
-            _scatter(K, info.dofs, info.support_dofs, info.element.K(speeds[info.shaft]))
+            _scatter(change, info.dofs, info.support_dofs, info.element.K(speeds[info.shaft]))
+    K = sp.csr_array(asm.K0 + change.csr(n))
+    if dense:
+        K = K.toarray()
 
     # --- loads ----------------------------------------------------------------------------
     f = M @ _gravity_field(asm, op)
@@ -343,14 +414,15 @@ def static(
     sides = _start_flanks(asm, op)
 
     # --- rigid-body modes of the linearised train -------------------------------------------
-    k0 = max(np.max(np.abs(np.diag(K))), 1.0)
-    K_all = K.copy()
+    k0 = max(float(np.max(np.abs(K.diagonal()))), 1.0)
+    closing = _Triplets()
     for c, s in zip(contacts, sides, strict=True):
         w = c.w if s == 1 else c.w_back
-        K_all[np.ix_(c.dofs, c.dofs)] += c.stiffness * np.outer(w, w)
+        closing.add(c.dofs, c.stiffness * np.outer(w, w))
     for _, _, info in films:
-        _scatter(K_all, info.dofs, info.support_dofs, k0 * np.eye(2))
-    R = _rigid_modes_cached(K_all)
+        _scatter(closing, info.dofs, info.support_dofs, k0 * np.eye(2))
+    K_all = K + (closing.csr(n).toarray() if dense else closing.csr(n))
+    R = _rigid_modes_cached(asm, K_all)
     if torque_nodes is not None:
         # the load torque balances the drive torque in the train's rigid rotation (the ratio
         # of the meshes' pitch radii, which the tooth counts match to within 1 %)
@@ -376,14 +448,16 @@ def static(
     solves0 = _counter["solves"]
     iterations = 0
     for it in range(_MAX_OUTER + 1):
-        Kt, ft = K.copy(), f.copy()
+        ft = f.copy()
+        journals = _Triplets()
         for k, _, info in films:
             W, d, Kb, _ = state[k]
-            _scatter(Kt, info.dofs, info.support_dofs, Kb)
+            _scatter(journals, info.dofs, info.support_dofs, Kb)
             g = Kb @ d - W
             ft[info.dofs] += g
             if info.support_dofs is not None:
                 ft[info.support_dofs] -= g
+        Kt = K + (journals.csr(n).toarray() if dense else journals.csr(n)) if films else K
         try:
             sol = solve_static(Kt, ft, M=M, rigid=R, contacts=contacts, sides=sides)
         except np.linalg.LinAlgError:
@@ -416,7 +490,7 @@ def static(
         iterations += 1
         for k, spec, info in films:
             eq, Kb = _solve_journal(
-                k, spec, info, new[k], speeds[info.shaft], state[k][3], exact=iterations > 1
+                k, spec, info, new[k], speeds[info.shaft], state[k][3], iterations > 1, op.name
             )
             state[k] = [new[k], np.array([eq.x, eq.y]), Kb, eq]
 
@@ -533,9 +607,9 @@ def _force_tol(spec, load: NDArray, speed: float) -> float:
     return 10 * case.options.tol * max(float(np.linalg.norm(load)), fref)
 
 
-def _solve_journal(k, spec, info, load, speed, start, exact):
+def _solve_journal(k, spec, info, load, speed, start, exact, point):
     file = spec.fluid_film.file
-    name = f"{info.name} (bearings[{k}])"
+    name = f"{info.name} (bearings[{k}]) at operating point '{point}'"
     try:
         eq, Kb = journal_equilibrium(
             file,
@@ -567,37 +641,45 @@ def _solve_journal(k, spec, info, load, speed, start, exact):
 
 
 def _shaft_curves(asm: Assembly, q: NDArray, g: NDArray) -> tuple[ShaftStatics, ...]:
+    """Section forces at both ends of every shaft element (its end forces ``K q − M g``) and
+    the von Mises stress there; the elements of a section are alike, so each distinct element's
+    matrices are formed once and applied to all its instances at once."""
     out = []
     layout = asm.train.layout()
     for i, sl in enumerate(layout.shafts):
         offs = asm.node_offset[i]
         els = _shaft_elements(asm.train, i)
-        zs, S, vm = [], [], []
+        ne = len(els)
+        dofs = np.concatenate([offs[:-1, None] + np.arange(6), offs[1:, None] + np.arange(6)], 1)
+        fe = np.empty((ne, 12))
+        groups: dict = {}
         for e, el in enumerate(els):
-            dofs = np.concatenate([offs[e] + np.arange(6), offs[e + 1] + np.arange(6)])
-            fe = el.K() @ q[dofs] - el.M() @ g[dofs]
-            for z, s in ((sl.z[e], -fe[:6]), (sl.z[e + 1], fe[6:])):
-                zs.append(z)
-                S.append(s)
-                D, di = el.outer_diameter, el.inner_diameter
-                area = np.pi / 4 * (D**2 - di**2)
-                inertia = np.pi / 64 * (D**4 - di**4)
-                sig = abs(s[2]) / area + np.hypot(s[3], s[4]) * D / 2 / inertia
-                tau = abs(s[5]) * D / 2 / (2 * inertia)
-                vm.append(np.sqrt(sig**2 + 3 * tau**2))
-        S = np.array(S)
+            groups.setdefault(el, []).append(e)
+        for el, idx in groups.items():
+            idx = np.asarray(idx)
+            fe[idx] = q[dofs[idx]] @ el.K().T - g[dofs[idx]] @ el.M().T
+        S = np.empty((2 * ne, 6))
+        S[0::2], S[1::2] = -fe[:, :6], fe[:, 6:]
+        zs = np.repeat(sl.z, 2)[1:-1]  # each element's start and end
+        D = np.repeat([el.outer_diameter for el in els], 2)
+        di = np.repeat([el.inner_diameter for el in els], 2)
+        area = np.pi / 4 * (D**2 - di**2)
+        inertia = np.pi / 64 * (D**4 - di**4)
+        sig = np.abs(S[:, 2]) / area + np.hypot(S[:, 3], S[:, 4]) * D / 2 / inertia
+        tau = np.abs(S[:, 5]) * D / 2 / (2 * inertia)
+        vm = np.sqrt(sig**2 + 3 * tau**2)
         defl = np.stack([q[offs + d] for d in range(6)], axis=1)
         out.append(
             ShaftStatics(
                 sl.name,
                 sl.z.copy(),
                 defl,
-                np.array(zs),
+                zs,
                 S[:, 0:2],
                 S[:, 2],
                 S[:, 3:5],
                 S[:, 5],
-                np.array(vm),
+                vm,
             )
         )
     return tuple(out)

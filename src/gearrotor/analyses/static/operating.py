@@ -16,6 +16,7 @@ import numpy as np
 
 from ...assembly import _film_case, assemble
 from ...model import OperatingPoint, Train
+from ...progress import report
 from .analysis import resolve_operating_point, static
 
 __all__ = ["at_operating_point", "model_at_operating_point"]
@@ -25,7 +26,7 @@ _CACHE_SIZE = 64
 
 
 def at_operating_point(
-    train: Train, operating_point: str | OperatingPoint, *, speeds=None
+    train: Train, operating_point: str | OperatingPoint, *, speeds=None, progress=None
 ) -> Train:
     """The train at an operating point (see the module docstring).
 
@@ -34,6 +35,9 @@ def at_operating_point(
     a one-row table whose coefficients hold at every speed (an analysis at the operating
     point; pass the sweep's speeds for a sweep). A journal that cannot carry its load at one
     of the speeds is an error naming the speed.
+
+    progress : a :data:`gearrotor.progress.Progress` callback (one static solve per speed,
+    then the journals' coefficients)
     """
     from ...bearings import coefficients
 
@@ -57,7 +61,11 @@ def at_operating_point(
     for k in films:
         plan[k] = [sense * abs(w) for w in sweep]
     needed = sorted({w for ws in plan.values() for w in ws}, key=abs)
-    results = {w: static(asm, op, speed=w) for w in needed}
+    results = {}
+    for i, w in enumerate(needed):
+        report(progress, 0.8 * i / len(needed), f"static solve {i + 1}/{len(needed)}")
+        results[w] = static(asm, op, speed=w)
+    report(progress, 0.8, "bearing coefficients")
     if not needed:
         results[w_nom] = static(asm, op, speed=w_nom)
     # the flank the static solution loads, as each mesh's driver
@@ -110,10 +118,13 @@ def at_operating_point(
     if len(_CACHE) >= _CACHE_SIZE:
         _CACHE.pop(next(iter(_CACHE)))
     _CACHE[key] = out
+    report(progress, 1.0)
     return out
 
 
-def model_at_operating_point(model, operating_point, speeds=None) -> tuple[Train, float]:
+def model_at_operating_point(
+    model, operating_point, speeds=None, progress=None
+) -> tuple[Train, float]:
     """For the analyses' ``operating_point=`` keyword: ``(train at the point, the point's
     reference speed)`` of a :class:`Train` or an :class:`~gearrotor.assembly.Assembly`, the
     coefficients tabulated at ``speeds`` (default: the point's own speed)."""
@@ -122,4 +133,5 @@ def model_at_operating_point(model, operating_point, speeds=None) -> tuple[Train
     if isinstance(operating_point, OperatingPoint):
         train.check_operating_point(op)
     w = op.reference_speed(train.speed)
-    return at_operating_point(train, op, speeds=[w] if speeds is None else speeds), w
+    at = at_operating_point(train, op, speeds=[w] if speeds is None else speeds, progress=progress)
+    return at, w

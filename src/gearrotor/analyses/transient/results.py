@@ -379,7 +379,8 @@ class TransientResult:
 
 
 def load_result(path: str | Path):
-    """Open a saved transient result as an ``xarray.Dataset`` (loaded into memory)."""
+    """Open a saved transient result as an ``xarray.Dataset`` (loaded into memory), after
+    checking from the file's header that its arrays fit in memory (:func:`check_sizes`)."""
     import xarray as xr
 
     path = Path(path)
@@ -387,6 +388,7 @@ def load_result(path: str | Path):
         raise ModelError("result file not found", file=str(path))
     if path.is_dir():
         raise ModelError("the result file is a directory", file=str(path), expected=_RESULT)
+    check_sizes(path)
     try:
         with xr.open_dataset(path, engine="h5netcdf") as ds:
             ds = ds.load()
@@ -399,6 +401,86 @@ def load_result(path: str | Path):
         ) from None
     check_result(ds, str(path))
     return ds
+
+
+#: Most bytes of arrays a saved result may hold: four times the largest record a transient
+#: keeps (:data:`.driver.MAX_RECORD_BYTES`, 2 GiB), room for the derived channels it saves.
+MAX_RESULT_BYTES = 8 * 1024**3
+
+
+def check_sizes(path: str | Path, limit: int | None = None) -> int | None:
+    """Refuse, from the file's header alone (no data is read), a NetCDF/HDF5 file whose arrays
+    would not fit: more than ``limit`` bytes (default :data:`MAX_RESULT_BYTES`), or more than
+    half the memory this process can still get (:func:`memory_available`). A compressed file
+    declares its arrays' full shapes, and HDF5 reads chunks never written as their fill value:
+    a file of a few kB can unpack to terabytes (a decompression bomb), which crashed the reader
+    (libhdf5 and numpy under a memory limit: SIGSEGV). Returns the bytes the arrays need, or
+    None for a file that is not HDF5 at all (its reader says what is wrong with it)."""
+    import h5py
+
+    sizes: list[tuple[int, str]] = []
+
+    def visit(name, obj):
+        if isinstance(obj, h5py.Dataset):
+            sizes.append((int(np.prod(obj.shape, dtype=np.float64)) * obj.dtype.itemsize, name))
+
+    try:
+        with h5py.File(path, "r") as f:
+            f.visititems(visit)
+    except (OSError, ValueError, KeyError, TypeError, RecursionError):
+        return None
+    total = sum(s for s, _ in sizes)
+    limit = MAX_RESULT_BYTES if limit is None else limit
+    free = memory_available()
+    allowed = limit if free is None else min(limit, free // 2)
+    if total > allowed:
+        size, name = max(sizes)
+        why = (
+            f"at most {allowed / 1024**3:.3g} GiB"
+            + (" (half the memory available)" if allowed < limit else " (the largest result")
+            + ("" if allowed < limit else " a transient writes)")
+        )
+        raise ModelError(
+            f"the file's arrays would need {total / 1024**3:.3g} GiB of memory once unpacked "
+            f"({name}: {size / 1024**3:.3g} GiB, from the header; nothing was read)",
+            file=str(path),
+            value=f"{Path(path).stat().st_size / 1024**2:.3g} MiB on disk",
+            expected=f"{_RESULT}, {why}",
+        )
+    return total
+
+
+def memory_available() -> int | None:
+    """Bytes this process can still allocate, as far as the system says: the least of the
+    free memory (Linux ``MemAvailable``), the address-space limit (``ulimit -v``) less what
+    the process maps, and its cgroup's limit less its usage; None where none is known."""
+    import resource
+
+    out: list[int] = []
+    try:
+        for line in Path("/proc/meminfo").read_text().splitlines():
+            if line.startswith("MemAvailable:"):
+                out.append(int(line.split()[1]) * 1024)
+    except (OSError, ValueError, IndexError):
+        pass
+    soft = resource.getrlimit(resource.RLIMIT_AS)[0]
+    if soft != resource.RLIM_INFINITY:
+        used = 0
+        try:
+            for line in Path("/proc/self/status").read_text().splitlines():
+                if line.startswith("VmSize:"):
+                    used = int(line.split()[1]) * 1024
+        except (OSError, ValueError, IndexError):
+            pass
+        out.append(max(soft - used, 0))
+    try:
+        cg = Path("/sys/fs/cgroup")
+        limit = (cg / "memory.max").read_text().strip()
+        if limit != "max":
+            out.append(max(int(limit) - int((cg / "memory.current").read_text()), 0))
+    except (OSError, ValueError):
+        pass
+    return min(out) if out else None
 
 
 _RESULT = "a NetCDF file written by 'gearrotor transient --output'"

@@ -19,6 +19,7 @@ from ...files import (
     write_json,
     write_text,
 )
+from ...progress import Progress, part, report
 from ...threads import managed
 from .base import Context
 from .blocks import RPM
@@ -138,6 +139,7 @@ def make_report(
     command: str | None = None,
     operating_point: str | None = None,
     operating_points: tuple[str, ...] | list[str] | None = None,
+    progress: Progress | None = None,
 ) -> Report:
     """Run the analyses and write the report directory ``output``.
 
@@ -175,6 +177,8 @@ def make_report(
     operating_points : add the operating-points section for these points (bearing-load and
         eccentricity loci, least-stable log dec against power); the ``"operating_points"``
         analysis
+    progress : a :data:`gearrotor.progress.Progress` callback (the operating point, the
+        sections' analyses, then their figures and the page)
 
     Raises
     ------
@@ -223,7 +227,9 @@ def make_report(
             ) from None
         if speed is None:
             speed = abs(op.reference_speed(base_train.speed))
-        model = at_operating_point(base_train, op)
+        model = at_operating_point(
+            base_train, op, progress=part(progress, 0.0, 0.1, "operating point")
+        )
         op_note = (
             f"Operating point {op.name}: fluid-film bearings at the coefficients of its static "
             f"loads at {op.reference_speed(base_train.speed) * RPM:.0f} rpm (held over the "
@@ -280,7 +286,8 @@ def make_report(
     requested = [s for s in SECTIONS if s.analysis in analyses]
     for section in requested:
         section.check(ctx)
-    for section in requested:
+    for i, section in enumerate(requested):
+        report(progress, 0.1 + 0.6 * i / len(requested), f"running {section.analysis}")
         section.run(ctx)
 
     output.parent.mkdir(parents=True, exist_ok=True)
@@ -289,7 +296,11 @@ def make_report(
         ctx.directory = tmp
         summary = ctx.summary
         summary.update({"train": train.name, "gearrotor_report": 1})
-        parts = [part for section in SECTIONS for part in section.write(ctx)]
+        parts = []
+        for i, section in enumerate(SECTIONS):
+            what = section.analysis or type(section).__name__
+            report(progress, 0.7 + 0.3 * i / len(SECTIONS), f"writing {what}")
+            parts.extend(section.write(ctx))
         summary["verdicts"] = ctx.verdicts
         summary["inputs"] = {
             "model": source,
@@ -307,6 +318,7 @@ def make_report(
         page = _page(train, parts, summary, ctx.figures, ctx.notes, source=source, command=command)
         write_text(tmp / "report.html", page)
         replace_directory(tmp, output)
+        report(progress, 1.0)
     except BaseException as exc:
         shutil.rmtree(tmp, ignore_errors=True)
         if isinstance(exc, ModelError) and str(tmp) in str(exc):  # a write error: name the
