@@ -151,7 +151,7 @@ class _ThermalIn(_Strict):
     pad_heat_transfer: HeatTransfer = 0.0
     journal_heat_transfer: HeatTransfer = 0.0
     journal_temperature: Temperature | None = None
-    tolerance: float = Field(0.01, gt=0, le=10, description="K")
+    tolerance: float = Field(0.1, gt=0, le=10, description="K")
     max_iterations: Int = Field(100, ge=1, le=10_000)
     relaxation: float = Field(0.7, gt=0, le=1)
 
