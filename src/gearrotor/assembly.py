@@ -272,8 +272,13 @@ def _disk_element(train: Train, shaft_i: int, k: int) -> DiskElement:
 
 
 def mesh_stiffness(train: Train, k: int) -> float:
-    """Average mesh stiffness Kg (N/m) of mesh k: given, Buckingham or ISO 6336-1."""
+    """Average mesh stiffness Kg (N/m) of mesh k: given, Buckingham, ISO 6336-1, or the mean
+    loaded stiffness of its tooth geometry (:func:`gearrotor.gears.model_mesh.model_mesh`)."""
     m = train.meshes[k]
+    if m.geometry is not None:
+        from .gears.model_mesh import model_mesh
+
+        return model_mesh(train, k).curves.mean_stiffness
     if isinstance(m.stiffness, float):
         return m.stiffness
     if m.stiffness.method == "value":
@@ -472,8 +477,28 @@ def _flank(train: Train, mesh, si: int, sj: int) -> int:
     return 1 if spin < 0 else -1
 
 
+#: The assemblies of the last trains assembled, by identity: a :class:`Train` is frozen, so its
+#: assembly is too, and an analysis called again on the same train object (a loop over speeds,
+#: ``modal(train, speed=w)``) does not rebuild its element matrices (issue 28: 0.1 s of the
+#: ROSS compressor's 336-DOF eigen solve). The trains are held, so an id is never reused.
+_ASSEMBLED: dict[int, tuple[Train, Assembly]] = {}
+_ASSEMBLED_SIZE = 8
+
+
 def assemble(train: Train) -> Assembly:
-    """Build the global matrices of a train (raises :class:`ModelError` on bad input)."""
+    """Build the global matrices of a train (raises :class:`ModelError` on bad input); the same
+    train object gives the same (immutable) assembly."""
+    hit = _ASSEMBLED.get(id(train))
+    if hit is not None and hit[0] is train:
+        return hit[1]
+    asm = _assemble(train)
+    if len(_ASSEMBLED) >= _ASSEMBLED_SIZE:
+        _ASSEMBLED.pop(next(iter(_ASSEMBLED)))
+    _ASSEMBLED[id(train)] = (train, asm)
+    return asm
+
+
+def _assemble(train: Train) -> Assembly:
     layout = train.layout()
     offsets = []
     n = 0

@@ -9,11 +9,12 @@ Eigensolver (``method="auto"``, measured by ``benchmarks/scaling.py``):
 * **every eigenvalue wanted** (no ``max_frequency``): the dense QR algorithm (LAPACK ``geev``)
   on ``B⁻¹A`` (M factored once by Cholesky) up to ``DENSE_LIMIT`` = 2000 DOFs; above, where a
   dense solve takes minutes, the sparse solver's ``n_modes`` (default 20) lowest modes;
-* **the modes below max_frequency wanted**: dense below ``SPARSE_FROM`` = 400 DOFs, sparse
+* **the modes below max_frequency wanted**: dense below ``SPARSE_FROM`` = 300 DOFs, sparse
   shift-invert Arnoldi (ARPACK) from there on. The measured crossover is ~200 DOFs (sparse is
-  1.7× faster at 252, 2.5–7× at 500, 4–30× at 1000, 34× at 1464: dense grows as DOF³, sparse
-  with the number of wanted modes); below 400 DOFs a dense solve costs under ~0.5 s and it
-  returns every eigenvalue, which the sparse solve does not (next point). If the sparse solve
+  1.7× faster at 252, 5–7× at 336 (ROSS's compressor example, issue 28), 2.5–7× at 500, 4–30×
+  at 1000, 34× at 1464: dense grows as DOF³, sparse with the number of wanted modes); below
+  300 DOFs (every shipped example: ≤ 252) a dense solve costs under ~0.3 s and it returns
+  every eigenvalue, which the sparse solve does not (next point). If the sparse solve
   would have to find more than ``SPARSE_FRACTION`` (1/6) of the 2n eigenvalues to enclose
   max_frequency, it is no cheaper than dense and "auto" solves densely instead
   (``ModalResult.method`` says which solver ran).
@@ -97,7 +98,7 @@ __all__ = [
 ]
 
 DENSE_LIMIT = 2000  # DOFs up to which "auto" solves densely when every eigenvalue is wanted
-SPARSE_FROM = 400  # DOFs from which "auto" solves sparsely when max_frequency is given
+SPARSE_FROM = 300  # DOFs from which "auto" solves sparsely when max_frequency is given
 SPARSE_FRACTION = 1 / 6  # share of the 2n eigenvalues beyond which sparse costs as dense
 KIND_NAMES = ("L", "A", "T")  # index = Assembly.dof_kind() code
 # |Re λ| / |λ| at or below which a pair's damping is round-off: conservative modes come out of
@@ -383,11 +384,9 @@ def _solve_sparse(
     2.0e-10 on the compressor example (measured before the refinement; on SPEC 6.1 it stays
     ~2e-6, which the refinement brings to 1e-12)."""
     n = M.shape[0]
-    I = sp.identity(n, format="csc")
     scale = max_frequency if max_frequency else 1.0
-    A = sp.block_array([[None, scale * I], [-K / scale, -Cg]], format="csc")
-    B = sp.block_array([[I, None], [None, M]], format="csc")
     sigma = -1e-3 * scale
+    op = _shift_invert(M, Cg, K, sigma, scale, asm)
     k = min(k0 or max(n_modes or 20, 10), 2 * n - 2)
     # a fixed start vector: ARPACK's default is random, which made repeated calls (and the
     # Campbell diagram's tracking) differ in the last digits; a seeded generic vector keeps every
@@ -395,11 +394,19 @@ def _solve_sparse(
     v0 = np.random.default_rng(20261125).standard_normal(2 * n)
     while True:
         try:
-            lam, V = spla.eigs(A, k=k, M=B, sigma=sigma, which="LM", v0=v0)
+            nu, V = spla.eigs(op, k=k, which="LM", v0=v0)
         except spla.ArpackNoConvergence as exc:
             raise SolverError(f"sparse eigensolver did not converge for {k} modes: {exc}") from None
-        except RuntimeError:  # SuperLU could not factor the shifted matrix: M is singular
-            raise _singular_mass(asm) from None
+        lam = sigma + 1.0 / nu
+        if max_frequency is None and n_modes and k < 2 * n - 2:
+            # the n_modes lowest modes: conjugate pairs, rigid-body and real (over-damped)
+            # eigenvalues take some of the k found; ask for more until there are n_modes, then
+            # solve for the circle that holds them with the state scaled to it (accuracy)
+            osc = np.sort(np.abs(lam[lam.imag > ROUNDOFF * np.abs(lam)]))
+            if len(osc) < n_modes:
+                k = min(2 * k, 2 * n - 2)
+                continue
+            return _solve_sparse(M, Cg, K, asm, 1.05 * osc[n_modes - 1], None, k)
         if (
             max_frequency is None
             or k >= 2 * n - 2
@@ -416,6 +423,30 @@ def _solve_sparse(
         k = min(_next_k(k, np.abs(lam - sigma), max_frequency + abs(sigma)), 2 * n - 2)
         if k_max is not None and k > k_max:
             return None
+
+
+def _shift_invert(M, Cg, K, sigma: float, scale: float, asm) -> spla.LinearOperator:
+    """The shift-invert operator (A − σB)⁻¹B of the first-order form in the scaled state
+    z = [q, q̇/s] (A = [[0, sI], [−K/s, −(C+G)]], B = diag(I, M)) applied through one sparse LU
+    of the n×n quadratic pencil P(σ) = σ²M + σ(C+G) + K instead of the 2n×2n first-order
+    matrix: (A − σB)z = [v₁, Mv₂] gives z₁ = −P(σ)⁻¹(sMv₂ + (C+G+σM)v₁), z₂ = (v₁ + σz₁)/s.
+    Half the order, the band of the finite-element model kept (issue 28: the 336-DOF ROSS
+    compressor's solve 2–3× faster than SciPy's generalised shift-invert mode)."""
+    n = M.shape[0]
+    P = (sigma * sigma) * M + sigma * Cg + K
+    try:
+        lu = spla.splu(sp.csc_array(P))
+    except RuntimeError:  # SuperLU could not factor P(σ): M (or K) is singular
+        raise _singular_mass(asm) from None
+    CsM = sp.csr_array(Cg + sigma * M)
+    Mr = sp.csr_array(M)
+
+    def matvec(v: NDArray) -> NDArray:
+        v1, v2 = v[:n], v[n:]
+        z1 = -lu.solve(scale * (Mr @ v2) + CsM @ v1)
+        return np.concatenate([z1, (v1 + sigma * z1) / scale])
+
+    return spla.LinearOperator((2 * n, 2 * n), matvec=matvec, dtype=float)
 
 
 def _next_k(k: int, dist: NDArray, wanted: float) -> int:

@@ -274,6 +274,7 @@ def model_from_file_data(data: dict, path: str | Path, overrides: dict | None = 
         hint = override_path_error(original, overrides)
         raise (hint or exc).with_file(name) from None
     _check_files(train, name)
+    _check_gear_files(train, name)
     return train
 
 
@@ -395,6 +396,16 @@ def _check_files(train: Train, file: str) -> None:
                     raise ModelError(str(exc), field=f"{group}[{k}].file", file=file) from None
 
 
+def _check_gear_files(train: Train, file: str) -> None:
+    """Read the gear-pair files the meshes point to (their keys are checked at assembly)."""
+    for k, m in enumerate(train.meshes):
+        if m.geometry is not None and m.geometry.file is not None:
+            try:
+                read_toml(m.geometry.file, "gear-pair")
+            except ModelError as exc:
+                raise ModelError(str(exc), field=f"meshes[{k}].geometry.file", file=file) from None
+
+
 def _resolve_paths(data: dict, base: Path) -> None:
     """Make the bearing files of a model absolute, relative to the model file's folder."""
     items = [
@@ -412,3 +423,7 @@ def _resolve_paths(data: dict, base: Path) -> None:
         ff = b.get("fluid_film")
         if isinstance(ff, dict) and isinstance(ff.get("file"), str):
             ff["file"] = str((base / ff["file"]).resolve())
+    for m in data.get("meshes") if isinstance(data.get("meshes"), list) else []:
+        geo = m.get("geometry") if isinstance(m, dict) else None
+        if isinstance(geo, dict) and isinstance(geo.get("file"), str):  # a gear-pair file
+            geo["file"] = str((base / geo["file"]).resolve())

@@ -40,6 +40,7 @@ from ..units import (
     Torque,
     UnbalanceAmount,
 )
+from .gear_pair import GearPair
 
 __all__ = [
     "Int",
@@ -639,13 +640,68 @@ class Mesh(Spec):
     orientation: Angle = 0.0
     driver: Literal["gear", "mate"] | None = None
     face_width: Length | None = Field(default=None, gt=0)
-    stiffness: Stiffness | MeshStiffness
+    stiffness: Stiffness | MeshStiffness | None = None
     damping: Damping = Field(default=0.0, ge=0)
     damping_ratio: Dimensionless | None = Field(default=None, ge=0, lt=1)
     variation: MeshVariation = MeshVariation()
     stiffness_table: StiffnessTable | None = None
     transmission_error: TransmissionError | None = None
     backlash: Backlash = Backlash()
+    #: the tooth geometry (a gear pair, inline or ``{ file = "pair.toml" }``, docs/gears.md):
+    #: the mean loaded mesh stiffness replaces ``stiffness``, and with ``excitation =
+    #: "geometry"`` (the default with a geometry) its TVMS and loaded STE harmonics replace
+    #: the square wave of ``variation`` in the transient, Floquet and mesh-response analyses
+    geometry: GearPair | None = None
+    excitation: Literal["geometry", "square_wave"] | None = None
+
+    @model_validator(mode="after")
+    def _stiffness_source(self) -> Mesh:
+        if self.geometry is None:
+            if self.stiffness is None:
+                raise ValueError(
+                    "a mesh needs 'stiffness' (a value or a method) or 'geometry' (the tooth "
+                    "geometry, docs/gears.md)"
+                )
+            if self.excitation == "geometry":
+                raise ValueError("excitation = 'geometry' needs the mesh's 'geometry'")
+        elif self.stiffness is not None:
+            raise ValueError(
+                "give 'stiffness' or 'geometry' (whose mean loaded stiffness is the mesh "
+                "stiffness), not both"
+            )
+        elif self.excitation != "square_wave":
+            if self.stiffness_table is not None:
+                raise ValueError(
+                    "a 'stiffness_table' and the geometry's own stiffness curve exclude each "
+                    "other: leave the table out, or set excitation = 'square_wave'"
+                )
+            if self.variation.ka_ratio > 0:
+                raise ValueError(
+                    f"variation.ka_ratio = {self.variation.ka_ratio:g} acts on the square wave; "
+                    "with a 'geometry' the stiffness varies as the teeth give it: set "
+                    "excitation = 'square_wave' to use the square wave instead, or ka_ratio = 0"
+                )
+        return self
+
+    @model_serializer(mode="wrap")
+    def _without_absent_geometry(self, handler):
+        # a mesh without geometry serialises as before (model JSON: study case keys,
+        # transient checkpoint fingerprints)
+        out = handler(self)
+        for key in ("geometry", "excitation"):
+            if getattr(self, key) is None:
+                out.pop(key, None)
+        if self.stiffness is None:
+            out.pop("stiffness", None)
+        return out
+
+    @property
+    def excitation_law(self) -> str:
+        """``"geometry"`` (TVMS and STE of the tooth geometry), ``"square_wave"`` (the Fourier
+        series of ``variation``) or ``"table"`` (``stiffness_table``)."""
+        if self.geometry is not None and self.excitation != "square_wave":
+            return "geometry"
+        return "table" if self.stiffness_table is not None else "square_wave"
 
     @field_validator("stiffness")
     @classmethod

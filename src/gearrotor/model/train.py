@@ -448,7 +448,11 @@ class Train(Spec):
                     value=f"r_i/r_j = {ri / rj:.5g}, N_i/N_j = {m.gear.teeth / m.mate.teeth:.5g}",
                     expected="r_i/r_j = N_i/N_j within 1%",
                 )
-            needs_w = not isinstance(m.stiffness, float) and m.stiffness.method != "value"
+            needs_w = (
+                m.stiffness is not None
+                and not isinstance(m.stiffness, float)
+                and m.stiffness.method != "value"
+            )
             if needs_w and m.face_width is None:
                 raise ModelError(
                     f"mesh stiffness method '{m.stiffness.method}' needs face_width",
