@@ -78,49 +78,15 @@ def parse_analyses(text: str | tuple[str, ...] | list[str]) -> tuple[str, ...]:
     return tuple(out)
 
 
-#: Separation margin (fraction) the default frequency range allows an excitation: API 617's
-#: largest required margin of a critical from the operating range (10 + 17 (1 − 1/(AF − 1.5)) %,
-#: at most 26 %, above the maximum continuous speed), which also covers its 10 % torsional margin.
-SEPARATION_MARGIN = 0.26
-#: Headroom (factor) of the default frequency range above the highest frequency an excitation
-#: reaches with its margin: the modes just clear of every excitation are shown too.
-HEADROOM = 1.1
-#: The default range is at least this multiple of the top operating speed (a train without gears:
-#: its first bending modes, above 1x and 2x with margin).
-MIN_SPEED_MULTIPLE = 5.0
-
-
 def _default_max_frequency(asm, top: float, given: float | None) -> tuple[float, str]:
-    """(rad/s, why): the given value, or the highest frequency an excitation of the Campbell
-    diagram reaches over the operating range with its separation margin, with headroom:
-    ``HEADROOM × (1 + SEPARATION_MARGIN) × max(multiple × |shaft speed|)`` over the default
-    excitation orders (1x and 2x of every shaft, every gear-mesh frequency) at the top
-    operating speed ``top`` (rad/s: the maximum continuous speed or the operating speed,
-    whichever is higher), and at least ``MIN_SPEED_MULTIPLE × top``. Every mode an excitation
-    can come within its separation margin of is then in the tables and figures (the flagship's
-    lightly damped torsional mode at 215,670 cpm, 10.6 % above its mesh frequency)."""
+    """(rad/s, why): the given value, or the frequency range an excitation can reach
+    (:func:`~gearrotor.analyses.model_summary.excitation_frequency_range`: the flagship's
+    lightly damped torsional mode at 215,670 cpm, 10.6 % above its mesh frequency, is in)."""
     if given is not None:
         return float(given), "as given"
-    from ...analyses.campbell import default_orders
+    from ...analyses.model_summary import excitation_frequency_range
 
-    ratios = np.abs(asm.speed_ratio)
-    orders = [(o, o.multiple * ratios[o.shaft] * top) for o in default_orders(asm)]
-    order, f = max(orders, key=lambda x: x[1])
-    fmax = HEADROOM * (1 + SEPARATION_MARGIN) * f
-    floor = MIN_SPEED_MULTIPLE * top
-    if fmax >= floor:
-        return (
-            fmax,
-            f"default: the highest excitation, {order.label} = {f * RPM:,.0f} cpm at "
-            f"{top * RPM:,.0f} rpm, + {SEPARATION_MARGIN:.0%} separation margin, "
-            f"× {HEADROOM:g} headroom",
-        )
-    return (
-        floor,
-        f"default: {MIN_SPEED_MULTIPLE:g} × the top operating speed {top * RPM:,.0f} rpm "
-        f"(above the highest excitation, {order.label} = {f * RPM:,.0f} cpm, with its "
-        f"{SEPARATION_MARGIN:.0%} separation margin and × {HEADROOM:g} headroom)",
-    )
+    return excitation_frequency_range(asm, top)
 
 
 @managed
