@@ -101,6 +101,10 @@ class CampbellResult:
     # for a reduced one)
     solver: tuple[str, ...] = ()
     residual: NDArray | None = field(repr=False, default=None)
+    # (n_speeds, n_modes, 3): the lateral, axial and torsional kinetic-energy fractions of each
+    # tracked mode (ModalResult.energy_fractions; NaN where a track has no mode): the stability
+    # criteria judge a mode by its lateral share (analyses.stability.criterion_class)
+    energy_fractions: NDArray | None = field(repr=False, default=None)
 
     @property
     def full_solves(self) -> int:
@@ -122,6 +126,11 @@ class CampbellResult:
                     "log_dec": _json_list(self.log_dec[:, j]),
                     "whirl": self.whirl[:, j].tolist(),
                     "type": self.mode_type[:, j].tolist(),
+                    **(
+                        {"energy_lateral": _json_list(self.energy_fractions[:, j, 0])}
+                        if self.energy_fractions is not None
+                        else {}
+                    ),
                 }
                 for j in range(self.damped_frequency.shape[1])
             ],
@@ -282,7 +291,7 @@ def campbell(
     results = []
     prev_phi = prev_f = None
     n_track = None
-    cols: dict[str, list] = {k: [] for k in ("f", "ld", "wh", "ty", "od", "res")}
+    cols: dict[str, list] = {k: [] for k in ("f", "ld", "wh", "ty", "od", "res", "ef")}
     solver: list[str] = []
     k_hint = None
     radius = 1.5 * max_frequency
@@ -362,6 +371,9 @@ def campbell(
             col[on] = values[c]
             cols[key].append(col)
         cols["res"].append(res)
+        ef = np.full((n_track, 3), np.nan)
+        ef[on] = r.energy_fractions[c]
+        cols["ef"].append(ef)
         if keep_results:
             results.append(r)
     f = np.array(cols["f"])
@@ -382,6 +394,7 @@ def campbell(
         modal_results=tuple(results),
         solver=tuple(solver),
         residual=np.array(cols["res"]),
+        energy_fractions=np.array(cols["ef"]),
     )
     report(progress, 1.0)
     return _with_crossings(res)

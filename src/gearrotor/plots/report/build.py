@@ -99,6 +99,7 @@ def make_report(
     max_frequency: float | None = None,
     transient: str | Path | None = None,
     api: bool = False,
+    edition: str | None = None,
     n_campbell: int = 40,
     n_unbalance: int = 400,
     source: str | None = None,
@@ -133,7 +134,13 @@ def make_report(
     api : the unbalance section uses the API 617 unbalance, 4 × 6350 W/N g·mm per plane of the
         model's unbalances (W the plane's share of its shaft's mass, kg; N its shaft's speed at
         the operating speed, rpm; phases as in the model) instead of the model's amounts
-        (:func:`gearrotor.analyses.api617.api617_unbalances`)
+        (:func:`gearrotor.analyses.api617.api617_unbalances`); with the 9th edition 2 × 6350
+        W/N g·mm at the antinodes of the reference shaft's first forward mode
+        (:func:`gearrotor.analyses.api617.mode_unbalances`) and the close-clearance check
+        (:func:`gearrotor.analyses.api617.clearance_check`) at the model's close clearances
+        (:func:`gearrotor.analyses.api617.close_clearances`)
+    edition : API 617 edition of ``api`` and the audit section, ``"8th"`` or ``"9th"``
+        (default: the model's ``[api_audit] edition``, else the 8th); the sections say which
     n_campbell, n_unbalance : number of speeds of the Campbell and unbalance sweeps
     source, command : the model file and the command line, quoted in the report
     operating_point : run the analyses at this operating point of the model: fluid-film
@@ -165,6 +172,18 @@ def make_report(
         )
     if transient is not None and "transient" not in analyses:
         analyses = (*analyses, "transient")
+    if edition is not None:
+        from ...analyses.stability import edition as pick_edition
+
+        edition = pick_edition(edition, "--edition").key
+        if not api and "audit" not in analyses:
+            raise ModelError(
+                "the edition chooses the API 617 unbalance and audit: give --api or the audit "
+                "section too",
+                field="--edition",
+                value=edition,
+                expected="--api, or 'audit' in --analyses",
+            )
     # also removes the temporary folders of a report whose process was killed (SIGKILL)
     output = check_output(output, "directory", field="--output")
     _check_replaceable(output)
@@ -242,6 +261,7 @@ def make_report(
         n_unbalance=n_unbalance,
         operating_points=tuple(operating_points or ()),
         base_train=base_train,
+        edition=edition,
     )
     ctx.notes.append(
         f"Modes and Campbell diagram up to {fmax * RPM:,.0f} cpm ({fmax_basis}; "
@@ -278,6 +298,7 @@ def make_report(
             "max_frequency_basis": fmax_basis,
             "transient": None if transient is None else str(transient),
             "unbalance": "api617" if api else "model",
+            "api617_edition": ctx.api_edition.name if api or "audit" in analyses else None,
             "operating_point": operating_point,
         }
         write_json(tmp / "report.json", _clean(summary))
