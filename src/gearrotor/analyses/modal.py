@@ -19,6 +19,10 @@ Eigensolver (``method="auto"``, measured by ``benchmarks/scaling.py``):
   max_frequency, it is no cheaper than dense and "auto" solves densely instead
   (``ModalResult.method`` says which solver ran).
 
+A model with speed × whirl tables (bearings or seals whose coefficients depend on the whirl
+frequency) is solved with the tables' fitted states added to the first-order form,
+:mod:`gearrotor.analyses.whirl`, by the same dense/sparse rule on the augmented system.
+
 The sparse solver finds the eigenvalues within a circle about a small negative real shift,
 raising the number requested (:func:`_next_k`) until every eigenvalue with
 ``|λ| ≤ max_frequency`` is enclosed, and returns those: every mode with |λ| ≤ max_frequency,
@@ -920,8 +924,13 @@ def modal(
     work = state_amplitude = None
     if frequency_dependent(asm):
         # speed × whirl tables: the fits' states added to the eigenproblem (analyses/whirl.py)
-        lam, V, K, state_amplitude, work = solve_whirl(asm, w, max_frequency=max_frequency)
-        method = "dense"
+        if method == "auto":
+            method = auto_method(asm.n_dof, max_frequency)
+        if method == "sparse" and max_frequency is None and n_modes is None:
+            method = "dense"
+        lam, V, K, state_amplitude, work = solve_whirl(
+            asm, w, max_frequency=max_frequency, method=method, n_modes=n_modes
+        )
     else:
         lam, V, K, method = _solve(asm, w, method, max_frequency, n_modes, sparse_k)
     if rigid_tol is None:

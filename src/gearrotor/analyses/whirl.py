@@ -150,28 +150,52 @@ def _mass_solver(M: NDArray, asm: Assembly):
             raise la.LinAlgError
         return lambda X: la.lu_solve(lu, X)
     except (la.LinAlgError, ValueError):
-        diag = asm.M.diagonal()
-        bad = [asm.dof_labels[i] for i in np.flatnonzero(diag <= 1e-12 * diag.max())][:10]
-        raise ModelError(
-            "singular model: the mass matrix (with the whirl tables' added mass) is not "
-            "positive definite",
-            field="shafts / disks / supports / bearing tables",
-            value=bad or "(no zero diagonal; check densities and the tables' s² terms)",
-            expected="mass or inertia on every degree of freedom",
-        ) from None
+        raise _mass_error(asm) from None
 
 
 def solve(
-    asm: Assembly, speed: float, *, max_frequency: float | None = None
+    asm: Assembly,
+    speed: float,
+    *,
+    max_frequency: float | None = None,
+    method: str = "dense",
+    n_modes: int | None = None,
 ) -> tuple[NDArray, NDArray, sp.csr_array, NDArray, dict]:
-    """Eigenvalues of the augmented system (module docstring), every one (dense QR on the
-    (2n + m)-state matrix).
+    """Eigenvalues of the augmented system (module docstring): ``method="dense"`` every one
+    (QR on the (2n + m)-state matrix); ``"sparse"`` those with |λ| ≤ ``max_frequency`` (else the
+    ``n_modes`` nearest 0) by shift-invert Arnoldi on the augmented pencil, each pair refined
+    by inverse iteration to a relative residual of the nonlinear problem ≤ ``REFINE_TOL``.
 
-    Returns (λ (2n + m,), the rotor part of the eigenvectors (n, 2n + m), the stiffness K̃ for
-    the modes' strain energy, each eigenvector's largest state amplitude (for the state share,
-    module docstring), and the work:
-    ``{"method", "eigensolves", "states", "elements", "modes_beyond_whirl_tables"}``)."""
+    Returns (λ, the rotor part of the eigenvectors (n, k), the stiffness K̃ for the modes'
+    strain energy, each eigenvector's largest state amplitude (for the state share, module
+    docstring), and the work: ``{"method", "eigensolves", "states", "elements",
+    "modes_beyond_whirl_tables"}``; sparse also ``"arnoldi_runs"``, ``"factorizations"``)."""
     sysm = whirl_system(asm, speed)
+    m = sysm.n_states
+    extra = {}
+    if method == "sparse":
+        lam, X, eta, extra = _solve_sparse(sysm, asm, max_frequency, n_modes)
+    else:
+        lam, X, eta = _solve_dense(sysm, asm)
+    if not np.all(np.isfinite(lam)):
+        raise SolverError("the eigensolver returned non-finite eigenvalues")
+    amplitude = np.max(np.abs(eta), axis=0) if m else np.zeros(len(lam))
+    hi = max((e["whirl_range_rpm"][1] for e in sysm.elements), default=0.0) * np.pi / 30
+    keep = lam.imag > 0
+    if max_frequency is not None:
+        keep &= lam.imag <= max_frequency
+    work = {
+        "method": f"{method} (augmented states)",
+        "eigensolves": 1,
+        "states": int(m),
+        "elements": [dict(e) for e in sysm.elements],
+        "modes_beyond_whirl_tables": int(np.sum(keep & (lam.imag > hi * (1 + 1e-9)))),
+        **extra,
+    }
+    return lam, X, sysm.K, amplitude, work
+
+
+def _solve_dense(sysm: WhirlSystem, asm: Assembly):
     n, m = asm.n_dof, sysm.n_states
     solve_m = _mass_solver(sysm.M.toarray(), asm)
     S = np.zeros((2 * n + m, 2 * n + m))
@@ -189,22 +213,133 @@ def solve(
         )
     with limit(2 * n + m, "eig"):
         lam, V = la.eig(S, overwrite_a=True, check_finite=False)
-    if not np.all(np.isfinite(lam)):
-        raise SolverError("the eigensolver returned non-finite eigenvalues")
-    X, eta = V[:n], V[2 * n :]
-    amplitude = np.max(np.abs(eta), axis=0) if m else np.zeros(len(lam))
-    hi = max((e["whirl_range_rpm"][1] for e in sysm.elements), default=0.0) * np.pi / 30
-    keep = lam.imag > 0
+    return lam, V[:n], V[2 * n :]
+
+
+#: relative residual of the nonlinear problem to which sparse eigenpairs are refined (as
+#: ``modal.REFINE_TOL``: what the dense solve's pairs reach)
+REFINE_TOL = 1e-10
+_REFINE_STEPS = 4
+
+
+def _pencil(sysm: WhirlSystem, scale: float) -> tuple[sp.csc_array, sp.csc_array]:
+    """(A, B) of the augmented first-order form with z = [q, q̇/scale, η] (the two rotor halves
+    of a mode then have the same size, as in ``modal``'s sparse solve)."""
+    n, m = sysm.M.shape[0], sysm.n_states
+    I = sp.identity(n, format="csc")
+    A = sp.block_array(
+        [
+            [None, scale * I, None],
+            [-sysm.K / scale, -sysm.C, -sysm.Cs / scale if m else None],
+            [sysm.B if m else None, None, sp.csc_array(sysm.A) if m else None],
+        ],
+        format="csc",
+    )
+    Bm = sp.block_array(
+        [[I, None, None], [None, sysm.M, None], [None, None, sp.identity(m) if m else None]],
+        format="csc",
+    )
+    if not m:  # the block rows and columns of η are empty
+        A, Bm = A[: 2 * n, : 2 * n], Bm[: 2 * n, : 2 * n]
+    return sp.csc_array(A), sp.csc_array(Bm)
+
+
+def _solve_sparse(sysm: WhirlSystem, asm: Assembly, max_frequency, n_modes):
+    """Shift-invert Arnoldi on the augmented pencil about a small negative real shift, asking
+    for more eigenvalues (×2) until every one with |λ| ≤ max_frequency is enclosed; then each
+    pair refined by inverse iteration with the Rayleigh quotient as shift (one sparse LU per
+    step)."""
+    import scipy.sparse.linalg as spla
+
+    n = asm.n_dof
+    scale = max_frequency if max_frequency else 1.0
+    A, Bm = _pencil(sysm, scale)
+    N = A.shape[0]
+    sigma = -1e-3 * scale
+    k = min(max(n_modes or 20, 10), N - 2)
+    v0 = np.random.default_rng(20261125).standard_normal(N)  # reproducible (modal does too)
+    runs = 0
+    while True:
+        runs += 1
+        try:
+            lam, V = spla.eigs(A, k=k, M=Bm, sigma=sigma, which="LM", v0=v0)
+        except spla.ArpackNoConvergence as exc:
+            raise SolverError(f"sparse eigensolver did not converge for {k} modes: {exc}") from None
+        except RuntimeError:
+            raise _mass_error(asm) from None
+        if max_frequency is None or k >= N - 2 or np.max(np.abs(lam - sigma)) > max_frequency:
+            break
+        k = min(2 * k, N - 2)
     if max_frequency is not None:
-        keep &= lam.imag <= max_frequency
-    work = {
-        "method": "dense (augmented states)",
-        "eigensolves": 1,
-        "states": int(m),
-        "elements": [dict(e) for e in sysm.elements],
-        "modes_beyond_whirl_tables": int(np.sum(keep & (lam.imag > hi * (1 + 1e-9)))),
-    }
-    return lam, X, sysm.K, amplitude, work
+        inside = np.abs(lam) <= max_frequency
+        lam, V = lam[inside], V[:, inside]
+    lam, V, factorizations = _refine(A, Bm, sysm, lam, V, scale)
+    return lam, V[:n], V[2 * n :], {"arnoldi_runs": runs, "factorizations": factorizations}
+
+
+def _refine(A, Bm, sysm, lam, V, scale):
+    """Inverse iteration per pair whose nonlinear residual exceeds REFINE_TOL: y = (A −
+    λB)⁻¹ B z, λ ← the Rayleigh quotient zᴴ(Bᴴ A z)/zᴴ(Bᴴ B z) of the new vector, up to
+    ``_REFINE_STEPS`` steps; a step is kept only if it lowers the residual."""
+    import scipy.sparse.linalg as spla
+
+    n = sysm.M.shape[0]
+    lam, V = np.array(lam, complex), np.array(V, complex)
+    count = 0
+
+    def resid(a, z):
+        x, eta = z[:n], z[2 * n :]
+        r = a * a * (sysm.M @ x) + a * (sysm.C @ x) + sysm.K @ x
+        if sysm.n_states:
+            r = r + sysm.Cs @ eta
+            # η of the pair: (a − A_s) η = B x exactly for an eigenpair
+            r2 = a * eta - sysm.A @ eta - sysm.B @ x
+        else:
+            r2 = np.zeros(0)
+        den = (
+            abs(a) ** 2 * np.linalg.norm(sysm.M @ x)
+            + abs(a) * np.linalg.norm(sysm.C @ x)
+            + np.linalg.norm(sysm.K @ x)
+        )
+        scale_eta = np.linalg.norm(sysm.B @ x) + abs(a) * np.linalg.norm(eta)
+        return max(
+            np.linalg.norm(r) / max(den, 1e-300),
+            np.linalg.norm(r2) / max(scale_eta, 1e-300) if len(r2) else 0.0,
+        )
+
+    for j in range(len(lam)):
+        res = resid(lam[j], V[:, j])
+        for _ in range(_REFINE_STEPS):
+            if res <= REFINE_TOL:
+                break
+            try:
+                lu = spla.splu(sp.csc_array(A - lam[j] * Bm))
+            except RuntimeError:
+                break
+            count += 1
+            y = lu.solve(Bm @ V[:, j])
+            if not np.all(np.isfinite(y)):
+                break
+            y /= np.linalg.norm(y)
+            By = Bm @ y
+            mu = np.vdot(By, A @ y) / np.vdot(By, By)
+            new = resid(mu, y)
+            if not new < res:
+                break
+            lam[j], V[:, j], res = mu, y, new
+    return lam, V, count
+
+
+def _mass_error(asm: Assembly) -> ModelError:
+    diag = asm.M.diagonal()
+    bad = [asm.dof_labels[i] for i in np.flatnonzero(diag <= 1e-12 * diag.max())][:10]
+    return ModelError(
+        "singular model: the mass matrix (with the whirl tables' added mass) is not "
+        "positive definite",
+        field="shafts / disks / supports / bearing tables",
+        value=bad or "(no zero diagonal; check densities and the tables' s² terms)",
+        expected="mass or inertia on every degree of freedom",
+    )
 
 
 def residuals(asm: Assembly, speed: float, lam: NDArray, phi: NDArray) -> NDArray:
