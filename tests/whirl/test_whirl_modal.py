@@ -161,3 +161,14 @@ def test_sparse_solve_agrees_with_dense(models):
     assert s.mode_type == tuple(
         d.mode_type[i] for i in np.flatnonzero(np.abs(d.eigenvalues) <= TOP)
     )
+
+
+def test_the_report_says_how_the_tables_were_solved(models):
+    """The report's modes section (through modal) states the tables, the states and the work."""
+    from gearrotor.plots.report.sections.modes import _modes_table
+
+    ref, asm = models
+    res = modal(asm, max_frequency=TOP)
+    html = _modes_table(res, ["stable"] * len(res))
+    assert "speed × whirl tables: left, right" in html and "8 states" in html
+    assert "Frequency-dependent" not in _modes_table(modal(ref, max_frequency=TOP), ["stable"] * 10)
