@@ -119,8 +119,11 @@ def test_campbell_picks_it_up(models):
     speeds = np.linspace(3000, 9000, 5) * RPM  # table speeds and speeds between them
     a = campbell(ref, speeds=speeds, max_frequency=20000 * RPM)
     b = campbell(asm, speeds=speeds, max_frequency=20000 * RPM)
-    np.testing.assert_allclose(b.damped_frequency, a.damped_frequency, rtol=1e-10)
-    np.testing.assert_allclose(b.log_dec, a.log_dec, rtol=1e-8, atol=1e-10)
+    # the table model's two pedestal modes (12,856 and 16,226 rpm, where the pedestals move
+    # more than the rotor) are modes of the fit's states: typed P and not tracked
+    assert a.damped_frequency.shape == (5, 8) and b.damped_frequency.shape == (5, 6)
+    np.testing.assert_allclose(b.damped_frequency, a.damped_frequency[:, :6], rtol=1e-10)
+    np.testing.assert_allclose(b.log_dec, a.log_dec[:, :6], rtol=1e-8, atol=1e-10)
     # every speed one full eigensolve with the states, its residual on the nonlinear problem
     assert b.solver == ("full",) * 5
     assert np.max(b.residual) < 1e-10

@@ -80,3 +80,30 @@ def test_modes_move_as_the_seals_frequency_dependence_predicts(models):
             assert err_sync > 1e-3
             assert err_frozen < 0.5 * err_sync
     assert away == 4
+
+
+def test_level2_judges_the_rotor_modes_not_the_seals_own(models):
+    """API 617 Level II on the whirl model: the modes of the seal fit's states (type P, the
+    rotor barely moves) are not forward lateral modes; the rotor's forward modes are judged."""
+    from gearrotor.analyses.stability import level2
+
+    *_, whirl, _ = models
+    modes = level2(whirl, speeds=[W]).evaluations[0].modes
+    p = [m for m in modes if m.mode_type == "P"]
+    assert p and not any(m.forward for m in p)
+    assert all(m.energy_lateral < 0.1 for m in p)
+    judged = [m for m in modes if m.forward]
+    assert len(judged) == 2 and all(m.mode_type == "L" for m in judged)
+
+
+def test_campbell_tracks_the_rotor_modes(models):
+    """Campbell leaves the fitted states' own modes out: their number follows each row's fit
+    order (no identity over speed); the six rotor modes are tracked, their residual on the
+    nonlinear problem at round-off."""
+    from gearrotor.analyses.campbell import campbell
+
+    *_, whirl, _ = models
+    c = campbell(whirl, speeds=np.array([10000.0, 11000.0, 12000.0]) * RPM, max_frequency=TOP)
+    assert c.damped_frequency.shape == (3, 6)
+    assert set(np.ravel(c.mode_type)) == {"L"}
+    assert np.max(c.residual) < 1e-9

@@ -410,8 +410,12 @@ _SPARSE_FROM = 200
 
 def _candidates(r: ModalResult, include_overdamped: bool, radius: float) -> NDArray:
     """The modes that may be tracked: |λ| ≤ ``radius`` (what the sparse solver encloses, so
-    that every solver offers the same set), over-damped ones only when asked."""
+    that every solver offers the same set), over-damped ones only when asked; not the modes of
+    a speed × whirl table's fitted states (their number follows the fit's order, which differs
+    between the table's rows: they have no identity over speed)."""
     keep = np.ones(len(r), bool) if include_overdamped else ~r.overdamped
+    if r.state_mode is not None:
+        keep &= ~r.state_mode
     return np.flatnonzero(keep & (np.abs(r.eigenvalues) <= radius))
 
 

@@ -150,6 +150,8 @@ class ModalResult:
     # speed × whirl tables: how the frequency dependence was solved and its work (eigensolves,
     # states, the tables' whirl ranges and fit misfits; analyses/whirl.py), else None
     frequency_dependence: dict | None = None
+    # (n,) bool: a mode of the fitted states of a speed × whirl table (typed P), else None
+    state_mode: NDArray | None = None
 
     @property
     def damped_frequency(self) -> NDArray:
@@ -806,10 +808,16 @@ def _classify(
     frac = kin / total_kin[:, None]
     pad_share = pad_kin / total_kin
     internal = pad_share >= 0.5
+    state_mode = None
     if state_amplitude is not None:
         # the states' amplitude only approximates a displacement: a mode is typed P (not
-        # judged as a lateral mode) only when the rotor barely moves (analyses/whirl.py)
-        internal |= state_share >= STATE_SHARE_P
+        # judged as a lateral mode) only when the rotor barely moves (analyses/whirl.py); its
+        # shafts' fractions are their share of it, the states taking the rest (as the pads'
+        # kinetic energy does in a pad mode)
+        in_states = state_share >= STATE_SHARE_P
+        state_mode = in_states
+        internal |= in_states
+        frac[in_states] *= (1.0 - state_share[in_states])[:, None]
         pad_share = np.maximum(pad_share, state_share)
     shares = _energy_shares(phi, asm, K, kin)
     types = tuple(
@@ -858,6 +866,7 @@ def _classify(
         mode_class=tuple(mode_class),
         real_class=real_class,
         pad_share=pad_share,
+        state_mode=state_mode,
     )
 
 
@@ -937,8 +946,10 @@ def modal(
             "overdamped",
             "energy_shares",
             "pad_share",
+            "state_mode",
         ):
-            res[key] = res[key][:n_modes]
+            if res[key] is not None:
+                res[key] = res[key][:n_modes]
         for key in ("whirl_per_shaft", "whirl", "mode_type", "mode_class"):
             res[key] = res[key][:n_modes]
     return ModalResult(

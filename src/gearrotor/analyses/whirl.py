@@ -23,10 +23,13 @@ could stall or miss a mode that only exists with the frequency dependence.
 Why this, and not a per-mode iteration ``λ ← eig(K(Im λ), C(Im λ))`` (the classical use of
 frequency-dependent coefficients): the table holds Z only at s = iω, and reading it at ω = Im λ
 for a damped mode λ = σ + iω misses ``Z(σ + iω) − Z(iω) ≈ σ Z'(iω)``, an error first order in
-the damping ratio (0.04 ζ measured on the tilting-pad test rotor,
-``tests/pads/test_pad_train.py``). The rational fit continues Z off the axis; for a bearing
-whose impedance is rational (tilting pads, a pedestal) it is exact, and the table model then
-reproduces the model with those DOFs to round-off (``tests/whirl``).
+the damping ratio. ``benchmarks/whirl.py`` on the tilting-pad test rotor: the iteration from
+the synchronous solve takes 76 eigensolves for its 7 damped rotor modes, errs by up to 0.059 ζ
+on the lightly damped ones and ends on other modes for the four with ζ ≈ 0.6 (the synchronous
+model has no mode like them), where the states take one eigensolve and agree with the pad
+model to 3e-13. The rational fit continues Z off the axis; for a bearing whose impedance is
+rational (tilting pads, a pedestal) it is exact, and the table model then reproduces the model
+with those DOFs to round-off (``tests/whirl``, ``tests/pads/test_pad_whirl_table.py``).
 
 The states are scaled so that, near the rotor's frequencies, their amplitude is that of the
 journal motion (``|p| / |λ − p|`` times it for a pole p); a mode whose largest state amplitude
