@@ -75,12 +75,13 @@ def _run(args: list[str], src: Path, pinned: bool, cwd: Path) -> float:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--before", type=Path, help="an older src/ folder to compare with")
+    ap.add_argument("--after", type=Path, help="the src/ folder to measure (default: this tree's)")
     ap.add_argument("--pinned", action="store_true", help="add a column with 1 BLAS thread")
     ap.add_argument("--repeat", type=int, default=1, help="runs per cell (the median is shown)")
     ap.add_argument("--only", nargs="*", help="run only the commands whose name has these words")
     ap.add_argument("--suite", action="store_true", help="also the test suite (pytest -n 2)")
     args = ap.parse_args()
-    trees = {"after": ROOT / "src"}
+    trees = {"after": (args.after or ROOT / "src").resolve()}
     if args.before:
         trees = {"before": args.before.resolve(), **trees}
     variants = [(t, False) for t in trees]

@@ -182,6 +182,7 @@ LAYERS = {
     "model": 1,
     "bearings": 2,
     "seals": 2,
+    "gears": 2,
     "io": 2,
     "assembly": 3,
     "analyses": 4,

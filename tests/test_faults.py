@@ -830,3 +830,77 @@ def test_ctrl_c_is_one_line(small_ops, tmp_path, cmd, target, nth):
     assert r.returncode == 130, (r.returncode, r.stderr)
     assert r.stderr.splitlines() == ["interrupted (Ctrl-C): no file was written"], r.stderr
     assert not out.exists() and leftovers(tmp_path) == []
+
+
+def _commands(group, prefix=()) -> list[tuple[str, ...]]:
+    subs = getattr(group, "commands", None)
+    if not subs:
+        return [prefix]
+    return [c for name, sub in subs.items() for c in _commands(sub, (*prefix, name))]
+
+
+#: every command, with arguments that pass its option checks (ARGS: the command's own)
+EVERY = {
+    ("show",): [SINGLE],
+    ("modal",): [SINGLE],
+    ("campbell",): [SINGLE],
+    ("unbalance",): [SINGLE],
+    ("static",): [SINGLE],
+    ("bearing",): [BEARING],
+    ("seal",): ["seals/pump_wear_ring.toml", "--speed", "3000"],
+    ("transient",): [SINGLE],
+    ("transient-plot",): ["RESULT"],
+    ("report",): [SINGLE, "--output", "OUT"],
+    ("floquet",): [UNITY],
+    ("ucs",): [SINGLE],
+    ("stability",): [SINGLE, "--mcs", "3000"],
+    ("import-ross",): ["ROSS", "--output", "OUT.toml"],
+    ("export",): [SINGLE, "--output", "OUT.py"],
+    ("study", "run"): ["STUDY"],
+    ("study", "status"): ["STUDY"],
+    ("study", "report"): ["STUDY"],
+    ("torsional", "modes"): [MOTOR],
+    ("torsional", "campbell"): [MOTOR],
+    ("torsional", "response"): [MOTOR, "--torque", "x"],
+    ("torsional", "transient"): [MOTOR],
+}
+#: long-running by design: stops on Ctrl-C with its own line ("view stopped")
+SERVERS = {("view",)}
+
+
+def test_every_command_is_listed():
+    from typer.main import get_command
+
+    from gearrotor.cli import app
+
+    assert set(_commands(get_command(app))) == set(EVERY) | SERVERS
+
+
+@pytest.mark.parametrize("command", sorted(EVERY), ids=" ".join)
+def test_ctrl_c_on_every_command(examples, tmp_path, monkeypatch, command):
+    """Issue 23: a general mechanism (``cli.errors.cli_errors``): Ctrl-C on any command while it
+    reads its input (the first thing every command does) is one line and exit 130; before, only
+    ``study run`` and ``transient`` said anything."""
+
+    def interrupted(*a, **k):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr("gearrotor.inputs.read_text", interrupted)  # models, studies, tables
+    monkeypatch.setattr("gearrotor.analyses.transient.load_result", interrupted)  # NetCDF
+    monkeypatch.setattr("gearrotor.interop.ross.import_ross", interrupted, raising=False)
+    (tmp_path / "x.nc").write_bytes(b"")
+    (tmp_path / "study.toml").write_text("")
+    (tmp_path / "rotor.toml").write_text("")
+    subst = {
+        "OUT": tmp_path / "out",
+        "OUT.toml": tmp_path / "out.toml",
+        "OUT.py": tmp_path / "out.py",
+        "RESULT": tmp_path / "x.nc",
+        "STUDY": tmp_path / "study.toml",
+        "ROSS": tmp_path / "rotor.toml",
+    }
+    args = [subst.get(a, examples / a if a.endswith(".toml") else a) for a in EVERY[command]]
+    r = invoke(*command, *args)
+    assert r.exit_code == 130, (r.exit_code, r.output, r.exception)
+    assert r.stderr.startswith("interrupted (Ctrl-C)") and len(r.stderr.splitlines()) == 1
+    assert "Traceback" not in r.output

@@ -399,3 +399,17 @@ def test_replace_directory_without_exchange(tmp_path, monkeypatch):
     files.replace_directory(tmp, out)
     assert sorted(p.name for p in out.iterdir()) == ["report.html"]
     assert sorted(p.name for p in tmp_path.iterdir()) == ["rep"]
+
+
+def test_written_counts_files_in_place_only(tmp_path):
+    """What a command says it wrote when Ctrl-C stops it (cli_errors): the files in place, not
+    those of a set or of a folder being built, which go if it stops."""
+    n = len(files.written())
+    with pytest.raises(KeyboardInterrupt), files.output_set():
+        files.write_text(tmp_path / "a.txt", "a")
+        raise KeyboardInterrupt
+    tmp = files.make_temporary_directory(tmp_path / "rep")
+    files.write_text(tmp / "report.html", "r")
+    assert files.written()[n:] == ()
+    files.replace_directory(tmp, tmp_path / "rep")
+    assert files.written()[n:] == (tmp_path / "rep",)

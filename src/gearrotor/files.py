@@ -106,6 +106,15 @@ def _temporary(path: Path) -> Path:
 
 #: Every file this process has put in place, in order (:func:`written`).
 _WRITTEN: list[Path] = []
+#: Folders being built (:func:`make_temporary_directory`): what is written in them is not in
+#: place until the folder is (:func:`replace_directory`).
+_BUILDING: set[Path] = set()
+
+
+def _record(path: Path) -> None:
+    path = Path(os.path.abspath(path))
+    if not any(p in _BUILDING for p in path.parents):
+        _WRITTEN.append(path)
 
 
 def written() -> tuple[Path, ...]:
@@ -147,7 +156,7 @@ class _Set:
                     for _, rest in items[k:]:
                         _discard(rest)
                     raise _write_error(path, exc) from None
-                _WRITTEN.append(path)
+                _record(path)
 
 
 _SET: contextvars.ContextVar[_Set | None] = contextvars.ContextVar("output_set", default=None)
@@ -213,7 +222,7 @@ def atomic_file(path: str | os.PathLike, mode: str = "wb", **open_kw) -> Iterato
             staging.stage(tmp, path)
             return
         os.replace(tmp, path)
-        _WRITTEN.append(path)
+        _record(path)
     except OSError as exc:
         _discard(tmp)
         raise _write_error(path, exc) from None
@@ -446,6 +455,7 @@ def replace_directory(tmp: str | os.PathLike, path: str | os.PathLike) -> Path:
     is removed by the next run (:func:`check_output`). A symbolic link to a folder is followed:
     the folder it points to is replaced, the link stays. Returns ``path``."""
     tmp, path = Path(tmp), Path(path)
+    built = Path(os.path.abspath(tmp))
     target = path.resolve() if path.is_symlink() else path
     try:
         with _signals_held():
@@ -462,7 +472,8 @@ def replace_directory(tmp: str | os.PathLike, path: str | os.PathLike) -> Path:
                 _remove_tree(tmp)  # the old folder, now under the temporary name
     except OSError as exc:
         raise _write_error(path, exc) from None
-    _WRITTEN.append(path)
+    _BUILDING.discard(built)
+    _record(path)
     return path
 
 
@@ -478,6 +489,7 @@ def make_temporary_directory(path: str | os.PathLike, *, field: str | None = Non
     tmp = path.parent / f"{temporary_directory_prefix(path)}{os.getpid()}-{secrets.token_hex(3)}"
     try:
         tmp.mkdir()
+        _BUILDING.add(Path(os.path.abspath(tmp)))
     except OSError as exc:
         raise ModelError(
             f"cannot create a folder next to the output: {_reason(exc)}",

@@ -41,7 +41,13 @@ GROUP = typer.main.get_command(app)
 # static 5-10 s, torsional modes/campbell/response 3-6 s, an input error under a second).
 # Everything else (transient 10-60 s, study run 3-11 min, report 40 s, figures, sweeps of
 # hundreds of speeds, the API audit) is slow.
-FAST_KINDS = {("bearing",), ("static",), ("torsional", "modes"), ("torsional", "campbell")}
+FAST_KINDS = {
+    ("bearing",),
+    ("static",),
+    ("torsional", "modes"),
+    ("torsional", "campbell"),
+    ("mesh",),
+}
 
 
 def kind(cmd: PrintedCommand) -> tuple[str, ...]:
@@ -168,8 +174,12 @@ def test_printed_command_parses_and_loads(cmd, workspace, monkeypatch):
         from gearrotor.studies import load_study
 
         load_study(files[0])
-    elif "shafts" not in data:  # a bearing, seal or ROSS file: read above
-        assert cmd.argv[0] in ("bearing", "seal", "import-ross"), cmd.shell
+    elif "shafts" not in data:  # a bearing, seal, gear-pair or ROSS file: read above
+        assert cmd.argv[0] in ("bearing", "seal", "mesh", "import-ross"), cmd.shell
+        if cmd.argv[0] == "mesh":
+            from gearrotor.gears import load_gear_pair
+
+            load_gear_pair(files[0])
     elif expected_status(cmd) == 2:
         with pytest.raises(ValueError) as err:
             load_model(files[0], parse_overrides(sets))

@@ -78,13 +78,15 @@ def test_the_checks_table_states_the_unbalance(reports):
     page = api.html.read_text(encoding="utf-8")
     sec = page[page.index("<section id='api684'>") :]
     sec = sec[: sec.index("</section>")]
-    assert "Unbalance used for these checks: API 617 unbalance: 4 × 6350 W/N g·mm" in sec
+    # the edition: the model's [api_audit] edition, none here: the 8th
+    ed = "API 617 8th edition (2014)"
+    assert f"Unbalance used for these checks: {ed} unbalance: 4 × 6350 W/N g·mm" in sec
     assert f"{U_API:.1f} g·mm on shaft1 node 10" in sec and "N = 6500 rpm" in sec
     assert f"W = {W_SHAFT:.2f} kg" in sec
     unb = page[page.index("<section id='unbalance'>") :]
-    assert "with API 617 unbalance" in unb[: unb.index("</section>")]
+    assert f"with {ed} unbalance" in unb[: unb.index("</section>")]
     verdict = [v for v in api.summary["verdicts"] if "vibration limit" in v["check"]][0]
-    assert verdict["detail"].endswith("(with the API 617 unbalance)")
+    assert verdict["detail"].endswith(f"(with the {ed} unbalance)")
     page = model.html.read_text(encoding="utf-8")
     sec = page[page.index("<section id='api684'>") :]
     assert "Unbalance used for these checks: the model's unbalance" in sec

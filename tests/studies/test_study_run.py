@@ -70,11 +70,11 @@ def local_run(tmp_path_factory):
     path = tmp_path_factory.mktemp("local") / "tiny.toml"
     path.write_text(STUDY)
     st = load_study(path)
-    first = run_study(st, cases=[0], workers=2, progress=False)
+    first = run_study(st, cases=[0], workers=1, progress=False)
     mtime0 = case_path(st, plan(st)[0].key).stat().st_mtime_ns
     # a kill during a write leaves a temp file: it must not count as finished
     (st.folder / "cases" / f"{plan(st)[1].key}.nc.tmp-99999").write_bytes(b"partial")
-    second = run_study(st, workers=2, progress=False)
+    second = run_study(st, workers=1, progress=False)
     return st, first, second, mtime0
 
 
@@ -93,7 +93,7 @@ def test_resume_recomputes_nothing_finished(local_run):
     assert (second.executed, second.skipped) == (2, 1)
     assert case_path(st, plan(st)[0].key).stat().st_mtime_ns == mtime0
     # a plain re-run (failed cases not retried) executes nothing
-    again = run_study(st, workers=2, progress=False, retry_failed=False)
+    again = run_study(st, workers=1, progress=False, retry_failed=False)
     assert (again.executed, again.skipped) == (0, 3)
     assert sorted(again.failed) == [2, 3]
     assert case_path(st, plan(st)[0].key).stat().st_mtime_ns == mtime0

@@ -62,7 +62,7 @@ def test_default_range_reaches_every_mode_an_excitation_can_reach(report):
     (t,) = [r for r in rows if abs(r["frequency_rpm"] - 215670) < 100]
     assert t["type"] == "T" and t["log_dec"] == pytest.approx(0.0099, abs=5e-5)
     # ... and the summary shows it, with its numbers, beside the model's missing damping
-    line = next(v for v in summary["verdicts"] if v["key"] == "not_lateral_operating_speed")
+    line = next(v for v in summary["verdicts"] if v["key"] == "not_judged_operating_speed")
     assert f"mode {t['index']} (215,670 cpm, T) log dec 0.0099" in line["detail"]
     assert "no torsional damping in the model" in line["detail"]
     assert line["result"] == "not judged"
@@ -106,7 +106,7 @@ def test_summary_never_passes_beside_a_failed_row(report):
     assert n_fail_badges == len(failed) + (not stab["modal"]["stable"])
     if verdicts["stability_campbell_range"]["result"] == "pass":
         assert n_fail_badges == 0
-    judged_out = [d for d in rows if not d["lateral"] and d["min_log_dec"] < 0.1]
+    judged_out = [d for d in rows if not d["judged"] and d["min_log_dec"] < 0.1]
     assert len(judged_out) == 6  # modes 20, 21, 32, 33 (T), 26, 27 (A)
     for d in judged_out:
         assert d["result"] == "not judged"

@@ -30,7 +30,9 @@ __all__ = [
     "CloseClearance",
     "ClearanceCheck",
     "ModeUnbalance",
+    "bearing_clearances",
     "clearance_check",
+    "close_clearances",
     "mode_unbalances",
     "nodal_masses",
     "residual_unbalance",
@@ -334,6 +336,36 @@ class CloseClearance:
     node: int
     diametral: float
     name: str = ""
+
+
+def bearing_clearances(model: Train | Assembly) -> list[CloseClearance]:
+    """The close clearances of the model's fluid-film journal bearings: at each bearing given
+    by a bearing file (``fluid_film.file``), twice the file's assembled radial clearance (the
+    minimum running clearance: a preloaded lobe's or tilting pad's clearance at its pivot,
+    docs/bearings.md), named after the bearing."""
+    from ..bearings import load_bearing
+
+    train = model.train if isinstance(model, Assembly) else model
+    out = []
+    for k, b in enumerate(train.bearings):
+        if b.fluid_film is None:
+            continue
+        si, node = train.node_index(b, f"bearings[{k}]")
+        c = float(load_bearing(b.fluid_film.file).bearing.clearance)
+        name = b.name or f"bearing {k}"
+        out.append(CloseClearance(train.shafts[si].name, int(node), 2 * c, name))
+    return out
+
+
+def close_clearances(model: Train | Assembly) -> list[CloseClearance]:
+    """The close clearances of the 9th edition's check: the model's ``[api_audit]
+    clearances`` when it lists any, else its fluid-film journal bearings' diametral clearances
+    (:func:`bearing_clearances`); empty when neither."""
+    train = model.train if isinstance(model, Assembly) else model
+    table = train.api_audit
+    if table is not None and table.clearances:
+        return [CloseClearance(c.shaft, c.node, c.diametral, c.name) for c in table.clearances]
+    return bearing_clearances(train)
 
 
 @dataclass(frozen=True)

@@ -4,7 +4,15 @@ the crossing speeds (SPEC 3.1).
 Mode tracking: at each speed the modes are matched to those of the previous speed by maximising
 the modal assurance criterion ``MAC = |φᵢᴴψⱼ|² / (|φᵢ|²|ψⱼ|²)`` over an optimal one-to-one
 assignment (Hungarian algorithm), with a small penalty on the frequency jump, so that a mode keeps
-its identity through crossings and veerings with other modes.
+its identity through crossings and veerings with other modes. A track may also end: a heavily
+damped mode becomes over-damped (a real pair) as the bearings' damping grows with speed, and
+then no damped mode continues it. Matching it to whatever mode is left would shift the other
+tracks down the list one after another (the steam turbine's 10,000 cpm bearing mode, log dec
+27 at 12,100 rpm and a real pair at 12,320 rpm, had its track jump to 66,000 cpm, which
+jumped to 315,000 cpm, which jumped off the top of the diagram). The assignment therefore
+offers every track the option of no mode at that speed at the cost ``END_COST``; the track
+is NaN there (frequency, log dec; whirl and type ``-``, counted as over-damped) and continues
+if its mode returns.
 """
 
 from __future__ import annotations
@@ -31,8 +39,23 @@ from .modal import (
     modal,
 )
 from .modal import _residuals as _residuals_of
+from .whirl import frequency_dependent
+from .whirl import residuals as whirl_residuals
 
-__all__ = ["CampbellResult", "ExcitationOrder", "Crossing", "campbell", "default_orders", "mac"]
+__all__ = [
+    "CampbellResult",
+    "ExcitationOrder",
+    "Crossing",
+    "campbell",
+    "default_orders",
+    "mac",
+    "END_COST",
+]
+
+#: Cost of leaving a track without a mode at a speed. A continuation costs 1 − MAC plus the
+#: frequency penalty; a mode of orthogonal shape at the same frequency costs 1. A candidate
+#: costing more is another mode, and the track ends instead (module docstring).
+END_COST = 1.0
 
 
 @dataclass(frozen=True)
@@ -57,7 +80,9 @@ class Crossing:
 
 @dataclass(frozen=True)
 class CampbellResult:
-    """Tracked modes over speed: arrays (n_speeds, n_modes)."""
+    """Tracked modes over speed: arrays (n_speeds, n_modes); where a track has no mode (its
+    mode became over-damped, module docstring) its frequency and log dec are NaN, its whirl
+    and type ``-`` and ``overdamped`` True."""
 
     speeds: NDArray  # reference-shaft speeds, rad/s
     damped_frequency: NDArray
@@ -76,6 +101,10 @@ class CampbellResult:
     # for a reduced one)
     solver: tuple[str, ...] = ()
     residual: NDArray | None = field(repr=False, default=None)
+    # (n_speeds, n_modes, 3): the lateral, axial and torsional kinetic-energy fractions of each
+    # tracked mode (ModalResult.energy_fractions; NaN where a track has no mode): the stability
+    # criteria judge a mode by its lateral share (analyses.stability.criterion_class)
+    energy_fractions: NDArray | None = field(repr=False, default=None)
 
     @property
     def full_solves(self) -> int:
@@ -92,10 +121,16 @@ class CampbellResult:
             "modes": [
                 {
                     "index": j,
-                    "frequency_rpm": (self.damped_frequency[:, j] * rpm).tolist(),
-                    "log_dec": self.log_dec[:, j].tolist(),
+                    # None where the track has no mode (END_COST)
+                    "frequency_rpm": _json_list(self.damped_frequency[:, j] * rpm),
+                    "log_dec": _json_list(self.log_dec[:, j]),
                     "whirl": self.whirl[:, j].tolist(),
                     "type": self.mode_type[:, j].tolist(),
+                    **(
+                        {"energy_lateral": _json_list(self.energy_fractions[:, j, 0])}
+                        if self.energy_fractions is not None
+                        else {}
+                    ),
                 }
                 for j in range(self.damped_frequency.shape[1])
             ],
@@ -135,6 +170,10 @@ class CampbellResult:
                 f"{c.mode_type:>5}"
             )
         return "\n".join(rows)
+
+
+def _json_list(x: NDArray) -> list:
+    return [float(v) if np.isfinite(v) else None for v in x]
 
 
 def mac(a: NDArray, b: NDArray) -> NDArray:
@@ -217,6 +256,10 @@ def campbell(
     modes) and O(n·m) work; subspaces beyond half the model's DOFs are not used (every speed
     is then solved on the full model).
 
+    With speed × whirl tables (:mod:`gearrotor.analyses.whirl`) every speed is one eigensolve
+    of the model with the tables' states and ``reduced`` does not apply; the residual is that
+    of the nonlinear problem with the fitted impedances.
+
     ``method`` is the full solver: ``"sparse"`` finds only the eigenvalues within the circle of
     radius 1.5×max_frequency about a small negative shift by shift-invert Arnoldi, ``"dense"``
     computes the full spectrum (see :func:`~gearrotor.analyses.modal.modal`); ``"auto"``
@@ -248,24 +291,30 @@ def campbell(
     results = []
     prev_phi = prev_f = None
     n_track = None
-    cols: dict[str, list] = {k: [] for k in ("f", "ld", "wh", "ty", "od", "res")}
+    cols: dict[str, list] = {k: [] for k in ("f", "ld", "wh", "ty", "od", "res", "ef")}
     solver: list[str] = []
     k_hint = None
     radius = 1.5 * max_frequency
-    space = _Subspace(asm) if reduced else None
+    # speed × whirl tables: every speed is one eigensolve of the model with the tables'
+    # states (analyses/whirl.py); the reduced basis is for the quadratic problem
+    whirl_tables = frequency_dependent(asm)
+    space = _Subspace(asm) if reduced and not whirl_tables else None
     full_method = method
     if method == "auto":  # only the circle's modes are wanted: the measured crossover applies
         full_method = "sparse" if asm.n_dof >= _SPARSE_FROM else "dense"
 
     def assign(cand_phi: NDArray, cand_f: NDArray) -> NDArray:
-        """Indices into the candidates of the modes that continue the tracked ones."""
+        """Indices into the candidates of the modes that continue the tracked ones, -1 for a
+        track that no candidate continues (``END_COST``)."""
         cost = 1.0 - mac(prev_phi, cand_phi)
         jump = np.abs(cand_f[None, :] - prev_f[:, None])
         cost = cost + frequency_weight * jump / np.maximum(prev_f[:, None], 1e-9)
         from scipy.optimize import linear_sum_assignment  # scipy.optimize: on use
 
-        rows, colsel = linear_sum_assignment(cost)
-        return colsel[np.argsort(rows)]
+        n, m = cost.shape
+        rows, colsel = linear_sum_assignment(np.hstack([cost, np.full((n, n), END_COST)]))
+        colsel = colsel[np.argsort(rows)]
+        return np.where(colsel < m, colsel, -1)
 
     for i, w in enumerate(speeds):
         report(sweep, i / len(speeds), f"speed {i + 1}/{len(speeds)}")
@@ -293,28 +342,38 @@ def campbell(
                     )
                 chosen = idx[:n_track]
             else:
-                if len(idx) < n_track:
-                    raise ModelError(
-                        f"only {len(idx)} of the {n_track} tracked modes stay below "
-                        f"1.5 × max_frequency at {w * 30 / np.pi:.1f} rpm",
-                        field="max_frequency",
-                        value=f"{max_frequency * 30 / np.pi:.6g} rpm",
-                        expected="a higher max_frequency",
-                    )
-                chosen = idx[assign(r.mode_shapes[idx], r.damped_frequency[idx])]
-            res = _residuals(asm, w, r.eigenvalues[chosen], r.mode_shapes[chosen])
+                a = assign(r.mode_shapes[idx], r.damped_frequency[idx])
+                chosen = np.where(a >= 0, idx[np.maximum(a, 0)], -1)
+            on = chosen >= 0
+            res = np.zeros(n_track)
+            # speed × whirl tables: the residual of the nonlinear problem (analyses/whirl.py)
+            of = whirl_residuals if whirl_tables else _residuals
+            res[on] = of(asm, w, r.eigenvalues[chosen[on]], r.mode_shapes[chosen[on]])
             solver.append("full")
-            if space is not None and space.fits(2 * len(chosen)):
-                lam_c = r.eigenvalues[chosen]
-                space.add(*_speed_vectors(asm, w, lam_c, r.mode_shapes[chosen]))
-        prev_phi = r.mode_shapes[chosen]
-        prev_f = r.damped_frequency[chosen]
-        cols["f"].append(prev_f)
-        cols["ld"].append(r.log_dec[chosen])
-        cols["wh"].append(np.array(r.whirl, dtype=object)[chosen])
-        cols["ty"].append(np.array(r.mode_type, dtype=object)[chosen])
-        cols["od"].append(r.overdamped[chosen])
+            if space is not None and space.fits(2 * int(on.sum())):
+                lam_c = r.eigenvalues[chosen[on]]
+                space.add(*_speed_vectors(asm, w, lam_c, r.mode_shapes[chosen[on]]))
+        on = chosen >= 0
+        c = chosen[on]
+        if prev_phi is None:
+            prev_phi, prev_f = r.mode_shapes[c], r.damped_frequency[c]
+        else:  # an ended track keeps its last mode, to continue where that mode returns
+            prev_phi, prev_f = prev_phi.copy(), prev_f.copy()
+            prev_phi[on], prev_f[on] = r.mode_shapes[c], r.damped_frequency[c]
+        for key, values, empty in (
+            ("f", r.damped_frequency, np.nan),
+            ("ld", r.log_dec, np.nan),
+            ("wh", np.array(r.whirl, dtype=object), "-"),
+            ("ty", np.array(r.mode_type, dtype=object), "-"),
+            ("od", r.overdamped, True),
+        ):
+            col = np.full(n_track, empty, dtype=np.asarray(values).dtype)
+            col[on] = values[c]
+            cols[key].append(col)
         cols["res"].append(res)
+        ef = np.full((n_track, 3), np.nan)
+        ef[on] = r.energy_fractions[c]
+        cols["ef"].append(ef)
         if keep_results:
             results.append(r)
     f = np.array(cols["f"])
@@ -335,6 +394,7 @@ def campbell(
         modal_results=tuple(results),
         solver=tuple(solver),
         residual=np.array(cols["res"]),
+        energy_fractions=np.array(cols["ef"]),
     )
     report(progress, 1.0)
     return _with_crossings(res)
@@ -350,8 +410,12 @@ _SPARSE_FROM = 200
 
 def _candidates(r: ModalResult, include_overdamped: bool, radius: float) -> NDArray:
     """The modes that may be tracked: |λ| ≤ ``radius`` (what the sparse solver encloses, so
-    that every solver offers the same set), over-damped ones only when asked."""
+    that every solver offers the same set), over-damped ones only when asked; not the modes of
+    a speed × whirl table's fitted states (their number follows the fit's order, which differs
+    between the table's rows: they have no identity over speed)."""
     keep = np.ones(len(r), bool) if include_overdamped else ~r.overdamped
+    if r.state_mode is not None:
+        keep &= ~r.state_mode
     return np.flatnonzero(keep & (np.abs(r.eigenvalues) <= radius))
 
 
@@ -546,6 +610,8 @@ class _Subspace:
             return None
         lam, Y = lam[sel], Y[:m, sel]
         pick = assign((Q @ Y).T, lam.imag)
+        if np.any(pick < 0):  # a track ends here: the full solve decides
+            return None
         lam, Y = lam[pick], Y[:, pick]
         res = _relative_residual(lam, self.MQ @ Y, CQ @ Y, KQ @ Y)
         order = np.argsort(lam.imag, kind="stable")

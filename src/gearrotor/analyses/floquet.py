@@ -317,7 +317,9 @@ def floquet(
         used.append(
             {
                 "mesh": law.name,
-                "law": "table"
+                "law": (
+                    "geometry" if system.train.meshes[idx].excitation_law == "geometry" else "table"
+                )
                 if law.has_table
                 else ("fourier" if law.ka and len(law.coef_a) else "constant"),
                 "ka_ratio": None if law.has_table else float(law.ka / law.kg),

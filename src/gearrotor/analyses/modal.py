@@ -9,11 +9,12 @@ Eigensolver (``method="auto"``, measured by ``benchmarks/scaling.py``):
 * **every eigenvalue wanted** (no ``max_frequency``): the dense QR algorithm (LAPACK ``geev``)
   on ``B⁻¹A`` (M factored once by Cholesky) up to ``DENSE_LIMIT`` = 2000 DOFs; above, where a
   dense solve takes minutes, the sparse solver's ``n_modes`` (default 20) lowest modes;
-* **the modes below max_frequency wanted**: dense below ``SPARSE_FROM`` = 400 DOFs, sparse
+* **the modes below max_frequency wanted**: dense below ``SPARSE_FROM`` = 300 DOFs, sparse
   shift-invert Arnoldi (ARPACK) from there on. The measured crossover is ~200 DOFs (sparse is
-  1.7× faster at 252, 2.5–7× at 500, 4–30× at 1000, 34× at 1464: dense grows as DOF³, sparse
-  with the number of wanted modes); below 400 DOFs a dense solve costs under ~0.5 s and it
-  returns every eigenvalue, which the sparse solve does not (next point). If the sparse solve
+  1.7× faster at 252, 5–7× at 336 (ROSS's compressor example, issue 28), 2.5–7× at 500, 4–30×
+  at 1000, 34× at 1464: dense grows as DOF³, sparse with the number of wanted modes); below
+  300 DOFs (every shipped example: ≤ 252) a dense solve costs under ~0.3 s and it returns
+  every eigenvalue, which the sparse solve does not (next point). If the sparse solve
   would have to find more than ``SPARSE_FRACTION`` (1/6) of the 2n eigenvalues to enclose
   max_frequency, it is no cheaper than dense and "auto" solves densely instead
   (``ModalResult.method`` says which solver ran).
@@ -81,6 +82,8 @@ from ..assembly import Assembly, assemble
 from ..errors import ModelError, SolverError
 from ..model import Train
 from ..threads import limit, managed
+from .whirl import frequency_dependent
+from .whirl import solve as solve_whirl
 
 __all__ = [
     "ModalResult",
@@ -97,13 +100,16 @@ __all__ = [
 ]
 
 DENSE_LIMIT = 2000  # DOFs up to which "auto" solves densely when every eigenvalue is wanted
-SPARSE_FROM = 400  # DOFs from which "auto" solves sparsely when max_frequency is given
+SPARSE_FROM = 300  # DOFs from which "auto" solves sparsely when max_frequency is given
 SPARSE_FRACTION = 1 / 6  # share of the 2n eigenvalues beyond which sparse costs as dense
 KIND_NAMES = ("L", "A", "T")  # index = Assembly.dof_kind() code
 # |Re λ| / |λ| at or below which a pair's damping is round-off: conservative modes come out of
 # the dense solver at ~1e-15 and out of ARPACK (sparse, a Campbell sweep) at up to ~1e-8
 ROUNDOFF = 1e-7
 TYPE_THRESHOLD = 0.05  # energy share from which a DOF group (or the mesh) names the mode type
+# share of the fitted states of speed × whirl tables from which a mode is bearing-internal (P):
+# their largest amplitude at least 3× the rotor's largest displacement (analyses/whirl.py)
+STATE_SHARE_P = 0.9
 MODE_CLASSES = ("damped", "undamped", "over-damped", "unstable")
 REAL_CLASSES = ("rigid-body", "over-damped", "unstable")
 
@@ -138,8 +144,14 @@ class ModalResult:
     n_eigenvalues: int  # eigenvalues with |λ| ≤ max_frequency (all returned if none given)
     shaft_names: tuple[str, ...]
     assembly: Assembly = field(repr=False)
-    # (n,) kinetic-energy fraction in the pad DOFs (bearings with pad dynamics; 0 without)
+    # (n,) kinetic-energy fraction in the pad DOFs (bearings with pad dynamics; 0 without), or
+    # the states' share of a speed × whirl table (analyses/whirl.py), whichever is larger
     pad_share: NDArray | None = None
+    # speed × whirl tables: how the frequency dependence was solved and its work (eigensolves,
+    # states, the tables' whirl ranges and fit misfits; analyses/whirl.py), else None
+    frequency_dependence: dict | None = None
+    # (n,) bool: a mode of the fitted states of a speed × whirl table (typed P), else None
+    state_mode: NDArray | None = None
 
     @property
     def damped_frequency(self) -> NDArray:
@@ -268,6 +280,11 @@ class ModalResult:
             "class_counts": self.class_counts(),
             "modes": modes,
             "real_modes": real,
+            **(
+                {"frequency_dependence": self.frequency_dependence}
+                if self.frequency_dependence is not None
+                else {}
+            ),
         }
 
     def table(self) -> str:
@@ -289,6 +306,19 @@ class ModalResult:
                 f"{self.mode_type[i]:>6}  {_NOTE[cls]}"
             )
         rows.append(self.counts_line())
+        fd = self.frequency_dependence
+        if fd is not None:
+            misfit = max((e["max_misfit"] for e in fd["elements"]), default=0.0)
+            rows.append(
+                f"speed × whirl tables: {fd['states']} fitted states (largest misfit "
+                f"{misfit:.2g}), {fd['eigensolves']} eigensolve; type P: modes of the tables' "
+                "own dynamics (the rotor barely moves)"
+            )
+            if fd["modes_beyond_whirl_tables"]:
+                rows.append(
+                    "modes above the tables' highest whirl frequency: "
+                    f"{fd['modes_beyond_whirl_tables']} (they see the fits' continuation)"
+                )
         return "\n".join(rows)
 
 
@@ -383,11 +413,9 @@ def _solve_sparse(
     2.0e-10 on the compressor example (measured before the refinement; on SPEC 6.1 it stays
     ~2e-6, which the refinement brings to 1e-12)."""
     n = M.shape[0]
-    I = sp.identity(n, format="csc")
     scale = max_frequency if max_frequency else 1.0
-    A = sp.block_array([[None, scale * I], [-K / scale, -Cg]], format="csc")
-    B = sp.block_array([[I, None], [None, M]], format="csc")
     sigma = -1e-3 * scale
+    op = _shift_invert(M, Cg, K, sigma, scale, asm)
     k = min(k0 or max(n_modes or 20, 10), 2 * n - 2)
     # a fixed start vector: ARPACK's default is random, which made repeated calls (and the
     # Campbell diagram's tracking) differ in the last digits; a seeded generic vector keeps every
@@ -395,11 +423,19 @@ def _solve_sparse(
     v0 = np.random.default_rng(20261125).standard_normal(2 * n)
     while True:
         try:
-            lam, V = spla.eigs(A, k=k, M=B, sigma=sigma, which="LM", v0=v0)
+            nu, V = spla.eigs(op, k=k, which="LM", v0=v0)
         except spla.ArpackNoConvergence as exc:
             raise SolverError(f"sparse eigensolver did not converge for {k} modes: {exc}") from None
-        except RuntimeError:  # SuperLU could not factor the shifted matrix: M is singular
-            raise _singular_mass(asm) from None
+        lam = sigma + 1.0 / nu
+        if max_frequency is None and n_modes and k < 2 * n - 2:
+            # the n_modes lowest modes: conjugate pairs, rigid-body and real (over-damped)
+            # eigenvalues take some of the k found; ask for more until there are n_modes, then
+            # solve for the circle that holds them with the state scaled to it (accuracy)
+            osc = np.sort(np.abs(lam[lam.imag > ROUNDOFF * np.abs(lam)]))
+            if len(osc) < n_modes:
+                k = min(2 * k, 2 * n - 2)
+                continue
+            return _solve_sparse(M, Cg, K, asm, 1.05 * osc[n_modes - 1], None, k)
         if (
             max_frequency is None
             or k >= 2 * n - 2
@@ -416,6 +452,30 @@ def _solve_sparse(
         k = min(_next_k(k, np.abs(lam - sigma), max_frequency + abs(sigma)), 2 * n - 2)
         if k_max is not None and k > k_max:
             return None
+
+
+def _shift_invert(M, Cg, K, sigma: float, scale: float, asm) -> spla.LinearOperator:
+    """The shift-invert operator (A − σB)⁻¹B of the first-order form in the scaled state
+    z = [q, q̇/s] (A = [[0, sI], [−K/s, −(C+G)]], B = diag(I, M)) applied through one sparse LU
+    of the n×n quadratic pencil P(σ) = σ²M + σ(C+G) + K instead of the 2n×2n first-order
+    matrix: (A − σB)z = [v₁, Mv₂] gives z₁ = −P(σ)⁻¹(sMv₂ + (C+G+σM)v₁), z₂ = (v₁ + σz₁)/s.
+    Half the order, the band of the finite-element model kept (issue 28: the 336-DOF ROSS
+    compressor's solve 2–3× faster than SciPy's generalised shift-invert mode)."""
+    n = M.shape[0]
+    P = (sigma * sigma) * M + sigma * Cg + K
+    try:
+        lu = spla.splu(sp.csc_array(P))
+    except RuntimeError:  # SuperLU could not factor P(σ): M (or K) is singular
+        raise _singular_mass(asm) from None
+    CsM = sp.csr_array(Cg + sigma * M)
+    Mr = sp.csr_array(M)
+
+    def matvec(v: NDArray) -> NDArray:
+        v1, v2 = v[:n], v[n:]
+        z1 = -lu.solve(scale * (Mr @ v2) + CsM @ v1)
+        return np.concatenate([z1, (v1 + sigma * z1) / scale])
+
+    return spla.LinearOperator((2 * n, 2 * n), matvec=matvec, dtype=float)
 
 
 def _next_k(k: int, dist: NDArray, wanted: float) -> int:
@@ -688,7 +748,19 @@ def shares_to_types(shares: NDArray, threshold: float = TYPE_THRESHOLD) -> tuple
     return tuple(types)
 
 
-def _classify(lam, V, asm, speeds, K, *, rigid_tol, overdamped_zeta, type_threshold, max_frequency):
+def _classify(
+    lam,
+    V,
+    asm,
+    speeds,
+    K,
+    *,
+    rigid_tol,
+    overdamped_zeta,
+    type_threshold,
+    max_frequency,
+    state_amplitude=None,
+):
     lam = np.asarray(lam)
     mag = np.abs(lam)
     Vr, Vi = _split(V)
@@ -720,6 +792,9 @@ def _classify(lam, V, asm, speeds, K, *, rigid_tol, overdamped_zeta, type_thresh
     scale = data.scale
     phys = np.abs(phi) * scale
     kmax = np.argmax(phys, axis=1)
+    if state_amplitude is not None:  # the states of speed × whirl tables (analyses/whirl.py)
+        a2 = np.asarray(state_amplitude)[idx] ** 2
+        state_share = a2 / np.maximum(a2 + phys[np.arange(len(idx)), kmax] ** 2, 1e-300)
     ref = phi[np.arange(len(idx)), kmax] * scale[kmax]
     phi = phi / ref[:, None]
 
@@ -732,10 +807,22 @@ def _classify(lam, V, asm, speeds, K, *, rigid_tol, overdamped_zeta, type_thresh
     total_kin = np.maximum(kin.sum(axis=1) + pad_kin, 1e-300)
     frac = kin / total_kin[:, None]
     pad_share = pad_kin / total_kin
+    internal = pad_share >= 0.5
+    state_mode = None
+    if state_amplitude is not None:
+        # the states' amplitude only approximates a displacement: a mode is typed P (not
+        # judged as a lateral mode) only when the rotor barely moves (analyses/whirl.py); its
+        # shafts' fractions are their share of it, the states taking the rest (as the pads'
+        # kinetic energy does in a pad mode)
+        in_states = state_share >= STATE_SHARE_P
+        state_mode = in_states
+        internal |= in_states
+        frac[in_states] *= (1.0 - state_share[in_states])[:, None]
+        pad_share = np.maximum(pad_share, state_share)
     shares = _energy_shares(phi, asm, K, kin)
     types = tuple(
-        "P" if p >= 0.5 else t
-        for t, p in zip(shares_to_types(shares, type_threshold), pad_share, strict=True)
+        "P" if p else t
+        for t, p in zip(shares_to_types(shares, type_threshold), internal, strict=True)
     )
 
     # whirl per shaft: the sense of the orbits weighted by amplitude, relative to the spin
@@ -779,6 +866,7 @@ def _classify(lam, V, asm, speeds, K, *, rigid_tol, overdamped_zeta, type_thresh
         mode_class=tuple(mode_class),
         real_class=real_class,
         pad_share=pad_share,
+        state_mode=state_mode,
     )
 
 
@@ -827,10 +915,59 @@ def modal(
         speed = w_op if speed is None else float(speed)
     asm = model if isinstance(model, Assembly) else assemble(model)
     w = asm.train.speed if speed is None else float(speed)
-    M, C, G, K = asm.matrices(w)
-    Cg = C + G
     if method not in ("auto", "dense", "sparse"):
         raise ValueError(f"unknown method {method!r}; expected 'auto', 'dense' or 'sparse'")
+    work = state_amplitude = None
+    if frequency_dependent(asm):
+        # speed × whirl tables: the fits' states added to the eigenproblem (analyses/whirl.py)
+        lam, V, K, state_amplitude, work = solve_whirl(asm, w, max_frequency=max_frequency)
+        method = "dense"
+    else:
+        lam, V, K, method = _solve(asm, w, method, max_frequency, n_modes, sparse_k)
+    if rigid_tol is None:
+        rigid_tol = 1e-2
+    res = _classify(
+        lam,
+        V,
+        asm,
+        asm.shaft_speeds(w),
+        K,
+        rigid_tol=rigid_tol,
+        overdamped_zeta=overdamped_zeta,
+        type_threshold=type_threshold,
+        max_frequency=max_frequency,
+        state_amplitude=state_amplitude,
+    )
+    if n_modes is not None:
+        for key in (
+            "eigenvalues",
+            "mode_shapes",
+            "energy_fractions",
+            "overdamped",
+            "energy_shares",
+            "pad_share",
+            "state_mode",
+        ):
+            if res[key] is not None:
+                res[key] = res[key][:n_modes]
+        for key in ("whirl_per_shaft", "whirl", "mode_type", "mode_class"):
+            res[key] = res[key][:n_modes]
+    return ModalResult(
+        speed=w,
+        shaft_speeds=asm.shaft_speeds(w),
+        method=method,
+        n_eigenvalues=int(np.sum(np.abs(lam) <= max_frequency)) if max_frequency else len(lam),
+        shaft_names=tuple(s.name for s in asm.train.shafts),
+        assembly=asm,
+        frequency_dependence=work,
+        **res,
+    )
+
+
+def _solve(asm: Assembly, w: float, method: str, max_frequency, n_modes, sparse_k):
+    """(λ, eigenvectors (n, k), K, the method used) of the quadratic problem at speed w."""
+    M, C, G, K = asm.matrices(w)
+    Cg = C + G
     k_max = None
     if method == "auto":
         method = auto_method(asm.n_dof, max_frequency)
@@ -847,37 +984,4 @@ def modal(
         lam, V = _solve_dense(M.toarray(), Cg.toarray(), K.toarray(), asm)
     if not np.all(np.isfinite(lam)):
         raise SolverError("the eigensolver returned non-finite eigenvalues")
-    if rigid_tol is None:
-        rigid_tol = 1e-2
-    res = _classify(
-        lam,
-        V,
-        asm,
-        asm.shaft_speeds(w),
-        K,
-        rigid_tol=rigid_tol,
-        overdamped_zeta=overdamped_zeta,
-        type_threshold=type_threshold,
-        max_frequency=max_frequency,
-    )
-    if n_modes is not None:
-        for key in (
-            "eigenvalues",
-            "mode_shapes",
-            "energy_fractions",
-            "overdamped",
-            "energy_shares",
-            "pad_share",
-        ):
-            res[key] = res[key][:n_modes]
-        for key in ("whirl_per_shaft", "whirl", "mode_type", "mode_class"):
-            res[key] = res[key][:n_modes]
-    return ModalResult(
-        speed=w,
-        shaft_speeds=asm.shaft_speeds(w),
-        method=method,
-        n_eigenvalues=int(np.sum(np.abs(lam) <= max_frequency)) if max_frequency else len(lam),
-        shaft_names=tuple(s.name for s in asm.train.shafts),
-        assembly=asm,
-        **res,
-    )
+    return lam, V, K, method

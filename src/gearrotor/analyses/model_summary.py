@@ -43,6 +43,11 @@ __all__ = [
     "ModelSummary",
     "summarize",
     "default_max_frequency",
+    "excitation_frequency_range",
+    "top_speed",
+    "SEPARATION_MARGIN",
+    "HEADROOM",
+    "MIN_SPEED_MULTIPLE",
 ]
 
 RPM = np.pi / 30
@@ -264,10 +269,50 @@ class ModelSummary:
         return "\n".join(lines)
 
 
-def default_max_frequency(train: Train) -> float:
-    """The frequency range (rad/s) a model is meant for: 1.25 × the highest mesh frequency at
-    the highest speed the model names (MCS, the operating range, its operating points or its
-    speed), or 3 × the highest shaft speed for a train without gears."""
+#: Separation margin (fraction) the excitation frequency range allows an excitation: API 617's
+#: largest required margin of a critical from the operating range (10 + 17 (1 − 1/(AF − 1.5)) %,
+#: at most 26 %, above the maximum continuous speed), which also covers its 10 % torsional margin.
+SEPARATION_MARGIN = 0.26
+#: Headroom (factor) of the range above the highest frequency an excitation reaches with its
+#: margin: the modes just clear of every excitation are included too.
+HEADROOM = 1.1
+#: The range is at least this multiple of the top operating speed (a train without gears: its
+#: first bending modes, above 1x and 2x with margin).
+MIN_SPEED_MULTIPLE = 5.0
+
+
+def excitation_frequency_range(asm: Assembly, top: float) -> tuple[float, str]:
+    """(rad/s, why) the frequency range of a model's analyses: the highest frequency an
+    excitation of the Campbell diagram (1x and 2x of every shaft, every gear-mesh frequency)
+    reaches at the top operating speed ``top`` (rad/s) with its separation margin, with
+    headroom, ``HEADROOM × (1 + SEPARATION_MARGIN) × max(multiple × |shaft speed|)``, and at
+    least ``MIN_SPEED_MULTIPLE × top``. The report's default ``--max-frequency`` and the
+    element fineness of ``gearrotor show`` use it."""
+    from .campbell import default_orders
+
+    ratios = np.abs(asm.speed_ratio)
+    orders = [(o, o.multiple * ratios[o.shaft] * top) for o in default_orders(asm)]
+    order, f = max(orders, key=lambda x: x[1])
+    fmax = HEADROOM * (1 + SEPARATION_MARGIN) * f
+    floor = MIN_SPEED_MULTIPLE * top
+    if fmax >= floor:
+        return (
+            fmax,
+            f"default: the highest excitation, {order.label} = {f / RPM:,.0f} cpm at "
+            f"{top / RPM:,.0f} rpm, + {SEPARATION_MARGIN:.0%} separation margin, "
+            f"× {HEADROOM:g} headroom",
+        )
+    return (
+        floor,
+        f"default: {MIN_SPEED_MULTIPLE:g} × the top operating speed {top / RPM:,.0f} rpm "
+        f"(above the highest excitation, {order.label} = {f / RPM:,.0f} cpm, with its "
+        f"{SEPARATION_MARGIN:.0%} separation margin and × {HEADROOM:g} headroom)",
+    )
+
+
+def top_speed(train: Train) -> float:
+    """rad/s: the highest reference-shaft speed the model names (its speed, operating range,
+    maximum continuous speed, operating points)."""
     ref = abs(train.speed)
     for v in (train.max_continuous_speed, *(train.operating_speed_range or ())):
         if v is not None:
@@ -275,12 +320,16 @@ def default_max_frequency(train: Train) -> float:
     for p in train.operating_points:
         if p.speed is not None:
             ref = max(ref, abs(p.speed))
-    ratios = np.abs([s.speed_ratio for s in train.layout().shafts])
-    top = 3.0 * ref * ratios.max()
-    for m in train.meshes:
-        si = train.shaft_index(m.gear.shaft, "meshes.gear.shaft")
-        top = max(top, 1.25 * ref * ratios[si] * m.gear.teeth)
-    return top if top > 0 else 1000.0 * RPM * 60  # a model at rest: 60,000 cpm
+    return ref
+
+
+def default_max_frequency(train: Train, asm: Assembly | None = None) -> float:
+    """The frequency range (rad/s) a model is meant for: :func:`excitation_frequency_range` at
+    the highest speed the model names (:func:`top_speed`); 60,000 cpm for a model at rest."""
+    top = top_speed(train)
+    if top <= 0:
+        return 1000.0 * RPM * 60
+    return excitation_frequency_range(asm if asm is not None else assemble(train), top)[0]
 
 
 def _rigid_properties(asm: Assembly, i: int) -> tuple[float, float, float, float]:
@@ -393,7 +442,7 @@ def summarize(
     """
     asm = assemble(train)
     layout = train.layout()
-    wmax = default_max_frequency(train) if max_frequency is None else float(max_frequency)
+    wmax = default_max_frequency(train, asm) if max_frequency is None else float(max_frequency)
     speed = train.speed if speed is None else float(speed)
     shafts = []
     warnings = []

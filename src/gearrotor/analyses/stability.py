@@ -83,6 +83,19 @@ checks the verdict's monotony on the steam-turbine train).
 ``[[cross_couplings]]``, rotating shaft damping) at the given speed(s); acceptance: every forward
 lateral mode below ``max_frequency`` has a log dec of at least 0.1, and no mode is unstable.
 
+**The modes the criteria judge** (:func:`criterion_class`, the one definition Level I, Level II
+and the HTML report's stability checks use): a mode that is not over-damped, whirls forward on
+the shaft with the largest lateral amplitude, has at least ``min_lateral`` (0.5) of its
+kinetic energy in lateral motion (a pad mode, type ``P``, never: its energy is mostly the
+pads') and a damped frequency up to the window, ``WINDOW_MULTIPLE`` (3) × the fastest shaft's
+speed (:func:`stability_window`; the destabilising forces the criteria guard against, the
+aerodynamic and seal cross-coupling and the oil films, drive forward whirl below running
+speed, and the window includes twice that with margin). Every other mode is shown with the
+reason it is not judged (``"backward"``, ``"not lateral"``, ``"above window"``,
+``"over-damped"``), and any mode that grows is a failure whatever it is (:func:`is_unstable`:
+its damping ratio below −``ROUNDOFF``, modal's round-off level, so that a nearly free mode
+computed at log dec ±1e-7 — an unloaded tilting pad — is not called unstable by its round-off).
+
 **Verdict vocabulary** (one word per outcome, the same in tables, JSON and the report):
 ``"pass"``; ``"level II required"`` (Level I: a criterion not met sends the machine to Level II,
 which is not a failure); ``"fail"`` (Level II); ``"not evaluated"``.
@@ -105,7 +118,7 @@ from ..errors import ModelError
 from ..model import NodeRef, Train
 from ..threads import managed
 from ..units import to_si
-from .modal import ModalResult, modal
+from .modal import ROUNDOFF, ModalResult, modal
 from .operating import model_max_continuous_speed
 from .ucs import rigid_support_criticals
 
@@ -124,6 +137,11 @@ __all__ = [
     "screening_region",
     "first_forward_mode",
     "forward_lateral_modes",
+    "criterion_class",
+    "is_unstable",
+    "stability_window",
+    "WINDOW_MULTIPLE",
+    "UNSTABLE_LOG_DEC",
     "level1",
     "level2",
     "mid_span",
@@ -136,6 +154,10 @@ B_CENTRIFUGAL = 3.0
 B_AXIAL = 1.5
 C_SI = 9.55  # the standard's constant with W, m, rpm -> N/m (≈ 60 / 2π)
 LOG_DEC_MIN = 0.1  # Level I (at Q_A) and Level II acceptance
+WINDOW_MULTIPLE = 3.0  # the criteria judge modes up to this multiple of the fastest shaft speed
+#: log dec below which a mode grows: damping ratio < −ROUNDOFF (ζ = δ/√(4π² + δ²)), the level
+#: at which modal reports a mode undamped (its log dec 0) and below which it calls it unstable
+UNSTABLE_LOG_DEC = -2 * np.pi * ROUNDOFF / np.sqrt(1 - ROUNDOFF**2)
 RATIO_MIN = 2.0  # Level I: Q_0 / Q_A
 RATIO_SCREEN = 10.0  # Level I: the screening chart applies below this Q_0 / Q_A
 MAC_MIN = 0.9  # continuation: least shape correlation of the followed mode between two Q
@@ -616,14 +638,70 @@ def _mode_check(m: Level2Mode) -> str:
 
 
 # --------------------------------------------------------------------------------------------
-def forward_lateral_modes(res: ModalResult, min_lateral: float = 0.5) -> NDArray:
-    """Indices of the modes the stability criteria apply to: not over-damped, at least
-    ``min_lateral`` of the kinetic energy in lateral motion (the helical mesh's axial and the
-    train's torsional modes are left out), whirling forward on the shaft with the largest
-    lateral amplitude (:attr:`ModalResult.whirl`)."""
-    keep = (~res.overdamped) & (res.energy_fractions[:, 0] >= min_lateral)
-    keep &= np.array([w == "F" for w in res.whirl], bool)
-    return np.flatnonzero(keep)
+def stability_window(speed_ratio: NDArray, speed: float) -> float:
+    """rad/s: the highest damped frequency the criteria judge at reference-shaft ``speed``
+    (rad/s), ``WINDOW_MULTIPLE`` × the fastest shaft's speed (``speed_ratio``: the shafts'
+    speeds per unit reference speed, :attr:`Assembly.speed_ratio`)."""
+    return WINDOW_MULTIPLE * abs(float(speed)) * float(np.max(np.abs(speed_ratio)))
+
+
+def criterion_class(
+    *,
+    frequency: NDArray,
+    energy_lateral: NDArray,
+    whirl: Sequence[str],
+    overdamped: NDArray,
+    mode_type: Sequence[str] | None = None,
+    window: float | None = None,
+    min_lateral: float = 0.5,
+) -> NDArray:
+    """Per mode, whether the stability criteria judge it (module docstring): ``"judged"``,
+    or why not: ``"over-damped"``, ``"not lateral"`` (less than ``min_lateral`` of its kinetic
+    energy in lateral motion, or a bearing-internal mode ``P``: the pads', or the fitted
+    states' of a speed × whirl table), ``"backward"`` (whirl on the shaft with
+    the largest lateral amplitude), ``"above window"`` (damped ``frequency`` above ``window``,
+    rad/s; None: no limit). Arrays of one value per mode (a modal result's, or one speed of a
+    Campbell diagram's tracks; NaN frequencies are over-damped there). An unstable mode fails
+    whatever its class (:func:`is_unstable`)."""
+    f = np.asarray(frequency, float)
+    out = np.full(f.shape, "judged", dtype=object)
+    lat = np.asarray(energy_lateral, float) >= min_lateral
+    if mode_type is not None:
+        lat &= np.array([t != "P" for t in mode_type], bool).reshape(f.shape)
+    fwd = np.array([w == "F" for w in whirl], bool).reshape(f.shape)
+    if window is not None:
+        out[~(f <= window)] = "above window"
+    out[~fwd] = "backward"
+    out[~lat] = "not lateral"
+    out[np.asarray(overdamped, bool) | np.isnan(f)] = "over-damped"
+    return out
+
+
+def is_unstable(log_dec) -> NDArray:
+    """Whether a mode of this log decrement grows: below ``UNSTABLE_LOG_DEC`` (damping
+    ratio < −``ROUNDOFF``, as :attr:`ModalResult.unstable`); NaN (no mode) is not."""
+    d = np.asarray(log_dec, float)
+    return d < UNSTABLE_LOG_DEC
+
+
+def forward_lateral_modes(
+    res: ModalResult, min_lateral: float = 0.5, max_frequency: float | None = None
+) -> NDArray:
+    """Indices of the modes the stability criteria apply to (:func:`criterion_class`
+    ``"judged"``): not over-damped, at least ``min_lateral`` of the kinetic energy in lateral
+    motion (the helical mesh's axial, the train's torsional and the pads' modes are left out),
+    whirling forward on the shaft with the largest lateral amplitude
+    (:attr:`ModalResult.whirl`), below ``max_frequency`` (rad/s) when given."""
+    cls = criterion_class(
+        frequency=res.damped_frequency,
+        energy_lateral=res.energy_fractions[:, 0],
+        whirl=res.whirl,
+        overdamped=res.overdamped,
+        mode_type=res.mode_type,
+        window=max_frequency,
+        min_lateral=min_lateral,
+    )
+    return np.flatnonzero(cls == "judged")
 
 
 def _train(model) -> Train:
@@ -1041,7 +1119,7 @@ def level1(
             raise ModelError("bearings are excluded by name", field="exclude_bearings", value=e)
     bare, excluded = _level1_train(train, exclude_bearings)
     asm = assemble(bare)
-    window = max_frequency if max_frequency is not None else 3 * w * np.max(np.abs(asm.speed_ratio))
+    window = max_frequency if max_frequency is not None else stability_window(asm.speed_ratio, w)
     sense = 1.0 if train.speed >= 0 else -1.0
     share: dict[str, float] = {}
     for s in sites:
@@ -1219,15 +1297,13 @@ def level2(
         ws = [_default_speed(train, s, "Level II") for s in np.atleast_1d(speeds)]
     evals, fmaxes = [], []
     for w in ws:
-        fmax = (
-            max_frequency if max_frequency is not None else 3 * w * np.max(np.abs(asm.speed_ratio))
-        )
+        fmax = max_frequency if max_frequency is not None else stability_window(asm.speed_ratio, w)
         sense = 1.0 if train.speed >= 0 else -1.0
         res = modal(asm, speed=sense * w, max_frequency=fmax)
-        fwd = set(forward_lateral_modes(res, min_lateral).tolist())
+        fwd = set(forward_lateral_modes(res, min_lateral, fmax).tolist())
         modes = []
         for i in range(len(res)):
-            unstable = bool(res.unstable[i])
+            unstable = bool(is_unstable(res.log_dec[i]))
             is_fwd = i in fwd
             ok = not unstable and (not is_fwd or bool(res.log_dec[i] >= LOG_DEC_MIN))
             modes.append(

@@ -14,10 +14,12 @@ command             module                      calls
 ``static``          :mod:`.static`              :func:`gearrotor.analyses.static.static`
 ``bearing``         :mod:`.bearing`             :func:`gearrotor.bearings.coefficients`
 ``seal``            :mod:`.seal`                :func:`gearrotor.seals.seal_coefficients`
+``mesh``            :mod:`.mesh`                :func:`gearrotor.gears.mesh_curves`
 ``transient``,      :mod:`.transient`           :func:`gearrotor.analyses.transient.transient`
 ``transient-plot``
 ``report``          :mod:`.report`              :func:`gearrotor.plots.report.make_report`
 ``floquet``         :mod:`.floquet`             :func:`gearrotor.analyses.floquet.floquet`
+``mesh-response``   :mod:`.mesh_response`       :func:`gearrotor.analyses.mesh_response`
 ``ucs``             :mod:`.ucs`                 :func:`gearrotor.analyses.ucs.ucs_map`
 ``stability``       :mod:`.stability`           :func:`gearrotor.analyses.audit.stability_audit`
 ``import-ross``     :mod:`.ross`                :func:`gearrotor.interop.import_ross`
@@ -50,6 +52,8 @@ from .bearing import bearing_cli
 from .campbell import campbell_command
 from .errors import EXIT_CODES_HELP, OneLineGroup, cli_errors
 from .floquet import floquet_command
+from .mesh import mesh_command
+from .mesh_response import mesh_response_command
 from .modal import modal_command
 from .options import ProgressOpt, ThreadsOpt
 from .report import report_command
@@ -168,10 +172,12 @@ _command("unbalance", unbalance_command)
 _command("static", static_command)
 _command("bearing", bearing_cli)
 _command("seal", seal_command)
+_command("mesh", mesh_command)
 _command("transient", transient_command)
 _command("transient-plot", plot_command)
 _command("report", report_command)
 _command("floquet", floquet_command)
+_command("mesh-response", mesh_response_command)
 _command("ucs", ucs_command)
 _command("stability", stability_command)
 _command("import-ross", import_ross_command)

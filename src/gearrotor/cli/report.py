@@ -37,7 +37,8 @@ def report_command(
         typer.Option(
             help="comma-separated: modal, campbell, unbalance, audit (the API 617 lateral audit: "
             "needs the model's operating range, MCS and [api_audit]), operating_points, "
-            "torsional (the torsional audit; not by default); transient: give --transient"
+            "torsional (the torsional audit; not by default), mesh_response (the periodic "
+            "gear-mesh response over speed; not by default); transient: give --transient"
         ),
     ] = "modal,campbell,unbalance",
     speed: Annotated[
@@ -58,10 +59,18 @@ def report_command(
     api: Annotated[
         bool,
         typer.Option(
-            help="unbalance section with the API 617 unbalance (4 × 6350 W/N g·mm per plane at "
-            "the operating speed) instead of the model's amounts"
+            help="unbalance section with the API 617 unbalance instead of the model's amounts: "
+            "8th edition 4 × 6350 W/N g·mm per plane at the MCS; 9th edition 2 × 6350 W/N g·mm "
+            "at the antinodes of the first forward mode, with the close-clearance check"
         ),
     ] = False,
+    edition: Annotated[
+        str | None,
+        typer.Option(
+            help="API 617 edition of --api and the audit section: 8th (2014) or 9th (2022); "
+            "default: the model's [api_audit] edition, else 8th"
+        ),
+    ] = None,
     transient: Annotated[
         Path | None,
         typer.Option(help="saved transient result (NetCDF) to add spectra, waterfall, whirl power"),
@@ -98,6 +107,7 @@ def report_command(
         max_frequency=None if max_frequency is None else max_frequency * RPM,
         transient=transient,
         api=api,
+        edition=edition,
         source=str(model),
         command=shlex.join(["gearrotor", *sys.argv[1:]]) if sys.argv else None,
         operating_point=operating_point,

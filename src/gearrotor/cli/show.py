@@ -34,9 +34,9 @@ def show_command(
         float | None,
         typer.Option(
             parser=rpm(0, strict=True),
-            help="frequency range the element fineness refers to, cpm (default: 1.25 x the "
-            "highest mesh frequency at the highest speed the model names, or 3 x the highest "
-            "shaft speed without gears)",
+            help="frequency range the element fineness refers to, cpm (default: the report's "
+            "range: the highest excitation, 1x, 2x or mesh frequency, at the highest speed the "
+            "model names, + 26 percent separation margin, x 1.1 headroom, at least 5 x that speed)",
         ),
     ] = None,
     convergence: Annotated[

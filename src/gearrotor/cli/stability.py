@@ -20,7 +20,7 @@ from typing import Annotated
 import typer
 
 from ..errors import ModelError
-from ..files import output_set
+from ..files import check_output, output_set
 from .errors import cli_errors
 from .options import (
     RPM,
@@ -151,6 +151,17 @@ def _positive(text, kind: str, field: str) -> float | None:
     return v
 
 
+def _chart_paths(plot: Path | None) -> tuple[Path, ...]:
+    """The three charts of ``--plot FILE.png``: Level I, the screening chart, Level II."""
+    if plot is None:
+        return ()
+    return (
+        plot,
+        plot.with_name(plot.stem + "_screening.png"),
+        plot.with_name(plot.stem + "_level2.png"),
+    )
+
+
 @cli_errors()
 def stability_command(
     model: Annotated[Path, typer.Argument(help="TOML model file")],
@@ -232,12 +243,24 @@ def stability_command(
 
     check_format(format)
     check_png(plot)
+    for extra in _chart_paths(plot)[1:]:  # the other two charts (and what killed runs left)
+        check_output(extra, "file", field="--plot", parents=True)
     if edition is not None:
         edition = pick_edition(edition, "--edition").key
     sites = [parse_site(a) for a in at or ()]
     stages = [parse_stage(s) for s in stage or ()]
     q = _positive(qa, "stiffness", "--qa")
     rho = _positive(average_density, "density", "--average-density")
+    if rho is not None:
+        from ..model.audit import gas_density
+
+        try:
+            gas_density(rho)
+        except ValueError as exc:
+            what, _, expected = str(exc).partition("; expected ")
+            raise ModelError(
+                what, field="--average-density", value=average_density, expected=expected
+            ) from None
     formula = {"--power": power, "--diameter": diameter, "--height": height}
     given = [k for k, v in formula.items() if v is not None]
     if density_ratio is not None and not density_ratio > 0:
@@ -353,11 +376,7 @@ def stability_command(
 
         from ..plots.audit import plot_level1, plot_level2, plot_screening
 
-        paths = (
-            plot,
-            plot.with_name(plot.stem + "_screening.png"),
-            plot.with_name(plot.stem + "_level2.png"),
-        )
+        paths = _chart_paths(plot)
         with output_set():  # the three charts appear together or not at all
             plt.close(plot_level1(res.level1, path=paths[0]))
             plt.close(plot_screening(res.level1, path=paths[1]))

@@ -82,7 +82,8 @@ def unbalance_command(
         typer.Option(
             help="9th edition close-clearance check: SHAFT:NODE:DIAMETRAL[:NAME], the minimum "
             "diametral running clearance at a node (e.g. 'pinion:3:0.3 mm:labyrinth'), "
-            "repeatable (default: the model's [api_audit] clearances)"
+            "repeatable (default: the model's [api_audit] clearances, else twice the radial "
+            "clearance of each fluid-film journal bearing's file)"
         ),
     ] = None,
     format: FormatOpt = "table",
@@ -98,6 +99,7 @@ def unbalance_command(
         CloseClearance,
         api617_unbalances,
         clearance_check,
+        close_clearances,
         mode_unbalances,
     )
     from ..analyses.stability import edition as pick_edition
@@ -120,8 +122,9 @@ def unbalance_command(
     if ed is None and train.api_audit is not None:
         ed = pick_edition(train.api_audit.edition, "api_audit.edition")
     ed = pick_edition(None) if ed is None else ed
-    if not clearances and api and ed.key == "9th" and train.api_audit is not None:
-        clearances = [(c.shaft, c.node, c.diametral, c.name) for c in train.api_audit.clearances]
+    if not clearances and api and ed.key == "9th":
+        # the model's [api_audit] clearances, else its fluid-film journal bearings'
+        clearances = [(c.shaft, c.node, c.diametral, c.name) for c in close_clearances(train)]
     if clearances and ed.key != "9th":
         raise ModelError(
             "the close-clearance check is the 9th edition's (6.8.2.10-6.8.2.11)",

@@ -56,6 +56,24 @@ def _positive(v, what: str):
     return v
 
 
+#: Densest gas of the screening chart (kg/m³): supercritical CO₂ of reinjection compressors,
+#: the densest compressed gas in service, is about 1,100 kg/m³ at 1,000 bar; above 1,500 kg/m³ a
+#: gas density means a unit mistake (g/cm³ given as kg/m³, or a liquid).
+MAX_GAS_DENSITY = 1500.0
+
+
+def gas_density(v, what: str = "gas density"):
+    """A positive gas density of at most :data:`MAX_GAS_DENSITY` (ValueError otherwise)."""
+    _positive(v, what)
+    if v is not None and v > MAX_GAS_DENSITY:
+        raise ValueError(
+            f"a {what} above {MAX_GAS_DENSITY:.0f} kg/m^3 is denser than any compressed gas "
+            "(supercritical CO2 at 1,000 bar is about 1,100 kg/m^3): a unit mistake, or a "
+            f"liquid; expected 0 < {what} <= {MAX_GAS_DENSITY:.0f} kg/m^3"
+        )
+    return v
+
+
 class AuditSite(Spec):
     """Where the Level I cross-coupling acts: a node of a shaft (``"mid_span"``: the node
     nearest the middle of the shaft's bearing span), with its share ``weight`` of Q."""
@@ -143,10 +161,15 @@ class ApiAudit(Spec):
             )
         return v
 
-    @field_validator("qa", "average_density", "suction_density", "discharge_density")
+    @field_validator("qa")
     @classmethod
     def _pos(cls, v, info):
         return _positive(v, info.field_name.replace("_", " "))
+
+    @field_validator("average_density", "suction_density", "discharge_density")
+    @classmethod
+    def _density(cls, v, info):
+        return gas_density(v, info.field_name.replace("_", " "))
 
     @field_validator("operating_speed")
     @classmethod

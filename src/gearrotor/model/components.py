@@ -7,10 +7,12 @@ checked when a :class:`~gearrotor.model.Train` is built.
 
 from __future__ import annotations
 
+import math
 from typing import Annotated, Literal
 
 from pydantic import (
     BaseModel,
+    BeforeValidator,
     ConfigDict,
     Field,
     Strict,
@@ -38,7 +40,9 @@ from ..units import (
     Time,
     Torque,
     UnbalanceAmount,
+    to_si,
 )
+from .gear_pair import GearPair
 
 __all__ = [
     "Int",
@@ -284,29 +288,127 @@ class Shaft(Spec):
     speed: AngularSpeed | None = None
 
 
+_COEFFICIENT_NAMES = ("kxx", "kxy", "kyx", "kyy", "cxx", "cxy", "cyx", "cyy")
+
+
+def _table_values(kind: str):
+    """A coefficient column of a table: an array of values (one per speed) or, in a speed ×
+    whirl table, an array of rows (one per speed, one value per whirl frequency); each value a
+    number (SI) or a string with units."""
+
+    def convert(v):
+        if not isinstance(v, list):
+            raise ValueError(
+                "expected an array of values, one per speed (with 'whirl': one row per speed)"
+            )
+        rows = [isinstance(r, list) for r in v]
+        if any(rows) and not all(rows):
+            raise ValueError(
+                "mixes values and rows: give one value per speed, or (with 'whirl') one row "
+                "of values per speed"
+            )
+        try:
+            if v and all(rows):
+                return [[to_si(x, kind) for x in r] for r in v]
+            return [to_si(x, kind) for x in v]
+        except ValueError as exc:
+            raise ValueError(str(exc)) from None
+
+    return Annotated[list, BeforeValidator(convert)]
+
+
+def _drop_absent(handler, obj, keys: tuple[str, ...]):
+    # optional fields added later serialise only when given, so the model JSON (study case
+    # keys, transient checkpoint fingerprints) of existing models does not change
+    out = handler(obj)
+    for key in keys:
+        if getattr(obj, key) is None:
+            out.pop(key, None)
+    return out
+
+
 class BearingTable(Spec):
-    """Eight coefficients tabulated against shaft speed (linear interpolation)."""
+    """Eight coefficients tabulated against shaft speed (linear interpolation), or against
+    shaft speed and whirl frequency: with ``whirl`` (whirl frequencies, increasing, >= 0,
+    covering the speeds) each coefficient is one row per speed with one value per whirl
+    frequency (a speed × whirl table, ``docs/model_format.md``)."""
 
     speed: list[AngularSpeed] = Field(min_length=1)
-    kxx: list[Stiffness]
-    kxy: list[Stiffness]
-    kyx: list[Stiffness]
-    kyy: list[Stiffness]
-    cxx: list[Damping]
-    cxy: list[Damping]
-    cyx: list[Damping]
-    cyy: list[Damping]
+    whirl: list[AngularSpeed] | None = Field(default=None, min_length=1)
+    kxx: _table_values("stiffness")
+    kxy: _table_values("stiffness")
+    kyx: _table_values("stiffness")
+    kyy: _table_values("stiffness")
+    cxx: _table_values("damping")
+    cxy: _table_values("damping")
+    cyx: _table_values("damping")
+    cyy: _table_values("damping")
     extrapolate: Literal["error", "hold"] = "error"
+
+    @model_serializer(mode="wrap")
+    def _without_absent_whirl(self, handler):
+        return _drop_absent(handler, self, ("whirl",))
 
     @model_validator(mode="after")
     def _lengths(self) -> BearingTable:
         n = len(self.speed)
-        for name in ("kxx", "kxy", "kyx", "kyy", "cxx", "cxy", "cyx", "cyy"):
-            if len(getattr(self, name)) != n:
-                raise ValueError(f"'{name}' has {len(getattr(self, name))} values, 'speed' has {n}")
+        for name in _COEFFICIENT_NAMES:
+            vals = getattr(self, name)
+            if len(vals) != n:
+                raise ValueError(f"'{name}' has {len(vals)} values, 'speed' has {n}")
+            two_d = bool(vals) and isinstance(vals[0], list)
+            if self.whirl is None and two_d:
+                raise ValueError(
+                    f"'{name}' has rows (a speed × whirl table) but the table has no 'whirl': "
+                    "give the whirl frequencies of the columns, e.g. whirl = ['0 rpm', "
+                    "'3000 rpm', '6000 rpm']"
+                )
+            if self.whirl is not None:
+                m = len(self.whirl)
+                bad = [i for i, r in enumerate(vals) if not isinstance(r, list) or len(r) != m]
+                if bad:
+                    got = vals[bad[0]]
+                    size = len(got) if isinstance(got, list) else "a single value"
+                    raise ValueError(
+                        f"'{name}' row {bad[0]} has {size}, 'whirl' has {m} frequencies: one "
+                        "row per speed, one value per whirl frequency"
+                    )
         if any(b <= a for a, b in zip(self.speed, self.speed[1:], strict=False)):
             raise ValueError("'speed' must be strictly increasing")
+        if self.whirl is not None:
+            w = self.whirl
+            if w[0] < 0 or any(b <= a for a, b in zip(w, w[1:], strict=False)):
+                raise ValueError("'whirl' must be >= 0 and strictly increasing")
+            lo, hi = min(abs(s) for s in self.speed), max(abs(s) for s in self.speed)
+            if w[0] > lo * (1 + 1e-12) or w[-1] < hi * (1 - 1e-12):
+                raise ValueError(
+                    f"'whirl' ({w[0] * 30 / math.pi:.6g}..{w[-1] * 30 / math.pi:.6g} rpm) must "
+                    f"cover the speeds ({lo * 30 / math.pi:.6g}..{hi * 30 / math.pi:.6g} rpm): "
+                    "the synchronous coefficients (whirl = speed) are read from the table"
+                )
         return self
+
+    def whirl_rows(self) -> tuple:
+        """A speed × whirl table's rows ``(|speed|, whirl (n_w,), values (n_w, 8))`` in SI,
+        by increasing |speed| (valid by construction: the validator checked the whirl
+        frequencies and that they cover the speeds)."""
+        import numpy as np
+
+        w = np.asarray(self.whirl, float)
+        rows = []
+        for i, s in enumerate(self.speed):
+            cols = [np.asarray(getattr(self, n)[i], float) for n in _COEFFICIENT_NAMES]
+            rows.append((abs(float(s)), w.copy(), np.column_stack(cols)))
+        return tuple(sorted(rows, key=lambda r: r[0]))
+
+    @property
+    def whirl_dependent(self) -> bool:
+        """True when a coefficient changes along a row (over whirl)."""
+        if self.whirl is None:
+            return False
+        return any(
+            any(v != r[0] for v in r) for name in _COEFFICIENT_NAMES for r in getattr(self, name)
+        )
 
 
 class Support(Spec):
@@ -317,6 +419,24 @@ class Support(Spec):
     kyy: Stiffness = 0.0
     cxx: Damping = 0.0
     cyy: Damping = 0.0
+
+
+def _distinct_speeds(v):
+    """Tabulation speeds (rad/s) are distinct in magnitude (the table's rows are at |speed|):
+    two rows at one speed would hold two sets of coefficients for it (issue 23)."""
+    if v is None:
+        return v
+    mags = [abs(float(x)) for x in v]
+    seen: dict[float, int] = {}
+    for k, m in enumerate(mags):
+        if m in seen:
+            raise ValueError(
+                f"speeds[{seen[m]}] and speeds[{k}] are the same speed "
+                f"({m * 30 / math.pi:.6g} rpm): a table has one row per speed; expected "
+                "distinct speeds"
+            )
+        seen[m] = k
+    return v
 
 
 class FluidFilm(Spec):
@@ -339,6 +459,8 @@ class FluidFilm(Spec):
     pad_inertia: Inertia | None = Field(default=None, gt=0)
     pad_mass: Mass | None = Field(default=None, gt=0)
     pivot_stiffness: Stiffness | None = Field(default=None, gt=0)
+
+    _speeds = field_validator("speeds")(_distinct_speeds)
 
     @model_validator(mode="after")
     def _loads(self) -> FluidFilm:
@@ -377,6 +499,13 @@ class Bearing(NodeRef):
     fluid_film: FluidFilm | None = None
     extrapolate: Literal["error", "hold"] = "error"
     support: Support | None = None
+    #: speed × whirl tables: the largest relative misfit accepted of the rational fit that the
+    #: eigenproblem uses off the whirl axis (default 1e-4)
+    fit_tolerance: Dimensionless | None = Field(default=None, gt=0, lt=1)
+
+    @model_serializer(mode="wrap")
+    def _without_absent_fit(self, handler):
+        return _drop_absent(handler, self, ("fit_tolerance",))
 
     @model_validator(mode="after")
     def _one_source(self) -> Bearing:
@@ -388,6 +517,11 @@ class Bearing(NodeRef):
         if sum(sources) + constant > 1:
             raise ValueError(
                 "give one coefficient source: constants, 'table', 'table_file' or 'fluid_film'"
+            )
+        if self.fit_tolerance is not None and self.table is None and self.table_file is None:
+            raise ValueError(
+                "'fit_tolerance' belongs to a speed × whirl table ('table' with 'whirl', or a "
+                "'table_file' with a whirl_rpm column)"
             )
         return self
 
@@ -441,7 +575,17 @@ class Seal(NodeRef):
     table_file: str | None = None
     file: str | None = None
     speeds: list[AngularSpeed] | None = Field(default=None, min_length=1)
+    #: a seal ``file`` solved at these whirl frequencies too (and at each speed's own): a
+    #: speed × whirl table (docs/seals.md)
+    whirls: list[AngularSpeed] | None = Field(default=None, min_length=2)
     extrapolate: Literal["error", "hold"] = "error"
+    fit_tolerance: Dimensionless | None = Field(default=None, gt=0, lt=1)
+
+    @model_serializer(mode="wrap")
+    def _without_absent_whirl(self, handler):
+        return _drop_absent(handler, self, ("whirls", "fit_tolerance"))
+
+    _speeds = field_validator("speeds")(_distinct_speeds)
 
     @model_validator(mode="after")
     def _one_source(self) -> Seal:
@@ -459,6 +603,21 @@ class Seal(NodeRef):
                 "a seal 'file' goes with 'speeds', the shaft speeds at which its coefficients "
                 "are tabulated (e.g. speeds = ['4000 rpm', '8000 rpm', '12000 rpm'])"
             )
+        if self.whirls is not None:
+            if self.file is None:
+                raise ValueError(
+                    "'whirls' are the whirl frequencies at which a seal 'file' is solved; a "
+                    "table gives its own ('table.whirl' or a whirl_rpm column)"
+                )
+            w = self.whirls
+            if w[0] < 0 or any(b <= a for a, b in zip(w, w[1:], strict=False)):
+                raise ValueError("'whirls' must be >= 0 and strictly increasing")
+        if self.fit_tolerance is not None and self.whirls is None and self.table is None:
+            if self.table_file is None:
+                raise ValueError(
+                    "'fit_tolerance' belongs to a speed × whirl table ('table' with 'whirl', a "
+                    "'table_file' with a whirl_rpm column, or a seal 'file' with 'whirls')"
+                )
         return self
 
     def coefficients(self) -> tuple[float, ...]:
@@ -616,13 +775,68 @@ class Mesh(Spec):
     orientation: Angle = 0.0
     driver: Literal["gear", "mate"] | None = None
     face_width: Length | None = Field(default=None, gt=0)
-    stiffness: Stiffness | MeshStiffness
+    stiffness: Stiffness | MeshStiffness | None = None
     damping: Damping = Field(default=0.0, ge=0)
     damping_ratio: Dimensionless | None = Field(default=None, ge=0, lt=1)
     variation: MeshVariation = MeshVariation()
     stiffness_table: StiffnessTable | None = None
     transmission_error: TransmissionError | None = None
     backlash: Backlash = Backlash()
+    #: the tooth geometry (a gear pair, inline or ``{ file = "pair.toml" }``, docs/gears.md):
+    #: the mean loaded mesh stiffness replaces ``stiffness``, and with ``excitation =
+    #: "geometry"`` (the default with a geometry) its TVMS and loaded STE harmonics replace
+    #: the square wave of ``variation`` in the transient, Floquet and mesh-response analyses
+    geometry: GearPair | None = None
+    excitation: Literal["geometry", "square_wave"] | None = None
+
+    @model_validator(mode="after")
+    def _stiffness_source(self) -> Mesh:
+        if self.geometry is None:
+            if self.stiffness is None:
+                raise ValueError(
+                    "a mesh needs 'stiffness' (a value or a method) or 'geometry' (the tooth "
+                    "geometry, docs/gears.md)"
+                )
+            if self.excitation == "geometry":
+                raise ValueError("excitation = 'geometry' needs the mesh's 'geometry'")
+        elif self.stiffness is not None:
+            raise ValueError(
+                "give 'stiffness' or 'geometry' (whose mean loaded stiffness is the mesh "
+                "stiffness), not both"
+            )
+        elif self.excitation != "square_wave":
+            if self.stiffness_table is not None:
+                raise ValueError(
+                    "a 'stiffness_table' and the geometry's own stiffness curve exclude each "
+                    "other: leave the table out, or set excitation = 'square_wave'"
+                )
+            if self.variation.ka_ratio > 0:
+                raise ValueError(
+                    f"variation.ka_ratio = {self.variation.ka_ratio:g} acts on the square wave; "
+                    "with a 'geometry' the stiffness varies as the teeth give it: set "
+                    "excitation = 'square_wave' to use the square wave instead, or ka_ratio = 0"
+                )
+        return self
+
+    @model_serializer(mode="wrap")
+    def _without_absent_geometry(self, handler):
+        # a mesh without geometry serialises as before (model JSON: study case keys,
+        # transient checkpoint fingerprints)
+        out = handler(self)
+        for key in ("geometry", "excitation"):
+            if getattr(self, key) is None:
+                out.pop(key, None)
+        if self.stiffness is None:
+            out.pop("stiffness", None)
+        return out
+
+    @property
+    def excitation_law(self) -> str:
+        """``"geometry"`` (TVMS and STE of the tooth geometry), ``"square_wave"`` (the Fourier
+        series of ``variation``) or ``"table"`` (``stiffness_table``)."""
+        if self.geometry is not None and self.excitation != "square_wave":
+            return "geometry"
+        return "table" if self.stiffness_table is not None else "square_wave"
 
     @field_validator("stiffness")
     @classmethod

@@ -18,10 +18,45 @@ from pydantic import Field, field_validator, model_validator
 from ..units import Acceleration, AngularSpeed, Force, Power, Torque
 from .components import Flag, NodeRef, Spec
 
-__all__ = ["OperatingPoint", "StaticForce", "STANDARD_GRAVITY"]
+__all__ = [
+    "MAX_ACCELERATION",
+    "MAX_FORCE",
+    "MAX_POWER",
+    "MAX_TORQUE",
+    "OperatingPoint",
+    "StaticForce",
+    "STANDARD_GRAVITY",
+]
 
 #: standard acceleration of gravity (m/s², CGPM 1901)
 STANDARD_GRAVITY = 9.80665
+
+# Bounds of the magnitudes an operating point may state (issue 23): each far above any machine
+# (so no real input is refused) and far below where the numbers stop meaning anything.
+#: Largest steady acceleration (100 g): machinery on ships and vehicles is designed for shock
+#: loads of tens of g, and a steady acceleration beyond 100 g is no operating point of a train.
+MAX_ACCELERATION = 100 * STANDARD_GRAVITY
+#: Largest static force (N) and moment (N·m): 1e9 N is the weight of 100,000 t; the heaviest
+#: turbine-generator trains weigh a few hundred tonnes and their tooth forces are meganewtons.
+MAX_FORCE = 1e9
+#: Largest transmitted torque (N·m): a 100 MW ship's shaft at 90 rpm carries 1.1e7 N·m.
+MAX_TORQUE = 1e9
+#: Largest transmitted power (W): the largest turbine-generator sets are below 2 GW.
+MAX_POWER = 1e11
+
+
+def _bounded(limit: float, unit: str, why: str):
+    def check(v):
+        values = v if isinstance(v, tuple) else (v,)
+        for x in values:
+            if x is not None and abs(x) > limit:
+                raise ValueError(
+                    f"no machine runs at {abs(x):.6g} {unit}: the bound {limit:.6g} {unit} is "
+                    f"{why}; expected |value| <= {limit:.6g} {unit}"
+                )
+        return v
+
+    return check
 
 
 class StaticForce(NodeRef):
@@ -30,6 +65,13 @@ class StaticForce(NodeRef):
     name: str | None = None
     force: tuple[Force, Force, Force] = (0.0, 0.0, 0.0)
     moment: tuple[Torque, Torque, Torque] = (0.0, 0.0, 0.0)
+
+    _force = field_validator("force")(
+        _bounded(MAX_FORCE, "N", "the weight of 100,000 t (rotor trains weigh a few hundred)")
+    )
+    _moment = field_validator("moment")(
+        _bounded(MAX_FORCE, "N*m", "a hundred times the largest shaft torques (1e7 N*m)")
+    )
 
 
 class OperatingPoint(Spec):
@@ -54,6 +96,20 @@ class OperatingPoint(Spec):
     gravity_direction: tuple[float, float, float] = (0.0, -1.0, 0.0)
     gravity_acceleration: Acceleration = Field(default=STANDARD_GRAVITY, ge=0)
     forces: list[StaticForce] = Field(default_factory=list)
+
+    _power = field_validator("power")(
+        _bounded(MAX_POWER, "W", "fifty times the largest turbine-generator sets (2 GW)")
+    )
+    _torque = field_validator("torque")(
+        _bounded(MAX_TORQUE, "N*m", "a hundred times a 100 MW ship's shaft at 90 rpm (1.1e7 N*m)")
+    )
+    _gravity = field_validator("gravity_acceleration")(
+        _bounded(
+            MAX_ACCELERATION,
+            "m/s^2",
+            "100 g (machinery on ships and vehicles is designed for shock loads of tens of g)",
+        )
+    )
 
     @field_validator("gravity_direction")
     @classmethod

@@ -448,7 +448,11 @@ class Train(Spec):
                     value=f"r_i/r_j = {ri / rj:.5g}, N_i/N_j = {m.gear.teeth / m.mate.teeth:.5g}",
                     expected="r_i/r_j = N_i/N_j within 1%",
                 )
-            needs_w = not isinstance(m.stiffness, float) and m.stiffness.method != "value"
+            needs_w = (
+                m.stiffness is not None
+                and not isinstance(m.stiffness, float)
+                and m.stiffness.method != "value"
+            )
             if needs_w and m.face_width is None:
                 raise ModelError(
                     f"mesh stiffness method '{m.stiffness.method}' needs face_width",
@@ -464,10 +468,20 @@ class Train(Spec):
 
     def check_operating_point(self, p: OperatingPoint, field: str = "operating_point") -> None:
         """Check an operating point's nodes and speed against the train (ModelError)."""
+        nodes = {}
         for key in ("drive", "load"):
             ref = getattr(p, key)
             if ref is not None:
-                self.node_index(ref, f"{field}.{key}")
+                nodes[key] = self.node_index(ref, f"{field}.{key}")
+        if (p.power or p.torque) and len(nodes) == 2 and nodes["drive"] == nodes["load"]:
+            si, node = nodes["load"]
+            raise ModelError(
+                "the load node is the drive node: the torque would react itself there and "
+                "nothing would be transmitted through the train",
+                field=f"{field}.load",
+                value=f"shaft {self.shafts[si].name!r}, node {node}",
+                expected="the node where the power leaves the train (another node than 'drive')",
+            )
         for j, f in enumerate(p.forces):
             self.node_index(f, f"{field}.forces[{j}]")
         if p.power and p.reference_speed(self.speed) == 0.0:

@@ -490,7 +490,7 @@ def static(
         iterations += 1
         for k, spec, info in films:
             eq, Kb = _solve_journal(
-                k, spec, info, new[k], speeds[info.shaft], state[k][3], exact=iterations > 1
+                k, spec, info, new[k], speeds[info.shaft], state[k][3], iterations > 1, op.name
             )
             state[k] = [new[k], np.array([eq.x, eq.y]), Kb, eq]
 
@@ -607,9 +607,9 @@ def _force_tol(spec, load: NDArray, speed: float) -> float:
     return 10 * case.options.tol * max(float(np.linalg.norm(load)), fref)
 
 
-def _solve_journal(k, spec, info, load, speed, start, exact):
+def _solve_journal(k, spec, info, load, speed, start, exact, point):
     file = spec.fluid_film.file
-    name = f"{info.name} (bearings[{k}])"
+    name = f"{info.name} (bearings[{k}]) at operating point '{point}'"
     try:
         eq, Kb = journal_equilibrium(
             file,

@@ -849,6 +849,7 @@ def torsional_transient(
         )
         or train.meshes[m.spec_index].stiffness_table is not None
         or train.meshes[m.spec_index].transmission_error is not None
+        or train.meshes[m.spec_index].excitation_law == "geometry"
     ]
     if variation:
         notes.append(

@@ -338,6 +338,23 @@ def build_system(
         for k, m in enumerate(train.meshes)
         if m.transmission_error is not None and m.transmission_error.cos
     }
+    # meshes from their tooth geometry: the loaded TVMS and transmission error (issue 27)
+    for m in asm.meshes:
+        spec = train.meshes[m.spec_index]
+        if spec.excitation_law == "geometry" and m.spec_index not in (stiffness_tables or {}):
+            from ...gears.model_mesh import mesh_law_arrays, model_mesh
+
+            direction = m.teeth[0] * speeds[m.shafts[0]] or asm.speed_ratio[m.shafts[0]]
+            curves = model_mesh(train, m.spec_index).curves
+            phi, k_phi, te = mesh_law_arrays(curves, direction, spec.variation.phase)
+            tables[m.spec_index] = (phi, k_phi)
+            given = errors.get(m.spec_index)  # the model's own (profile, pitch) errors add
+            if given is not None:
+                n = max(len(given), len(te))
+                te = np.pad(te, ((0, n - len(te)), (0, 0))) + np.pad(
+                    np.asarray(given, float), ((0, n - len(given)), (0, 0))
+                )
+            errors[m.spec_index] = te
     errors.update(transmission_error or {})
     laws = mesh_laws(
         train,

@@ -36,7 +36,8 @@ class Context:
 
     assembly : the model; speed : rad/s, magnitude of the reference-shaft operating speed (the
     direction of rotation follows the model, :attr:`sign`); max_frequency : rad/s; api : the
-    unbalance section uses the API 617 unbalance; transient_file : a saved transient result;
+    unbalance section uses the API 617 unbalance of :attr:`api_edition` (``edition``: the one
+    asked for, None: the model's); transient_file : a saved transient result;
     n_campbell, n_unbalance : speeds of the sweeps; operating_range : rad/s, the reference
     shaft's (minimum operating speed, maximum continuous speed) of the API checks: the model's
     (:func:`~gearrotor.analyses.model_operating_range`) unless a speed was asked for, else
@@ -70,6 +71,8 @@ class Context:
     # before an --operating-point put its bearings at that point's loads
     operating_points: tuple[str, ...] = ()
     base_train: Train | None = None
+    # the API 617 edition asked for (``--edition``); None: the model's [api_audit] edition
+    edition: str | None = None
 
     @property
     def train(self) -> Train:
@@ -86,6 +89,18 @@ class Context:
                 self.speed,
             )
         )
+
+    @property
+    def api_edition(self):
+        """The API 617 edition of the ``--api`` unbalance and the audit
+        (:class:`~gearrotor.analyses.stability.Edition`): the one asked for, else the model's
+        ``[api_audit] edition``, else the 8th."""
+        from ...analyses.stability import edition
+
+        if self.edition is not None:
+            return edition(self.edition, "--edition")
+        table = self.train.api_audit
+        return edition(None if table is None else table.edition, "api_audit.edition")
 
     @property
     def sign(self) -> float:

@@ -78,49 +78,15 @@ def parse_analyses(text: str | tuple[str, ...] | list[str]) -> tuple[str, ...]:
     return tuple(out)
 
 
-#: Separation margin (fraction) the default frequency range allows an excitation: API 617's
-#: largest required margin of a critical from the operating range (10 + 17 (1 − 1/(AF − 1.5)) %,
-#: at most 26 %, above the maximum continuous speed), which also covers its 10 % torsional margin.
-SEPARATION_MARGIN = 0.26
-#: Headroom (factor) of the default frequency range above the highest frequency an excitation
-#: reaches with its margin: the modes just clear of every excitation are shown too.
-HEADROOM = 1.1
-#: The default range is at least this multiple of the top operating speed (a train without gears:
-#: its first bending modes, above 1x and 2x with margin).
-MIN_SPEED_MULTIPLE = 5.0
-
-
 def _default_max_frequency(asm, top: float, given: float | None) -> tuple[float, str]:
-    """(rad/s, why): the given value, or the highest frequency an excitation of the Campbell
-    diagram reaches over the operating range with its separation margin, with headroom:
-    ``HEADROOM × (1 + SEPARATION_MARGIN) × max(multiple × |shaft speed|)`` over the default
-    excitation orders (1x and 2x of every shaft, every gear-mesh frequency) at the top
-    operating speed ``top`` (rad/s: the maximum continuous speed or the operating speed,
-    whichever is higher), and at least ``MIN_SPEED_MULTIPLE × top``. Every mode an excitation
-    can come within its separation margin of is then in the tables and figures (the flagship's
-    lightly damped torsional mode at 215,670 cpm, 10.6 % above its mesh frequency)."""
+    """(rad/s, why): the given value, or the frequency range an excitation can reach
+    (:func:`~gearrotor.analyses.model_summary.excitation_frequency_range`: the flagship's
+    lightly damped torsional mode at 215,670 cpm, 10.6 % above its mesh frequency, is in)."""
     if given is not None:
         return float(given), "as given"
-    from ...analyses.campbell import default_orders
+    from ...analyses.model_summary import excitation_frequency_range
 
-    ratios = np.abs(asm.speed_ratio)
-    orders = [(o, o.multiple * ratios[o.shaft] * top) for o in default_orders(asm)]
-    order, f = max(orders, key=lambda x: x[1])
-    fmax = HEADROOM * (1 + SEPARATION_MARGIN) * f
-    floor = MIN_SPEED_MULTIPLE * top
-    if fmax >= floor:
-        return (
-            fmax,
-            f"default: the highest excitation, {order.label} = {f * RPM:,.0f} cpm at "
-            f"{top * RPM:,.0f} rpm, + {SEPARATION_MARGIN:.0%} separation margin, "
-            f"× {HEADROOM:g} headroom",
-        )
-    return (
-        floor,
-        f"default: {MIN_SPEED_MULTIPLE:g} × the top operating speed {top * RPM:,.0f} rpm "
-        f"(above the highest excitation, {order.label} = {f * RPM:,.0f} cpm, with its "
-        f"{SEPARATION_MARGIN:.0%} separation margin and × {HEADROOM:g} headroom)",
-    )
+    return excitation_frequency_range(asm, top)
 
 
 @managed
@@ -133,6 +99,7 @@ def make_report(
     max_frequency: float | None = None,
     transient: str | Path | None = None,
     api: bool = False,
+    edition: str | None = None,
     n_campbell: int = 40,
     n_unbalance: int = 400,
     source: str | None = None,
@@ -167,7 +134,13 @@ def make_report(
     api : the unbalance section uses the API 617 unbalance, 4 × 6350 W/N g·mm per plane of the
         model's unbalances (W the plane's share of its shaft's mass, kg; N its shaft's speed at
         the operating speed, rpm; phases as in the model) instead of the model's amounts
-        (:func:`gearrotor.analyses.api617.api617_unbalances`)
+        (:func:`gearrotor.analyses.api617.api617_unbalances`); with the 9th edition 2 × 6350
+        W/N g·mm at the antinodes of the reference shaft's first forward mode
+        (:func:`gearrotor.analyses.api617.mode_unbalances`) and the close-clearance check
+        (:func:`gearrotor.analyses.api617.clearance_check`) at the model's close clearances
+        (:func:`gearrotor.analyses.api617.close_clearances`)
+    edition : API 617 edition of ``api`` and the audit section, ``"8th"`` or ``"9th"``
+        (default: the model's ``[api_audit] edition``, else the 8th); the sections say which
     n_campbell, n_unbalance : number of speeds of the Campbell and unbalance sweeps
     source, command : the model file and the command line, quoted in the report
     operating_point : run the analyses at this operating point of the model: fluid-film
@@ -199,6 +172,18 @@ def make_report(
         )
     if transient is not None and "transient" not in analyses:
         analyses = (*analyses, "transient")
+    if edition is not None:
+        from ...analyses.stability import edition as pick_edition
+
+        edition = pick_edition(edition, "--edition").key
+        if not api and "audit" not in analyses:
+            raise ModelError(
+                "the edition chooses the API 617 unbalance and audit: give --api or the audit "
+                "section too",
+                field="--edition",
+                value=edition,
+                expected="--api, or 'audit' in --analyses",
+            )
     # also removes the temporary folders of a report whose process was killed (SIGKILL)
     output = check_output(output, "directory", field="--output")
     _check_replaceable(output)
@@ -276,6 +261,7 @@ def make_report(
         n_unbalance=n_unbalance,
         operating_points=tuple(operating_points or ()),
         base_train=base_train,
+        edition=edition,
     )
     ctx.notes.append(
         f"Modes and Campbell diagram up to {fmax * RPM:,.0f} cpm ({fmax_basis}; "
@@ -312,6 +298,7 @@ def make_report(
             "max_frequency_basis": fmax_basis,
             "transient": None if transient is None else str(transient),
             "unbalance": "api617" if api else "model",
+            "api617_edition": ctx.api_edition.name if api or "audit" in analyses else None,
             "operating_point": operating_point,
         }
         write_json(tmp / "report.json", _clean(summary))

@@ -4,19 +4,28 @@ no others) and the result of a check (the summary's lines, ``report.json``'s ``v
 the command line's output).
 
 Mode status (:func:`mode_status`), against the acceptance threshold
-:data:`~.blocks.LOG_DEC_THRESHOLD` (API 617 Level II), which judges modes with lateral motion:
+:data:`~.blocks.LOG_DEC_THRESHOLD` (API 617 Level II). The modes judged are Level II's
+(:func:`gearrotor.analyses.stability.criterion_class`, the one definition both use): forward
+whirl, at least half of the kinetic energy in lateral motion, damped frequency up to 3× the
+fastest shaft speed. So a mode is
 
-* ``stable``: log dec at or above the threshold (judged: pass);
-* ``low damping``: a lateral mode below the threshold (judged: FAIL);
-* ``UNSTABLE``: a negative log dec, whatever the mode (FAIL);
+* ``stable``: log dec at or above the threshold (pass);
+* ``low damping``: a judged mode below the threshold (FAIL);
+* ``UNSTABLE``: a growing mode, whatever it is (FAIL; damping ratio below −1e-7, modal's
+  round-off level: :func:`gearrotor.analyses.stability.is_unstable`);
 * ``over-damped``: ζ ≥ 0.999, no oscillation (pass);
-* ``no torsional damping in the model`` (``axial``, ``torsional or axial``): a mode without
-  lateral motion below the threshold in a model whose damping matrix has no entry on those
-  DOFs (no mesh, coupling or material damping, no torsional damper). Its log dec is then zero
-  or only the share of the bearings' damping its small lateral part carries: a statement about
-  the model, not about the machine. Not judged (:data:`NOT_JUDGED`);
-* ``low damping, not lateral``: a mode without lateral motion below the threshold in a model
-  that damps those DOFs: shown, not judged by the lateral criterion.
+
+and, below the threshold but not judged (:data:`NOT_JUDGED`), shown with the reason:
+
+* ``no torsional damping in the model`` (``axial``, ``torsional or axial``): less than half
+  lateral (e.g. a coupled lateral–torsional mode that is mostly torsional), in a model whose
+  damping matrix has no entry on its other DOFs (no mesh, coupling or material damping, no
+  torsional damper). Its log dec is then zero or only the share of the bearings' damping its
+  lateral part carries: a statement about the model, not about the machine;
+* ``low damping, not lateral``: less than half lateral (or a tilting pad's mode, type ``P``)
+  in a model that damps its other DOFs;
+* ``low damping, backward``: a lateral mode whirling backward;
+* ``low damping, above 3× speed``: a forward lateral mode above the criteria's window.
 
 Check results (:func:`verdict`): ``pass``, ``FAIL``, ``not judged`` (a statement, e.g. the
 modes the model cannot damp), ``Level II required`` (API 617 Level I: not a failure, Level II
@@ -77,25 +86,45 @@ def _kinds(mode_type: str) -> set[str]:
     return {n for k, n in (("T", "torsional"), ("A", "axial")) if k in parts}
 
 
+#: the status of a mode below the threshold that the criteria do not judge, by the reason
+#: :func:`gearrotor.analyses.stability.criterion_class` gives (``"not lateral"``: see
+#: :func:`mode_status`)
+_NOT_JUDGED_STATUS = {
+    "backward": "low damping, backward",
+    "above window": "low damping, above 3× speed",
+    "not lateral": "low damping, not lateral",
+}
+
+
 def mode_status(
-    mode_type: str, log_dec: float, *, overdamped: bool, undamped_kinds: frozenset[str]
+    mode_type: str,
+    log_dec: float,
+    *,
+    overdamped: bool,
+    undamped_kinds: frozenset[str],
+    criterion: str = "judged",
 ) -> str:
     """The status of a mode (module docstring): ``mode_type`` as ``modal`` names it (``L``,
-    ``L-T``, ``T``, ...), ``log_dec`` its log decrement, ``undamped_kinds`` from
-    :func:`model_undamped_kinds`."""
-    if overdamped:
+    ``L-T``, ``T``, ``P``, ...), ``log_dec`` its log decrement, ``undamped_kinds`` from
+    :func:`model_undamped_kinds`, ``criterion`` its class for the stability criteria
+    (:func:`gearrotor.analyses.stability.criterion_class`: ``"judged"``, ``"backward"``,
+    ``"not lateral"``, ``"above window"``, ``"over-damped"``)."""
+    from ...analyses.stability import is_unstable
+
+    if overdamped or criterion == "over-damped":
         return "over-damped"
-    if not np.isfinite(log_dec) or log_dec < 0:
+    if not np.isfinite(log_dec) or is_unstable(log_dec):
         return "UNSTABLE"
     if log_dec >= LOG_DEC_THRESHOLD:
         return "stable"
-    if "L" in str(mode_type).split("-"):
+    if criterion == "judged":
         return "low damping"
-    kinds = _kinds(mode_type)
-    if kinds and kinds <= undamped_kinds:
-        which = " or ".join(n for n in ("torsional", "axial") if n in kinds)
-        return f"no {which} damping in the model"
-    return "low damping, not lateral"
+    if criterion == "not lateral":
+        kinds = _kinds(mode_type)
+        if kinds and kinds <= undamped_kinds:
+            which = " or ".join(n for n in ("torsional", "axial") if n in kinds)
+            return f"no {which} damping in the model"
+    return _NOT_JUDGED_STATUS[criterion]
 
 
 def judged(status: str) -> bool | None:

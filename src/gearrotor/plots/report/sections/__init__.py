@@ -10,6 +10,7 @@ from ..base import Section
 from .audit import AuditSection
 from .bearings import BearingsSection
 from .campbell import CampbellSection
+from .mesh_response import MeshResponseSection
 from .model import ModelSection
 from .modes import ModesSection
 from .stability import StabilitySection
@@ -31,4 +32,5 @@ SECTIONS: tuple[Section, ...] = (
     BearingsSection(),
     TorsionalSection(),
     TransientSection(),
+    MeshResponseSection(),
 )

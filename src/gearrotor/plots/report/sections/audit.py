@@ -19,7 +19,15 @@ from ....errors import ModelError
 from ..base import Context, Part, Section
 from ..blocks import RPM, _badge, _e, _fmt
 from ..verdicts import LEVEL2_REQUIRED, _range_words, result_badge
-from .unbalance import UnbalanceSection, _api_checks, _api_html, _unbalances, _unbalances_used
+from .unbalance import (
+    UnbalanceSection,
+    _api_checks,
+    _api_html,
+    _clearance_verdict,
+    _clearances,
+    _unbalances,
+    _unbalances_used,
+)
 
 __all__ = ["AuditSection"]
 
@@ -70,9 +78,11 @@ class AuditSection(Section):
                 unbalances=_unbalances(ctx),
                 operating_range=ctx.api_range,
             )
+            _clearances(ctx, speeds)
         ctx.results["audit"] = {
             "ucs": ucs_map(ctx.assembly, n_modes=3),
-            "stability": stability_audit(ctx.train),
+            # the edition the report uses (--edition, else the model's [api_audit] edition)
+            "stability": stability_audit(ctx.train, edition=ctx.api_edition.key),
             "unbalance": unb,
         }
 
@@ -83,10 +93,8 @@ class AuditSection(Section):
         if res is None:
             return []
         ucs, audit, unb = res["ucs"], res["stability"], res["unbalance"]
-        checks = _api_checks(unb)
-        checks["unbalance"] = _unbalances_used(
-            ctx.assembly, _unbalances(ctx), api=ctx.api, w=ctx.api_range[1]
-        )
+        checks = _api_checks(unb, ctx)
+        checks["unbalance"] = _unbalances_used(ctx)
         st = audit.to_dict()
         ctx.summary["api_audit"] = {
             "edition": st["edition"],
@@ -118,6 +126,7 @@ def _verdicts(ctx: Context, checks: dict, audit) -> None:
         f"{len(checks['criticals'])} critical peaks, {nf} fail, "
         f"{checks['undetermined']} with AF not determined",
     )
+    _clearance_verdict(ctx, checks)
     l1, l2 = audit.level1, audit.level2
     ratio = "> search limit" if l1.ratio is None else f"{l1.ratio:.3f}"
     ctx.verdict(

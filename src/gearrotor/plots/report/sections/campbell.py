@@ -9,7 +9,7 @@ import numpy as np
 from ....errors import ModelError
 from ..base import Context, Part, Section
 from ..blocks import RPM, _color, _e, _figure_html, _go
-from ..verdicts import track_name, track_rows
+from ..verdicts import model_undamped_kinds, track_name, track_rows
 
 __all__ = ["CampbellSection", "campbell_figure"]
 
@@ -61,9 +61,17 @@ class CampbellSection(Section):
             # one numbering: the modal table's row (None for a track without one), and the track
             crossings.append({**c, "mode": rows[row.mode], "track": row.mode})
         ctx.summary["campbell"] = {"crossings": crossings, "orders": d["orders"]}
+        from .stability import campbell_statuses
+
         marks = _marks(ctx)
         ctx.png(plot_campbell, "campbell.png", camp, max_frequency=ctx.max_frequency, **marks)
-        fig = campbell_figure(camp, max_frequency=ctx.max_frequency, mode_rows=rows, **marks)
+        # the status of each tracked mode at each speed, in the stability checks' words
+        _, status = campbell_statuses(
+            camp, model_undamped_kinds(ctx.assembly, ctx.sign * ctx.speed)
+        )
+        fig = campbell_figure(
+            camp, max_frequency=ctx.max_frequency, mode_rows=rows, statuses=status, **marks
+        )
         body = _figure_html(fig, "fig-campbell")
         body += _crossings_table(camp, rows)
         return [("campbell", "Campbell diagram", body)]
@@ -87,6 +95,7 @@ def campbell_figure(
     max_frequency: float | None = None,
     *,
     mode_rows: list[int | None] | None = None,
+    statuses=None,
     operating_speed: float | None = None,
     max_continuous_speed: float | None = None,
     operating_range: tuple[float, float] | None = None,
@@ -96,8 +105,9 @@ def campbell_figure(
     operating speed and MCS (rad/s, vertical lines) and the operating range (shaded).
 
     ``mode_rows``: per track, its row of the modal table (hover and crossings name the mode
-    by it, ``track j`` without one). Order lines above the axes over the whole sweep are not
-    drawn (the title names them)."""
+    by it, ``track j`` without one); ``statuses``: (n_speeds, n_modes) the status of each
+    tracked mode at each speed (:func:`.stability.campbell_statuses`), shown on hover. Order
+    lines above the axes over the whole sweep are not drawn (the title names them)."""
     from ...figures import campbell_markers
 
     go = _go()
@@ -114,6 +124,11 @@ def campbell_figure(
         wh = np.asarray(result.whirl[:, j], dtype=str)
         ty = np.asarray(result.mode_type[:, j], dtype=str)
         ld = result.log_dec[:, j]
+        st = (
+            np.asarray(statuses[:, j], dtype=str)
+            if statuses is not None
+            else np.full(len(s), "", dtype=object)
+        )
         fig.add_trace(
             go.Scatter(
                 x=s,
@@ -132,11 +147,11 @@ def campbell_figure(
                     colorbar=dict(title=dict(text="log dec"), x=1.02) if j == 0 else None,
                 ),
                 name=name,
-                customdata=np.column_stack([ld, wh, ty]),
+                customdata=np.column_stack([ld, wh, ty, st]),
                 hovertemplate=(
                     f"{name}<br>speed %{{x:.0f}} rpm<br>frequency %{{y:.0f}} cpm"
                     "<br>log dec %{customdata[0]:.3g}<br>whirl %{customdata[1]}"
-                    "<br>type %{customdata[2]}<extra></extra>"
+                    "<br>type %{customdata[2]}<br>%{customdata[3]}<extra></extra>"
                 ),
                 showlegend=False,
             )

@@ -16,7 +16,7 @@ from ....analyses.modal import format_log_dec, format_zeta
 from ..base import Context, Part, Section
 from ..blocks import LOG_DEC_THRESHOLD, RPM, _color, _e, _figure_html, _go
 from ..verdicts import model_undamped_kinds, status_row_class
-from .stability import modal_statuses
+from .stability import modal_statuses, summary_mode_names
 
 __all__ = ["ModesSection", "mode_shape_figure", "shown_modes"]
 
@@ -43,7 +43,7 @@ class ModesSection(Section):
         for row, st in zip(d["modes"], status, strict=True):
             row["status"] = st  # the words of the table, the stability checks and the figures
         ctx.summary["modal"] = d
-        el = shown_modes(res, status)
+        el = shown_modes(res, status, named=summary_mode_names(ctx))
         for k in range(0, len(el), 8):
             ctx.png(
                 plot_mode_shapes,
@@ -62,13 +62,16 @@ class ModesSection(Section):
         return [("modes", f"Modes at {res.speed * RPM:.0f} rpm", body)]
 
 
-def shown_modes(res, status: list[str], first: int = 16, most: int = 32) -> list[int]:
-    """The modes the figures draw: the ``first`` elastic (not over-damped) modes, and every
-    later one the summary names (a status other than ``stable``: low damping, unstable, not
-    judged), up to ``most`` in all, in frequency order."""
+def shown_modes(
+    res, status: list[str], first: int = 16, *, named: set[int] | frozenset[int] = frozenset()
+) -> list[int]:
+    """The modes the figures draw: the ``first`` elastic (not over-damped) modes, every later
+    one with a status other than ``stable`` (low damping, unstable, not judged) and every mode
+    ``named`` (the summary's lines name them: :func:`.stability.summary_mode_names`), in
+    frequency order. Every mode the summary or the stability tables point at is drawn."""
     el = [i for i in range(len(res)) if not res.overdamped[i]]
-    named = [i for i in el[first:] if status[i] != "stable"]
-    return sorted(el[:first] + named[: max(most - first, 0)])
+    later = [i for i in el[first:] if status[i] != "stable" or i in named]
+    return sorted(set(el[:first] + later) | {int(i) for i in named if 0 <= i < len(res)})
 
 
 def _mode_title(result, m: int, statuses: list[str] | None = None) -> str:
@@ -348,8 +351,9 @@ def _modes_table(res, status: list[str]) -> str:
         "from energy shares (L lateral, T torsional, A axial: the larger of a group's kinetic "
         "and strain energy fractions, the mesh spring's energy shared by the groups that deflect "
         "it; a group with 5 % or more names the mode). Undamped: log dec zero to round-off. "
-        f"Status: as in the stability checks (log dec ≥ {LOG_DEC_THRESHOLD} for modes with lateral "
-        "motion; a mode without lateral motion in a model without damping on its DOFs is "
-        "“no torsional damping in the model”, not judged).</p>"
+        f"Status: as in the stability checks (log dec ≥ {LOG_DEC_THRESHOLD} for the modes API "
+        "617 Level II judges: forward whirl, at least half of the kinetic energy lateral, up to "
+        "3× the fastest shaft speed; any growing mode fails; the other modes below the threshold "
+        "are not judged, their status says why).</p>"
     )
     return "\n".join(rows) + extra

@@ -12,7 +12,7 @@ import numpy as np
 from ....errors import ModelError
 from ..base import Context, Part, Section
 from ..blocks import LOG_DEC_THRESHOLD, RPM, _badge, _e, _fmt
-from .stability import _lateral
+from .stability import modal_criteria
 
 __all__ = ["OperatingPointsSection"]
 
@@ -47,12 +47,11 @@ class OperatingPointsSection(Section):
         for name in ctx.operating_points:
             st = static(train, name)
             md = modal(train, operating_point=name, max_frequency=ctx.max_frequency)
-            # the API 617 criterion judges modes with lateral motion, as the stability section
-            # does (undamped torsional modes of a model without torsional damping would sit at
-            # log dec 0 at every point and hide the lateral trend)
-            el = [i for i in range(len(md)) if not md.overdamped[i] and _lateral(md.mode_type[i])]
-            k = min(el, key=lambda i: md.log_dec[i]) if el else None
-            rows.append((st, md, k))
+            # the modes API 617 Level II judges, as the stability section (one definition:
+            # analyses.stability.criterion_class; undamped torsional modes of a model without
+            # torsional damping would sit at log dec 0 at every point and hide the lateral
+            # trend), and any growing mode, whatever it is
+            rows.append((st, md, _least_stable(md)))
         ctx.results["operating_points"] = rows
 
     def write(self, ctx: Context) -> list[Part]:
@@ -83,7 +82,8 @@ class OperatingPointsSection(Section):
         ok = bool(lds) and min(lds) >= LOG_DEC_THRESHOLD
         ctx.verdict(
             "operating_points_stability",
-            "least-stable log dec over the operating points",
+            "least-stable log dec over the operating points (the modes API 617 Level II "
+            "judges, and any growing mode)",
             ok,
             f"min {min(lds):.3g} (threshold {LOG_DEC_THRESHOLD})" if lds else "-",
         )
@@ -103,6 +103,20 @@ class OperatingPointsSection(Section):
         )
         imgs.append("op_log_dec.png")
         return [("operating-points", "Operating points", _html(ctx, rows, least, ok, imgs))]
+
+
+def _least_stable(md) -> int | None:
+    """The mode of least log dec among those the stability criteria judge at this point and
+    the growing ones (None: none)."""
+    from ....analyses.stability import is_unstable
+
+    crit = modal_criteria(md)
+    el = [
+        i
+        for i in range(len(md))
+        if not md.overdamped[i] and (crit[i] == "judged" or is_unstable(md.log_dec[i]))
+    ]
+    return min(el, key=lambda i: md.log_dec[i]) if el else None
 
 
 def _img(ctx: Context, name: str) -> str:
@@ -130,8 +144,9 @@ def _html(ctx, rows, least, ok, imgs) -> str:
     return (
         "<p>The static operating point (weight, tooth forces from the power, fluid-film "
         "journals solved to equilibrium with the shafts) at each point, and the least-stable "
-        "mode with lateral motion (the modes the API 617 log dec criterion judges) with the "
-        "fluid-film bearings at that point's loads (docs/static.md). "
+        "mode the API 617 Level II criterion judges (forward whirl, at least half of the "
+        "kinetic energy lateral, up to 3× the fastest shaft speed; or any growing mode) with "
+        "the fluid-film bearings at that point's loads (docs/static.md). "
         f"{_badge(ok)} log dec ≥ {LOG_DEC_THRESHOLD} at every point.</p>"
         f"<table><tr><th>point</th><th>rpm</th><th>kW</th>{head}<th>least-stable log dec</th>"
         f"<th>its frequency, rpm</th></tr>{''.join(body)}</table>"

@@ -1,8 +1,14 @@
 """Unbalance section: the unbalance response over 0.02..1.5× the operating speed
 (:func:`gearrotor.analyses.unbalance_response`) with the model's unbalance or, ``api``, the API 617
-unbalance (:func:`gearrotor.analyses.api617.api617_unbalances`): Bode plot and orbits
-(interactive and PNG); then its checks, the API 684 separation margins and the API 617
-vibration limit in the operating range, a page part of their own and two verdicts."""
+unbalance of the edition the report uses (:attr:`~..base.Context.api_edition`: ``--edition``,
+else the model's ``[api_audit] edition``, else the 8th): the 8th edition's 4 × 6350 W/N g·mm at
+the model's planes (:func:`gearrotor.analyses.api617.api617_unbalances`), the 9th edition's
+2 × 6350 W/N g·mm at the antinodes of the reference shaft's first forward mode
+(:func:`gearrotor.analyses.api617.mode_unbalances`) with its close-clearance check
+(:func:`gearrotor.analyses.api617.clearance_check`; the clearances of
+:func:`gearrotor.analyses.api617.close_clearances`). Bode plot and orbits (interactive and
+PNG); then its checks, the API 684 separation margins, the API 617 vibration limit in the
+operating range and the close clearances, a page part of their own and their verdicts."""
 
 from __future__ import annotations
 
@@ -50,6 +56,7 @@ class UnbalanceSection(Section):
             unbalances=_unbalances(ctx),
             operating_range=ctx.api_range,
         )
+        _clearances(ctx, speeds)
 
     def write(self, ctx: Context) -> list[Part]:
         from ...figures import plot_bode, plot_orbits
@@ -57,8 +64,8 @@ class UnbalanceSection(Section):
         unb = ctx.results.get("unbalance")
         if unb is None:
             return []
-        used = _unbalances_used(ctx.assembly, _unbalances(ctx), api=ctx.api, w=ctx.api_range[1])
-        checks = _api_checks(unb)
+        used = _unbalances_used(ctx)
+        checks = _api_checks(unb, ctx)
         checks["unbalance"] = used
         ctx.summary["api684"] = checks
         d = unb.to_dict()
@@ -84,14 +91,52 @@ class UnbalanceSection(Section):
         ]
 
 
-def _unbalances(ctx: Context) -> list:
-    """The unbalance the response uses: the model's, or the API 617 unbalance at the
-    maximum continuous speed (the operating speed when the model states none)."""
-    from ....analyses.api617 import api617_unbalances
+def _api_unbalance(ctx: Context) -> dict:
+    """The unbalance the response uses (computed once, kept in ``ctx.results["api617"]``):
+    ``unbalances`` (the model's, or the API 617 unbalance of :attr:`~..base.Context.api_edition`
+    at the maximum continuous speed, the operating speed when the model states none),
+    ``edition`` and, for the 9th edition, ``placement`` (its
+    :class:`~gearrotor.analyses.api617.ModeUnbalance`)."""
+    got = ctx.results.get("api617")
+    if got is not None:
+        return got
+    from ....analyses.api617 import api617_unbalances, mode_unbalances
 
-    if ctx.api:
-        return api617_unbalances(ctx.assembly, ctx.api_range[1])
-    return list(ctx.train.unbalances)
+    ed, placed = ctx.api_edition, None
+    if not ctx.api:
+        unb = list(ctx.train.unbalances)
+    elif ed.key == "9th":
+        placed = mode_unbalances(ctx.assembly, max_continuous_speed=ctx.api_range[1])
+        unb = placed.unbalances()
+    else:
+        unb = api617_unbalances(ctx.assembly, ctx.api_range[1])
+    ctx.results["api617"] = out = {"unbalances": unb, "edition": ed, "placement": placed}
+    return out
+
+
+def _unbalances(ctx: Context) -> list:
+    """The unbalance the response uses (:func:`_api_unbalance`)."""
+    return _api_unbalance(ctx)["unbalances"]
+
+
+def _clearances(ctx: Context, speeds) -> None:
+    """The 9th edition's close-clearance check with the ``--api`` unbalance (once, into
+    ``ctx.results["clearance"]``), when the model has close clearances: its ``[api_audit]
+    clearances``, else its fluid-film journal bearings'."""
+    from ....analyses.api617 import clearance_check, close_clearances
+
+    api = _api_unbalance(ctx)
+    if "clearance" in ctx.results or api["placement"] is None:
+        return
+    found = close_clearances(ctx.train)
+    if found:
+        ctx.results["clearance"] = clearance_check(
+            ctx.assembly,
+            found,
+            speeds=speeds,
+            operating_range=ctx.api_range,
+            unbalance=api["placement"],
+        )
 
 
 def bode_figure(result):
@@ -281,7 +326,7 @@ def orbit_figure(result, *, n_speeds: int = 25):
     return fig
 
 
-def _api_checks(unb) -> dict:
+def _api_checks(unb, ctx: Context | None = None) -> dict:
     crit = []
     amp = []
     s = unb.speeds
@@ -314,40 +359,76 @@ def _api_checks(unb) -> dict:
                 "result": "pass" if pp <= lim else "fail",
             }
         )
+    check = None if ctx is None else ctx.results.get("clearance")
     return {
         "operating_range_rpm": [lo * RPM, hi * RPM],
         "criticals": crit,
         "amplitudes": amp,
         "ok": all(c["result"] != "fail" for c in crit) and all(a["result"] == "pass" for a in amp),
         "undetermined": sum(c["result"] == "not determined" for c in crit),
+        # the 9th edition's close-clearance check (None: not run)
+        "close_clearance": None if check is None else check.to_dict(),
     }
 
 
-def _unbalances_used(asm, unbalances, *, api: bool, w: float) -> dict:
-    """Which unbalance the response uses: ``{"basis", "label", "planes": [...]}``."""
+def _unbalances_used(ctx: Context) -> dict:
+    """Which unbalance the response uses: ``{"basis", "edition", "label", "planes": [...]}``."""
     from ....analyses.api617 import api617_basis
 
-    train = asm.train
-    basis = api617_basis(asm, w) if api else [(None, None)] * len(unbalances)
+    api = _api_unbalance(ctx)
+    ed, placed, unbalances = api["edition"], api["placement"], api["unbalances"]
+    train = ctx.train
     planes = []
-    for k, (u, (mass, n)) in enumerate(zip(unbalances, basis, strict=True)):
-        d = {
-            "shaft": u.shaft,
-            "node": train.node_index(u, f"unbalances[{k}]")[1],
-            "amount_g_mm": u.amount * 1e6,
-            "phase_deg": float(np.rad2deg(u.phase)),
-        }
-        if api:
-            d["journal_mass_kg"] = mass
-            d["max_continuous_speed_rpm"] = n * RPM
-        planes.append(d)
-    label = (
-        "API 617 unbalance: 4 × 6350 W/N g·mm per plane (W its share of the shaft mass, kg; "
-        "N its shaft's maximum continuous speed, rpm)"
-        if api
-        else "the model's unbalance"
-    )
-    return {"basis": "api617" if api else "model", "label": label, "planes": planes}
+    if placed is not None:  # 9th edition: at the antinodes of a forward mode
+        n_rpm = placed.max_continuous_speed * RPM
+        for u, w, kind in zip(unbalances, placed.static_loads, placed.kinds, strict=True):
+            planes.append(
+                {
+                    "shaft": u.shaft,
+                    "node": int(u.node),
+                    "amount_g_mm": u.amount * 1e6,
+                    "phase_deg": float(np.rad2deg(u.phase)),
+                    "journal_mass_kg": w,
+                    "max_continuous_speed_rpm": n_rpm,
+                    "basis": kind,
+                }
+            )
+        label = (
+            f"{ed.name} unbalance: 2 × 6350 W/N g·mm at the "
+            f"antinodes of the first forward mode of {placed.shaft} "
+            f"({placed.mode_frequency * RPM:,.0f} cpm at the maximum continuous speed; W the "
+            "static load the antinode's place gives, kg; N the shaft's maximum continuous speed, "
+            "rpm, at most 25,000)"
+        )
+    else:
+        basis = (
+            api617_basis(ctx.assembly, ctx.api_range[1])
+            if ctx.api
+            else [(None, None)] * len(unbalances)
+        )
+        for k, (u, (mass, n)) in enumerate(zip(unbalances, basis, strict=True)):
+            d = {
+                "shaft": u.shaft,
+                "node": train.node_index(u, f"unbalances[{k}]")[1],
+                "amount_g_mm": u.amount * 1e6,
+                "phase_deg": float(np.rad2deg(u.phase)),
+            }
+            if ctx.api:
+                d["journal_mass_kg"] = mass
+                d["max_continuous_speed_rpm"] = n * RPM
+            planes.append(d)
+        label = (
+            f"{ed.name} unbalance: 4 × 6350 W/N g·mm per plane (W its share of "
+            "the shaft mass, kg; N its shaft's maximum continuous speed, rpm)"
+            if ctx.api
+            else "the model's unbalance"
+        )
+    return {
+        "basis": "api617" if ctx.api else "model",
+        "edition": ed.name if ctx.api else None,
+        "label": label,
+        "planes": planes,
+    }
 
 
 def _unbalance_list(used: dict) -> str:
@@ -359,7 +440,9 @@ def _unbalance_list(used: dict) -> str:
         )
         if "journal_mass_kg" in p:
             txt += (
-                f" (W = {p['journal_mass_kg']:.2f} kg, N = {p['max_continuous_speed_rpm']:.0f} rpm)"
+                f" (W = {p['journal_mass_kg']:.2f} kg, N = {p['max_continuous_speed_rpm']:.0f} rpm"
+                + (f"; {_e(p['basis'])}" if "basis" in p else "")
+                + ")"
             )
         items.append(f"<li>{txt}</li>")
     return "<ul>" + "".join(items) + "</ul>"
@@ -416,19 +499,62 @@ def _api_html(api: dict) -> str:
         )
     used = api["unbalance"]
     if used["basis"] == "api617":
+        where = (
+            "at the planes and phases of the model"
+            if not any("basis" in p for p in used["planes"])
+            else "at the mode shape's antinodes"
+        )
         parts.append(
             "</table><p id='api-unbalance'>Unbalance used for these checks: "
-            f"{_e(used['label'])}, at the planes and phases of the model:</p>"
-            + _unbalance_list(used)
+            f"{_e(used['label'])}, {where}:</p>" + _unbalance_list(used)
         )
     else:
         parts.append(
             "</table><p id='api-unbalance'>Unbalance used for these checks: the model's "
             "unbalance (listed under Unbalance response), not the API 617 amount; the API 617 "
-            "procedure applies 4× the allowable unbalance, 4 × 6350 W/N g·mm per plane "
-            "(<code>gearrotor report --api</code>, <code>gearrotor unbalance --api</code>).</p>"
+            "procedure applies 4× the allowable unbalance, 4 × 6350 W/N g·mm per plane (8th "
+            "edition), or 2× at the antinodes of a forward mode with a close-clearance check "
+            "(9th edition) (<code>gearrotor report --api [--edition 9th]</code>, "
+            "<code>gearrotor unbalance --api</code>).</p>"
+        )
+    cc = api.get("close_clearance")
+    if cc is not None:
+        parts.append(_clearance_html(cc))
+    elif used.get("edition") and "9th" in used["edition"]:
+        parts.append(
+            "<p>Close-clearance check (6.8.2.10–6.8.2.11): not run, the model lists no close "
+            "clearances (<code>[api_audit] clearances</code>) and has no fluid-film journal "
+            "bearing file to take them from.</p>"
         )
     return "\n".join(parts)
+
+
+def _clearance_html(cc: dict) -> str:
+    ratio = cc["vibration_limit_pp_um"] / cc["max_probe_amplitude_pp_um"]
+    capped = cc["scale_factor"] < ratio * (1 - 1e-12)
+    cap = f", at most {cc['scale_factor_cap']:g}: S_cc = {cc['scale_factor']:.3g}" if capped else ""
+    rows = [
+        f"<h3>Close clearances ({_e(cc['edition'])}, 6.8.2.10–6.8.2.11)</h3>"
+        f"<p>The response to the unbalance above, scaled by S_cc = A_vl / A_max = "
+        f"{cc['vibration_limit_pp_um']:.2f} / {cc['max_probe_amplitude_pp_um']:.3f} µm pk-pk "
+        f"({_e(cc['max_probe'])}) = {ratio:.3g}{cap}; its major-axis pk-pk "
+        "amplitude at each close clearance over the sweep must stay below 75 % of the minimum "
+        "diametral running clearance (the model's <code>[api_audit] clearances</code>, else "
+        "twice each fluid-film journal bearing file's radial clearance).</p>"
+        "<table><tr><th class='l'>location</th><th class='l'>shaft</th><th>node</th>"
+        "<th>diametral clearance (µm)</th><th>75 % (µm)</th><th>scaled response pk-pk (µm)</th>"
+        "<th>at (rpm)</th><th>result</th></tr>"
+    ]
+    for c in cc["locations"]:
+        rows.append(
+            f"<tr class='{'' if c['ok'] else 'bad'}'><td class='l'>{_e(c['name'])}</td>"
+            f"<td class='l'>{_e(c['shaft'])}</td><td>{c['node']}</td>"
+            f"<td>{c['diametral_clearance_um']:.1f}</td><td>{c['limit_pp_um']:.1f}</td>"
+            f"<td>{c['scaled_response_pp_um']:.2f}</td><td>{c['speed_rpm']:.0f}</td>"
+            f"<td>{_badge(c['ok'])}</td></tr>"
+        )
+    rows.append("</table>")
+    return "".join(rows)
 
 
 def _verdicts(ctx: Context, api: dict) -> None:
@@ -450,8 +576,28 @@ def _verdicts(ctx: Context, api: dict) -> None:
         na == 0,
         f"{len(api['amplitudes'])} probes, {na} above the limit "
         + (
-            "(with the API 617 unbalance)"
+            f"(with the {api['unbalance']['edition']} unbalance)"
             if api["unbalance"]["basis"] == "api617"
             else "(with the model's unbalance)"
         ),
     )
+    _clearance_verdict(ctx, api)
+
+
+def _clearance_verdict(ctx: Context, api: dict) -> None:
+    """The close-clearance line of the summary, when the check ran (the audit section's is
+    the same check: one line)."""
+    cc = api.get("close_clearance")
+    if cc is not None:
+        nf = sum(not c["ok"] for c in cc["locations"])
+        worst = max(cc["locations"], key=lambda c: c["percent_of_limit"])
+        ctx.verdict(
+            "close_clearances",
+            f"{cc['edition']} close clearances (6.8.2.10-6.8.2.11): scaled response < 75 % of "
+            "the diametral clearance",
+            nf == 0,
+            f"{len(cc['locations'])} locations, {nf} above; largest "
+            f"{worst['percent_of_limit']:.0f} % of its limit ({worst['name']}, "
+            f"{worst['scaled_response_pp_um']:.1f} µm pk-pk at {worst['speed_rpm']:,.0f} rpm), "
+            f"S_cc = {cc['scale_factor']:.3g}",
+        )
