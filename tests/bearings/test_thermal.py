@@ -257,6 +257,8 @@ def test_energy_is_conserved(name, extra):
     assert th.power_loss > 0 and th.supply_flow > 0
     assert abs(th.energy_residual) < 1e-9 * th.power_loss
     assert th.max_temperature > T40
+    for pt in th.pads:  # a 360° film: its inlet where the cavity ends, mixed with the make-up
+        assert T40 <= pt.inlet_temperature <= pt.outlet_temperature <= th.max_temperature
     if extra:
         assert th.heat_conducted > 0
         assert T40 < th.journal_temperature < th.max_temperature
@@ -498,3 +500,19 @@ def test_train_fluid_film_bearing_takes_the_files_thermal_model(tmp_path):
     np.testing.assert_allclose(el.K(w), thd.K, rtol=1e-9)
     np.testing.assert_allclose(el.C(w), thd.C, rtol=1e-9)
     assert abs(el.C(w)[0, 0] / iso.C[0, 0] - 1) > 0.1
+
+
+def test_plot_writes_a_temperature_map_for_thd(tmp_path, capsys):
+    """``--plot`` adds a film-temperature map per case for a THD bearing (none for isoviscous);
+    ``plot_temperature`` refuses an equilibrium without a temperature field."""
+    from gearrotor.bearings.plots import plot_temperature
+
+    bearing_command(EXAMPLES / "tilting_5pad_thd.toml", plot=tmp_path / "thd")
+    assert (tmp_path / "thd" / "temperature_case01.png").stat().st_size > 10_000
+    bearing_command(EXAMPLES / "plain_ld1.toml", plot=tmp_path / "iso")
+    assert not list((tmp_path / "iso").glob("temperature_*"))
+    case = load_bearing(EXAMPLES / "plain_ld1.toml")
+    eq = equilibrium(case.bearing, case.loads[0], case.speed, options=case.options)
+    with pytest.raises(ValueError, match="needs a THD equilibrium"):
+        plot_temperature(eq, case.bearing)
+    capsys.readouterr()

@@ -338,6 +338,8 @@ class PadFlow:
     recirculated
         Part of each cell's inflow at a reformation that comes from the cavity upstream
         (360° films: the film's own oil) (m³/s).
+    recirculated_from
+        The same flows, counted at the cavity cells they leave (m³/s).
     outlet
         Flow leaving each cell at the trailing edge (m³/s).
     side
@@ -360,6 +362,7 @@ class PadFlow:
     inlet: NDArray
     makeup: NDArray
     recirculated: NDArray
+    recirculated_from: NDArray
     outlet: NDArray
     side: NDArray
     spill: NDArray
@@ -462,6 +465,7 @@ def pad_flow(mesh: Any, film: PadFilm, q: NDArray, omega: float, viscosity, radi
     inlet = np.zeros(size)
     makeup = np.zeros(size)
     recirc = np.zeros(size)
+    recirc_from = np.zeros(size)
     outlet = np.zeros(size)
     side = np.zeros(size)
     spill = np.zeros(size)
@@ -534,6 +538,7 @@ def pad_flow(mesh: Any, film: PadFilm, q: NDArray, omega: float, viscosity, radi
                     take = min(fc, max(fss, 0.0))
                     transfer(a, b, take)
                     recirc[b] += take
+                    recirc_from[a] += take
                     makeup[b] += max(fss, 0.0) - take
                     spill[a] += fc - take
                     if fss < 0:
@@ -577,7 +582,20 @@ def pad_flow(mesh: Any, film: PadFilm, q: NDArray, omega: float, viscosity, radi
         wt[[0, -1]] *= 0.5
     area = (radius**2 * wt[:, None] * wz[None, :]).ravel()
     pf_flow = PadFlow(
-        up, down, flow, inlet, makeup, recirc, outlet, side, spill, fill, area, periodic, shape
+        up,
+        down,
+        flow,
+        inlet,
+        makeup,
+        recirc,
+        recirc_from,
+        outlet,
+        side,
+        spill,
+        fill,
+        area,
+        periodic,
+        shape,
     )
     return pf_flow, hf, g2, muf
 
@@ -793,8 +811,10 @@ def _thd_step(
         temp = t0 + t_in[k] * t1
         t_make = t_s if f.periodic else t_in[k]
         drain = f.outlet + f.spill
-        q_d = float(drain.sum())
-        t_out = float(drain @ temp) / q_d if q_d > 0 else float("nan")
+        # a 360° film's outlet: what leaves its pressure zone (recirculated, or spilled)
+        leave = drain + f.recirculated_from if f.periodic else drain
+        q_l = float(leave.sum())
+        t_out = float(leave @ temp) / q_l if q_l > 0 else float("nan")
         heat = (
             2.0
             * rho_c

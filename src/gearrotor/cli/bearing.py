@@ -290,8 +290,8 @@ def bearing_command(
     fmt
         ``"table"`` or ``"json"``.
     plot
-        Directory for PNG plots (pressure map per case, eccentricity locus, coefficients vs
-        load); created if needed.
+        Directory for PNG plots (pressure map per case, with a THD model also a temperature
+        map per case, eccentricity locus, coefficients vs load); created if needed.
 
     Returns
     -------
@@ -407,7 +407,7 @@ def _oil_text(case) -> str:
 
 
 def _plots(bearing, results: list[Coefficients], outdir: Path, progress=None) -> list[Path]:
-    from ..bearings.plots import plot_coefficients, plot_locus, plot_pressure
+    from ..bearings.plots import plot_coefficients, plot_locus, plot_pressure, plot_temperature
 
     make_directory(outdir, field="--plot")
     out = []
@@ -415,6 +415,11 @@ def _plots(bearing, results: list[Coefficients], outdir: Path, progress=None) ->
         p = outdir / f"pressure_case{k + 1:02d}.png"
         plot_pressure(co.equilibrium, bearing, p)
         out.append(p)
+        th = co.equilibrium.thermal
+        if th is not None and th.pads[0].temperature is not None:
+            p = outdir / f"temperature_case{k + 1:02d}.png"
+            plot_temperature(co.equilibrium, bearing, p)
+            out.append(p)
     p = outdir / "locus.png"
     plot_locus([co.equilibrium for co in results], bearing, p)
     out.append(p)
