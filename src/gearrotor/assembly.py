@@ -36,10 +36,13 @@ from .elements import (
     ShaftElement,
     ThrustBearing,
     TorsionalSupportElement,
+    WhirlBearing,
     buckingham_stiffness,
+    fit_rows,
     iso6336_stiffness,
 )
 from .errors import ModelError
+from .inputs import WHIRL_TABLE_COLUMNS, read_whirl_table, table_columns
 from .model import Train
 
 __all__ = ["Assembly", "MeshInfo", "BearingInfo", "assemble", "DOF_NAMES"]
@@ -97,7 +100,7 @@ class BearingInfo:
     shaft: int
     dofs: NDArray  # (2,) journal x, y
     support_dofs: NDArray | None  # (2,) pedestal x, y, or None for ground
-    element: RadialBearing | PadBearing
+    element: RadialBearing | PadBearing | WhirlBearing
     kind: str = "bearing"  # "bearing" or "seal" (an annular seal to ground, any sign)
     pad_dofs: NDArray | None = None  # (m,) the pads' DOFs (PadBearing), in PadTable.dofs order
 
@@ -466,6 +469,77 @@ def _solve_seal_table(file: str, mtime_ns: int, speeds: tuple, sign: float):
     return speed, vals
 
 
+def _table_element(t, tolerance: float | None, field: str) -> RadialBearing | WhirlBearing:
+    """The element of a model's coefficient ``table``: a speed table, or a speed × whirl table
+    (a whirl table whose rows are constant in whirl is the speed table of its values, exactly
+    as the one-dimensional table gives it)."""
+    names = (t.kxx, t.kxy, t.kyx, t.kyy, t.cxx, t.cxy, t.cyx, t.cyy)
+    if t.whirl is not None and t.whirl_dependent:
+        return _whirl_element(t.whirl_rows(), t.extrapolate, tolerance, field)
+    if t.whirl is not None:
+        names = tuple([row[0] for row in col] for col in names)
+    vals = np.column_stack(names)
+    return RadialBearing(table=CoefficientTable(np.asarray(t.speed), vals, t.extrapolate))
+
+
+def _whirl_file_element(b, field: str) -> RadialBearing | WhirlBearing:
+    """The element of a speed × whirl ``table_file`` (a ``whirl_rpm`` column)."""
+    try:
+        rows = read_whirl_table(b.table_file)
+    except ModelError as exc:
+        raise ModelError(
+            exc.message,
+            field=f"{field}.table_file" + (f" ({exc.field})" if exc.field else ""),
+            value=exc.value,
+            expected=exc.expected,
+            file=exc.file,
+        ) from None
+    return _whirl_element(
+        rows, b.extrapolate, b.fit_tolerance, f"{field}.table_file", file=b.table_file
+    )
+
+
+def _seal_whirl_element(sl, field: str, shaft, train_speed: float) -> WhirlBearing | RadialBearing:
+    """A seal file solved over speed × whirl (``[[seals]] whirls``)."""
+    mtime = Path(sl.file).stat().st_mtime_ns if Path(sl.file).exists() else 0
+    spin = shaft.speed_ratio * (train_speed if train_speed else 1.0)
+    sign = 1.0 if spin >= 0 else -1.0
+    try:
+        rows = _solve_seal_whirl_table(sl.file, mtime, tuple(sl.speeds), tuple(sl.whirls), sign)
+    except ModelError as exc:
+        raise ModelError(
+            exc.message,
+            field=f"{field}.file" + (f" ({exc.field})" if exc.field else ""),
+            value=exc.value,
+            expected=exc.expected,
+            file=exc.file,
+        ) from None
+    return _whirl_element(rows, sl.extrapolate, sl.fit_tolerance, f"{field}.whirls")
+
+
+@functools.lru_cache(maxsize=32)
+def _solve_seal_whirl_table(file: str, mtime_ns: int, speeds: tuple, whirls: tuple, sign: float):
+    """A seal's speed × whirl rows once per (file version, speeds, whirls, sense of rotation)."""
+    from .seals import load_seal, seal_whirl_table
+
+    rows = seal_whirl_table(load_seal(file), speeds, whirls, sign)
+    for _, w, v in rows:
+        w.setflags(write=False)
+        v.setflags(write=False)
+    return rows
+
+
+def _whirl_element(rows, extrapolate: str, tolerance: float | None, field: str, file=None):
+    """A :class:`WhirlBearing` from checked rows ``(speed, whirl, values)``, each row's
+    impedance fitted (:func:`~gearrotor.elements.fit_rows`); rows constant in whirl everywhere
+    give the speed table of their values (a :class:`RadialBearing`)."""
+    if all(np.all(v == v[0]) for _, _, v in rows):
+        speed = np.array([s for s, _, _ in rows])
+        vals = np.array([v[0] for _, _, v in rows])
+        return RadialBearing(table=CoefficientTable(speed, vals, extrapolate))
+    return WhirlBearing(fit_rows(rows, tolerance, field=field, file=file), extrapolate)
+
+
 def _flank(train: Train, mesh, si: int, sj: int) -> int:
     """+1 (SPEC 2.3 normal) or −1 so that the contact force opposes the driver's rotation."""
     if mesh.driver is None:
@@ -521,9 +595,9 @@ def _assemble(train: Train) -> Assembly:
         si, _ = train.node_index(b, f"bearings[{k}]")
         shaft_of.append(si)
         if b.table is not None:
-            t = b.table
-            vals = np.column_stack([t.kxx, t.kxy, t.kyx, t.kyy, t.cxx, t.cxy, t.cyx, t.cyy])
-            el = RadialBearing(table=CoefficientTable(np.asarray(t.speed), vals, t.extrapolate))
+            el = _table_element(b.table, b.fit_tolerance, f"bearings[{k}].table")
+        elif b.table_file is not None and table_columns(b.table_file) == WHIRL_TABLE_COLUMNS:
+            el = _whirl_file_element(b, f"bearings[{k}]")
         elif b.table_file is not None or b.fluid_film is not None:
             tab = _film_table(b, f"bearings[{k}]", layout.shafts[si])
             el = tab if isinstance(tab, PadBearing) else RadialBearing(table=tab)
@@ -594,11 +668,13 @@ def _assemble(train: Train) -> Assembly:
     for k, sl in enumerate(train.seals):  # seals: like a bearing to ground, any sign
         si, dofs = node_dofs(sl, f"seals[{k}]", [0, 1])
         if sl.table is not None:
-            t = sl.table
-            vals = np.column_stack([t.kxx, t.kxy, t.kyx, t.kyy, t.cxx, t.cxy, t.cyx, t.cyy])
-            el = RadialBearing(table=CoefficientTable(np.asarray(t.speed), vals, t.extrapolate))
+            el = _table_element(sl.table, sl.fit_tolerance, f"seals[{k}].table")
+        elif sl.table_file is not None and table_columns(sl.table_file) == WHIRL_TABLE_COLUMNS:
+            el = _whirl_file_element(sl, f"seals[{k}]")
         elif sl.table_file is not None:
             el = RadialBearing(table=_film_table(sl, f"seals[{k}]", layout.shafts[si]))
+        elif sl.file is not None and sl.whirls is not None:
+            el = _seal_whirl_element(sl, f"seals[{k}]", layout.shafts[si], train.speed)
         elif sl.file is not None:
             el = RadialBearing(table=_seal_table(sl, f"seals[{k}]", layout.shafts[si], train.speed))
         else:

@@ -10,6 +10,7 @@ without bound or print a traceback.
 
 from __future__ import annotations
 
+import math
 import tomllib
 from pathlib import Path
 from typing import Any, NamedTuple
@@ -21,6 +22,7 @@ __all__ = [
     "MAX_DEPTH",
     "MAX_LISTED",
     "TABLE_COLUMNS",
+    "WHIRL_TABLE_COLUMNS",
     "TableFile",
     "depth_ok",
     "list_some",
@@ -28,6 +30,9 @@ __all__ = [
     "read_table",
     "read_text",
     "read_toml",
+    "table_columns",
+    "read_whirl_table",
+    "check_whirl_rows",
 ]
 
 #: Largest input file read (bytes). The largest real models are a few tens of kB.
@@ -125,6 +130,30 @@ def read_toml(path: str | Path, kind: str = "input") -> dict:
 #: The columns of a bearing coefficient table file (rpm, N/m, N*s/m), as
 #: :func:`gearrotor.bearings.save_table` writes them.
 TABLE_COLUMNS = ("speed_rpm", "kxx", "kxy", "kyx", "kyy", "cxx", "cxy", "cyx", "cyy")
+
+
+#: The columns of a speed × whirl table file (rpm, rpm, N/m, N*s/m), as
+#: :func:`gearrotor.bearings.pads.save_whirl_table` writes them.
+WHIRL_TABLE_COLUMNS = ("speed_rpm", "whirl_rpm", *TABLE_COLUMNS[1:])
+
+
+def table_columns(path: str | Path) -> tuple[str, ...]:
+    """:data:`WHIRL_TABLE_COLUMNS` when a table file has a ``whirl_rpm`` column (CSV header or
+    TOML array), else :data:`TABLE_COLUMNS` (a file that cannot be read: the regular reader
+    reports it)."""
+    path = Path(path)
+    try:
+        text = read_text(path, "table")
+        if path.suffix.lower() == ".toml":
+            whirl = "whirl_rpm" in parse_toml(text, str(path), "table")
+        else:
+            first = next(
+                (ln for ln in text.splitlines() if ln.strip() and not ln.startswith("#")), ""
+            )
+            whirl = "whirl_rpm" in [h.strip() for h in first.split(",")]
+    except ModelError:
+        whirl = False
+    return WHIRL_TABLE_COLUMNS if whirl else TABLE_COLUMNS
 
 
 def read_table(path: str | Path, columns: tuple[str, ...] = TABLE_COLUMNS) -> TableFile:
@@ -247,7 +276,9 @@ def read_table(path: str | Path, columns: tuple[str, ...] = TABLE_COLUMNS) -> Ta
                 file=name,
                 expected="finite numbers",
             )
-    if "speed_rpm" in data:  # coefficients at a speed are one row (issue 23)
+    # coefficients at a speed are one row (issue 23); a speed × whirl table has one row per
+    # (speed, whirl), checked by read_whirl_table
+    if "speed_rpm" in data and "whirl_rpm" not in data:
         seen: dict[float, int] = {}
         for k, v in enumerate(data["speed_rpm"]):
             if abs(v) in seen:
@@ -269,3 +300,54 @@ class TableFile(NamedTuple):
     columns: dict[str, list[float]]
     name: str
     load: tuple[float, float]
+
+
+#: a row of a speed × whirl table: (|shaft speed| rad/s, whirl frequencies (n_w,) rad/s,
+#: coefficients (n_w, 8) kxx … cyy in N/m and N*s/m), numpy arrays
+WhirlRow = tuple
+
+
+def read_whirl_table(path: str | Path) -> tuple[WhirlRow, ...]:
+    """The rows of a speed × whirl table file, grouped by speed (a row per distinct speed, in
+    the file's order of whirl frequencies), checked (:func:`check_whirl_rows`)."""
+    import numpy as np
+
+    t = read_table(path, WHIRL_TABLE_COLUMNS)
+    cols = {k: np.asarray(v, float) for k, v in t.columns.items()}
+    speed = np.abs(cols["speed_rpm"]) * (math.pi / 30)  # the rows of one |speed| together
+    whirl = cols["whirl_rpm"] * (math.pi / 30)
+    vals = np.column_stack([cols[c] for c in TABLE_COLUMNS[1:]])
+    rows = []
+    for s in dict.fromkeys(speed.tolist()):  # distinct speeds, in file order
+        sel = speed == s
+        rows.append((float(s), whirl[sel], vals[sel]))
+    return check_whirl_rows(rows, file=str(path))
+
+
+def check_whirl_rows(rows, *, file: str | None = None) -> tuple[WhirlRow, ...]:
+    """Sort the rows by speed (distinct) and check them: whirl frequencies ≥ 0 and strictly
+    increasing, each row covering its speed (the synchronous coefficients, whirl =
+    speed, are read from it). One-line errors naming ``file``."""
+    import numpy as np
+
+    rpm = math.pi / 30
+    rows = sorted(rows, key=lambda r: r[0])
+    for s, w, _ in rows:
+        if w[0] < 0 or np.any(np.diff(w) <= 0):
+            raise ModelError(
+                "the whirl frequencies of a speed must be >= 0 and strictly increasing",
+                field="whirl_rpm",
+                value=f"{(w / rpm).round(6).tolist()} at {s / rpm:.6g} rpm",
+                expected="increasing whirl frequencies >= 0, each once per speed",
+                file=file,
+            )
+        if w[0] > s * (1 + 1e-12) or w[-1] < s * (1 - 1e-12):
+            raise ModelError(
+                "the whirl frequencies of a speed must cover that speed (the synchronous "
+                "coefficients, whirl = speed, are read from them)",
+                field="whirl_rpm",
+                value=f"{w[0] / rpm:.6g}..{w[-1] / rpm:.6g} rpm at {s / rpm:.6g} rpm",
+                expected=f"whirl frequencies from <= {s / rpm:.6g} to >= {s / rpm:.6g} rpm",
+                file=file,
+            )
+    return tuple(rows)

@@ -89,6 +89,9 @@ KINDS: dict[str, tuple[str, str, str]] = {
     "rate": ("1/s", "a rate (per second)", "0.5 1/s"),
     "frequency": ("rad/s", "a frequency", "100 Hz"),
     "viscosity": ("Pa*s", "a dynamic viscosity", "0.02 Pa*s"),
+    "kinematic_viscosity": ("m^2/s", "a kinematic viscosity", "32 mm^2/s"),
+    "specific_heat": ("J/(kg*K)", "a specific heat capacity", "1950 J/(kg*K)"),
+    "heat_transfer": ("W/(m^2*K)", "a heat transfer coefficient", "500 W/(m^2*K)"),
     "dimensionless": ("", "a plain number", "0.3"),
     "voltage": ("V", "a voltage", "13.8 kV"),
     "resistance": ("ohm", "a resistance or reactance", "0.64 ohm"),
@@ -223,6 +226,8 @@ def to_si(value: Any, kind: str) -> float:
     if not isinstance(value, str):
         raise ValueError(f"expected {name} as a number or a string such as '{example}'")
     text = _MIL.sub("thou", value.strip())
+    if kind in _PER_DEGREE:  # "J/(kg*degC)": a temperature difference, not a temperature
+        text = _DEGREE.sub(lambda m: "delta_deg" + m.group(1)[-1], text)
     _check_expression(text)
     ureg = registry()
     try:
@@ -236,6 +241,10 @@ def to_si(value: Any, kind: str) -> float:
         x = math.inf
     return _finite(x, value, name, example)
 
+
+# kinds whose units divide by a temperature difference, and the offset units pint would refuse
+_PER_DEGREE = {"specific_heat", "heat_transfer"}
+_DEGREE = re.compile(r"(?<![\w°])(degC|degF|°C|°F)(?!\w)")
 
 _NUMBER_UNIT = re.compile(r"([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(.*)")
 

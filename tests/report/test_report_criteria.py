@@ -76,6 +76,11 @@ def test_operating_speed_check_judges_level2_modes(steam):
     assert v["stability_operating_speed"]["result"] == "pass"
     low = stab["modal"]["lowest_log_dec"]
     assert low["log_dec"] == pytest.approx(l2.evaluations[0].min_forward_log_dec, rel=1e-9)
+    # the operating-points section's least-stable mode is the same one (it took the 99,234 cpm
+    # L-T mode, 51 % lateral, log dec 0.0082, before)
+    from gearrotor.plots.report.sections.static import _least_stable
+
+    assert _least_stable(res) == low["mode"]
     # the coupled modes that are mostly torsional (>= 5 % lateral, so typed L-T) and lightly
     # damped: stated, not judged, in the model's words (the steam turbine has no torsional
     # damping), in report.json and in the summary's line

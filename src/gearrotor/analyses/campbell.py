@@ -39,6 +39,8 @@ from .modal import (
     modal,
 )
 from .modal import _residuals as _residuals_of
+from .whirl import frequency_dependent
+from .whirl import residuals as whirl_residuals
 
 __all__ = [
     "CampbellResult",
@@ -254,6 +256,10 @@ def campbell(
     modes) and O(n·m) work; subspaces beyond half the model's DOFs are not used (every speed
     is then solved on the full model).
 
+    With speed × whirl tables (:mod:`gearrotor.analyses.whirl`) every speed is one eigensolve
+    of the model with the tables' states and ``reduced`` does not apply; the residual is that
+    of the nonlinear problem with the fitted impedances.
+
     ``method`` is the full solver: ``"sparse"`` finds only the eigenvalues within the circle of
     radius 1.5×max_frequency about a small negative shift by shift-invert Arnoldi, ``"dense"``
     computes the full spectrum (see :func:`~gearrotor.analyses.modal.modal`); ``"auto"``
@@ -289,7 +295,10 @@ def campbell(
     solver: list[str] = []
     k_hint = None
     radius = 1.5 * max_frequency
-    space = _Subspace(asm) if reduced else None
+    # speed × whirl tables: every speed is one eigensolve of the model with the tables'
+    # states (analyses/whirl.py); the reduced basis is for the quadratic problem
+    whirl_tables = frequency_dependent(asm)
+    space = _Subspace(asm) if reduced and not whirl_tables else None
     full_method = method
     if method == "auto":  # only the circle's modes are wanted: the measured crossover applies
         full_method = "sparse" if asm.n_dof >= _SPARSE_FROM else "dense"
@@ -337,7 +346,9 @@ def campbell(
                 chosen = np.where(a >= 0, idx[np.maximum(a, 0)], -1)
             on = chosen >= 0
             res = np.zeros(n_track)
-            res[on] = _residuals(asm, w, r.eigenvalues[chosen[on]], r.mode_shapes[chosen[on]])
+            # speed × whirl tables: the residual of the nonlinear problem (analyses/whirl.py)
+            of = whirl_residuals if whirl_tables else _residuals
+            res[on] = of(asm, w, r.eigenvalues[chosen[on]], r.mode_shapes[chosen[on]])
             solver.append("full")
             if space is not None and space.fits(2 * int(on.sum())):
                 lam_c = r.eigenvalues[chosen[on]]
@@ -399,8 +410,12 @@ _SPARSE_FROM = 200
 
 def _candidates(r: ModalResult, include_overdamped: bool, radius: float) -> NDArray:
     """The modes that may be tracked: |λ| ≤ ``radius`` (what the sparse solver encloses, so
-    that every solver offers the same set), over-damped ones only when asked."""
+    that every solver offers the same set), over-damped ones only when asked; not the modes of
+    a speed × whirl table's fitted states (their number follows the fit's order, which differs
+    between the table's rows: they have no identity over speed)."""
     keep = np.ones(len(r), bool) if include_overdamped else ~r.overdamped
+    if r.state_mode is not None:
+        keep &= ~r.state_mode
     return np.flatnonzero(keep & (np.abs(r.eigenvalues) <= radius))
 
 

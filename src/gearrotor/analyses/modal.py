@@ -19,6 +19,10 @@ Eigensolver (``method="auto"``, measured by ``benchmarks/scaling.py``):
   max_frequency, it is no cheaper than dense and "auto" solves densely instead
   (``ModalResult.method`` says which solver ran).
 
+A model with speed × whirl tables (bearings or seals whose coefficients depend on the whirl
+frequency) is solved with the tables' fitted states added to the first-order form,
+:mod:`gearrotor.analyses.whirl`, by the same dense/sparse rule on the augmented system.
+
 The sparse solver finds the eigenvalues within a circle about a small negative real shift,
 raising the number requested (:func:`_next_k`) until every eigenvalue with
 ``|λ| ≤ max_frequency`` is enclosed, and returns those: every mode with |λ| ≤ max_frequency,
@@ -82,6 +86,8 @@ from ..assembly import Assembly, assemble
 from ..errors import ModelError, SolverError
 from ..model import Train
 from ..threads import limit, managed
+from .whirl import frequency_dependent
+from .whirl import solve as solve_whirl
 
 __all__ = [
     "ModalResult",
@@ -105,6 +111,9 @@ KIND_NAMES = ("L", "A", "T")  # index = Assembly.dof_kind() code
 # the dense solver at ~1e-15 and out of ARPACK (sparse, a Campbell sweep) at up to ~1e-8
 ROUNDOFF = 1e-7
 TYPE_THRESHOLD = 0.05  # energy share from which a DOF group (or the mesh) names the mode type
+# share of the fitted states of speed × whirl tables from which a mode is bearing-internal (P):
+# their largest amplitude at least 3× the rotor's largest displacement (analyses/whirl.py)
+STATE_SHARE_P = 0.9
 MODE_CLASSES = ("damped", "undamped", "over-damped", "unstable")
 REAL_CLASSES = ("rigid-body", "over-damped", "unstable")
 
@@ -139,8 +148,14 @@ class ModalResult:
     n_eigenvalues: int  # eigenvalues with |λ| ≤ max_frequency (all returned if none given)
     shaft_names: tuple[str, ...]
     assembly: Assembly = field(repr=False)
-    # (n,) kinetic-energy fraction in the pad DOFs (bearings with pad dynamics; 0 without)
+    # (n,) kinetic-energy fraction in the pad DOFs (bearings with pad dynamics; 0 without), or
+    # the states' share of a speed × whirl table (analyses/whirl.py), whichever is larger
     pad_share: NDArray | None = None
+    # speed × whirl tables: how the frequency dependence was solved and its work (eigensolves,
+    # states, the tables' whirl ranges and fit misfits; analyses/whirl.py), else None
+    frequency_dependence: dict | None = None
+    # (n,) bool: a mode of the fitted states of a speed × whirl table (typed P), else None
+    state_mode: NDArray | None = None
 
     @property
     def damped_frequency(self) -> NDArray:
@@ -269,6 +284,11 @@ class ModalResult:
             "class_counts": self.class_counts(),
             "modes": modes,
             "real_modes": real,
+            **(
+                {"frequency_dependence": self.frequency_dependence}
+                if self.frequency_dependence is not None
+                else {}
+            ),
         }
 
     def table(self) -> str:
@@ -290,6 +310,19 @@ class ModalResult:
                 f"{self.mode_type[i]:>6}  {_NOTE[cls]}"
             )
         rows.append(self.counts_line())
+        fd = self.frequency_dependence
+        if fd is not None:
+            misfit = max((e["max_misfit"] for e in fd["elements"]), default=0.0)
+            rows.append(
+                f"speed × whirl tables: {fd['states']} fitted states (largest misfit "
+                f"{misfit:.2g}), {fd['eigensolves']} eigensolve; type P: modes of the tables' "
+                "own dynamics (the rotor barely moves)"
+            )
+            if fd["modes_beyond_whirl_tables"]:
+                rows.append(
+                    "modes above the tables' highest whirl frequency: "
+                    f"{fd['modes_beyond_whirl_tables']} (they see the fits' continuation)"
+                )
         return "\n".join(rows)
 
 
@@ -719,7 +752,19 @@ def shares_to_types(shares: NDArray, threshold: float = TYPE_THRESHOLD) -> tuple
     return tuple(types)
 
 
-def _classify(lam, V, asm, speeds, K, *, rigid_tol, overdamped_zeta, type_threshold, max_frequency):
+def _classify(
+    lam,
+    V,
+    asm,
+    speeds,
+    K,
+    *,
+    rigid_tol,
+    overdamped_zeta,
+    type_threshold,
+    max_frequency,
+    state_amplitude=None,
+):
     lam = np.asarray(lam)
     mag = np.abs(lam)
     Vr, Vi = _split(V)
@@ -751,6 +796,9 @@ def _classify(lam, V, asm, speeds, K, *, rigid_tol, overdamped_zeta, type_thresh
     scale = data.scale
     phys = np.abs(phi) * scale
     kmax = np.argmax(phys, axis=1)
+    if state_amplitude is not None:  # the states of speed × whirl tables (analyses/whirl.py)
+        a2 = np.asarray(state_amplitude)[idx] ** 2
+        state_share = a2 / np.maximum(a2 + phys[np.arange(len(idx)), kmax] ** 2, 1e-300)
     ref = phi[np.arange(len(idx)), kmax] * scale[kmax]
     phi = phi / ref[:, None]
 
@@ -763,10 +811,22 @@ def _classify(lam, V, asm, speeds, K, *, rigid_tol, overdamped_zeta, type_thresh
     total_kin = np.maximum(kin.sum(axis=1) + pad_kin, 1e-300)
     frac = kin / total_kin[:, None]
     pad_share = pad_kin / total_kin
+    internal = pad_share >= 0.5
+    state_mode = None
+    if state_amplitude is not None:
+        # the states' amplitude only approximates a displacement: a mode is typed P (not
+        # judged as a lateral mode) only when the rotor barely moves (analyses/whirl.py); its
+        # shafts' fractions are their share of it, the states taking the rest (as the pads'
+        # kinetic energy does in a pad mode)
+        in_states = state_share >= STATE_SHARE_P
+        state_mode = in_states
+        internal |= in_states
+        frac[in_states] *= (1.0 - state_share[in_states])[:, None]
+        pad_share = np.maximum(pad_share, state_share)
     shares = _energy_shares(phi, asm, K, kin)
     types = tuple(
-        "P" if p >= 0.5 else t
-        for t, p in zip(shares_to_types(shares, type_threshold), pad_share, strict=True)
+        "P" if p else t
+        for t, p in zip(shares_to_types(shares, type_threshold), internal, strict=True)
     )
 
     # whirl per shaft: the sense of the orbits weighted by amplitude, relative to the spin
@@ -810,6 +870,7 @@ def _classify(lam, V, asm, speeds, K, *, rigid_tol, overdamped_zeta, type_thresh
         mode_class=tuple(mode_class),
         real_class=real_class,
         pad_share=pad_share,
+        state_mode=state_mode,
     )
 
 
@@ -858,10 +919,64 @@ def modal(
         speed = w_op if speed is None else float(speed)
     asm = model if isinstance(model, Assembly) else assemble(model)
     w = asm.train.speed if speed is None else float(speed)
-    M, C, G, K = asm.matrices(w)
-    Cg = C + G
     if method not in ("auto", "dense", "sparse"):
         raise ValueError(f"unknown method {method!r}; expected 'auto', 'dense' or 'sparse'")
+    work = state_amplitude = None
+    if frequency_dependent(asm):
+        # speed × whirl tables: the fits' states added to the eigenproblem (analyses/whirl.py)
+        if method == "auto":
+            method = auto_method(asm.n_dof, max_frequency)
+        if method == "sparse" and max_frequency is None and n_modes is None:
+            method = "dense"
+        lam, V, K, state_amplitude, work = solve_whirl(
+            asm, w, max_frequency=max_frequency, method=method, n_modes=n_modes
+        )
+    else:
+        lam, V, K, method = _solve(asm, w, method, max_frequency, n_modes, sparse_k)
+    if rigid_tol is None:
+        rigid_tol = 1e-2
+    res = _classify(
+        lam,
+        V,
+        asm,
+        asm.shaft_speeds(w),
+        K,
+        rigid_tol=rigid_tol,
+        overdamped_zeta=overdamped_zeta,
+        type_threshold=type_threshold,
+        max_frequency=max_frequency,
+        state_amplitude=state_amplitude,
+    )
+    if n_modes is not None:
+        for key in (
+            "eigenvalues",
+            "mode_shapes",
+            "energy_fractions",
+            "overdamped",
+            "energy_shares",
+            "pad_share",
+            "state_mode",
+        ):
+            if res[key] is not None:
+                res[key] = res[key][:n_modes]
+        for key in ("whirl_per_shaft", "whirl", "mode_type", "mode_class"):
+            res[key] = res[key][:n_modes]
+    return ModalResult(
+        speed=w,
+        shaft_speeds=asm.shaft_speeds(w),
+        method=method,
+        n_eigenvalues=int(np.sum(np.abs(lam) <= max_frequency)) if max_frequency else len(lam),
+        shaft_names=tuple(s.name for s in asm.train.shafts),
+        assembly=asm,
+        frequency_dependence=work,
+        **res,
+    )
+
+
+def _solve(asm: Assembly, w: float, method: str, max_frequency, n_modes, sparse_k):
+    """(λ, eigenvectors (n, k), K, the method used) of the quadratic problem at speed w."""
+    M, C, G, K = asm.matrices(w)
+    Cg = C + G
     k_max = None
     if method == "auto":
         method = auto_method(asm.n_dof, max_frequency)
@@ -878,37 +993,4 @@ def modal(
         lam, V = _solve_dense(M.toarray(), Cg.toarray(), K.toarray(), asm)
     if not np.all(np.isfinite(lam)):
         raise SolverError("the eigensolver returned non-finite eigenvalues")
-    if rigid_tol is None:
-        rigid_tol = 1e-2
-    res = _classify(
-        lam,
-        V,
-        asm,
-        asm.shaft_speeds(w),
-        K,
-        rigid_tol=rigid_tol,
-        overdamped_zeta=overdamped_zeta,
-        type_threshold=type_threshold,
-        max_frequency=max_frequency,
-    )
-    if n_modes is not None:
-        for key in (
-            "eigenvalues",
-            "mode_shapes",
-            "energy_fractions",
-            "overdamped",
-            "energy_shares",
-            "pad_share",
-        ):
-            res[key] = res[key][:n_modes]
-        for key in ("whirl_per_shaft", "whirl", "mode_type", "mode_class"):
-            res[key] = res[key][:n_modes]
-    return ModalResult(
-        speed=w,
-        shaft_speeds=asm.shaft_speeds(w),
-        method=method,
-        n_eigenvalues=int(np.sum(np.abs(lam) <= max_frequency)) if max_frequency else len(lam),
-        shaft_names=tuple(s.name for s in asm.train.shafts),
-        assembly=asm,
-        **res,
-    )
+    return lam, V, K, method

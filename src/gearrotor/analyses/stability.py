@@ -657,7 +657,8 @@ def criterion_class(
 ) -> NDArray:
     """Per mode, whether the stability criteria judge it (module docstring): ``"judged"``,
     or why not: ``"over-damped"``, ``"not lateral"`` (less than ``min_lateral`` of its kinetic
-    energy in lateral motion, or a pad mode ``P``), ``"backward"`` (whirl on the shaft with
+    energy in lateral motion, or a bearing-internal mode ``P``: the pads', or the fitted
+    states' of a speed × whirl table), ``"backward"`` (whirl on the shaft with
     the largest lateral amplitude), ``"above window"`` (damped ``frequency`` above ``window``,
     rad/s; None: no limit). Arrays of one value per mode (a modal result's, or one speed of a
     Campbell diagram's tracks; NaN frequencies are over-damped there). An unstable mode fails

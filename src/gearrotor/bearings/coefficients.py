@@ -214,6 +214,8 @@ def coefficients(
             )
         eq = equilibrium(bearing, load, speed, options=opts)
     ev = _Evaluator(bearing, eq.speed, opts)
+    if eq.thermal is not None:  # the temperatures frozen at the equilibrium
+        ev.viscosity = list(eq.thermal.viscosity)
     u = np.concatenate([[eq.x, eq.y], eq.pad_dofs * _lever_scale(bearing)[2:]])
     k_lev, c_lev = ev.jacobians(u, velocity=True)
     s = _lever_scale(bearing)
@@ -232,6 +234,8 @@ def static_stiffness(
     (the pads settle, zero whirl frequency). Used by the static analysis's journal iteration."""
     opts = options or SolverOptions()
     ev = _Evaluator(bearing, eq.speed, opts)
+    if eq.thermal is not None:
+        ev.viscosity = list(eq.thermal.viscosity)
     s = _lever_scale(bearing)
     u = np.concatenate([[eq.x, eq.y], eq.pad_dofs * s[2:]])
     k_lev, _ = ev.jacobians(u, velocity=False)

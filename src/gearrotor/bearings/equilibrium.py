@@ -17,6 +17,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
@@ -25,6 +26,9 @@ from ..errors import ModelError, SolverError
 from .film import BearingFilm, SolverOptions, _Evaluator, _lever_scale
 from .geometry import Bearing
 from .reynolds import FilmContact
+
+if TYPE_CHECKING:
+    from .thermal import ThermalResult
 
 __all__ = ["Equilibrium", "equilibrium", "sommerfeld_number"]
 
@@ -67,6 +71,9 @@ class Equilibrium:
     status
         ``"converged"`` (Newton) or ``"converged (load continuation)"`` (after the fallback);
         failures raise instead.
+    thermal
+        With a thermal model (``SolverOptions.thermal``): temperatures, flows, power loss and
+        the viscosity field the film was solved with; None for an isoviscous film.
     """
 
     speed: float
@@ -86,6 +93,7 @@ class Equilibrium:
     film_solves: int
     factorizations: int
     status: str = "converged"
+    thermal: ThermalResult | None = None
 
     @property
     def speed_rpm(self) -> float:
@@ -223,16 +231,27 @@ def equilibrium(
     if start is not None and len(start.pad_dofs) == ev.n - 2:
         u0[0], u0[1] = start.x, start.y
         u0[2:] = start.pad_dofs * _lever_scale(bearing)[2:]
-    iterations = 0
-    if start is None:
-        u0 = ev.settle_pads(u0)
-    status = "converged"
-    try:
-        u, film, iterations = _newton(ev, u0, wg, ftol, opts.max_iter)
-    except SolverError as first:
-        u, film, iterations = _continuation(ev, wg, ftol, opts.max_iter, first)
-        status = "converged (load continuation)"
-    return _result(bearing, speed, (fx, fy), u, film, iterations, ev, status)
+
+    def solve(u_start: NDArray | None) -> tuple[NDArray, BearingFilm, int, str]:
+        if u_start is None:
+            u_start = u0 if start is not None else ev.settle_pads(u0)
+        try:
+            return (*_newton(ev, u_start, wg, ftol, opts.max_iter), "converged")
+        except SolverError as first:
+            res = _continuation(ev, wg, ftol, opts.max_iter, first)
+            return (*res, "converged (load continuation)")
+
+    if opts.thermal is None:
+        u, film, iterations, status = solve(None)
+        return _result(bearing, speed, (fx, fy), u, film, iterations, ev, status)
+    from .thermal import solve_thermal
+
+    if start is not None and start.thermal is not None:
+        ev.viscosity = list(start.thermal.viscosity)
+    u, film, iterations, status, state = solve_thermal(
+        ev, solve, opts.thermal, start.thermal if start is not None else None
+    )
+    return _result(bearing, speed, (fx, fy), u, film, iterations, ev, status, state)
 
 
 def _continuation(
@@ -274,6 +293,7 @@ def _result(
     iterations: int,
     ev: _Evaluator,
     status: str,
+    thermal: ThermalResult | None = None,
 ) -> Equilibrium:
     x, y = float(u[0]), float(u[1])
     e = math.hypot(x, y)
@@ -301,4 +321,5 @@ def _result(
         film_solves=ev.work.film_solves,
         factorizations=ev.work.factorizations,
         status=status,
+        thermal=thermal,
     )

@@ -14,6 +14,7 @@ pad force) plus the pivot spring force ``−k_p ξ`` on ξ.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
@@ -29,6 +30,9 @@ from .reynolds import (
     pad_mesh,
     solve_pad,
 )
+
+if TYPE_CHECKING:
+    from .thermal import ThermalModel
 
 __all__ = ["SolverOptions", "BearingFilm", "film_state", "dof_names"]
 
@@ -53,6 +57,12 @@ class SolverOptions:
         ``0.1 · perturbation · c · |ω|``. 1 % of c spans several nodes' cavitation switches, which
         smooths the piecewise-smooth force map of the discrete Swift–Stieber film; the central
         difference truncation error stays ~1e-4.
+    thermal
+        A thermal model (:class:`~gearrotor.bearings.thermal.ThermalModel`: effective
+        temperature or THD, with the lubricant and supply temperature); None (default) is the
+        isoviscous film at the bearing's ``viscosity``. With a thermal model the equilibrium
+        iterates film and temperatures to a consistent state, and the coefficients are taken
+        at its viscosity field.
     """
 
     grid: Grid = field(default_factory=Grid)
@@ -60,6 +70,7 @@ class SolverOptions:
     tol: float = 1e-9
     max_iter: int = 40
     perturbation: float = 1e-2
+    thermal: ThermalModel | None = None
 
     def __post_init__(self) -> None:
         if self.cavitation not in ("swift_stieber", "half_sommerfeld", "none"):
@@ -172,6 +183,8 @@ class _Evaluator:
         self.meshes = [pad_mesh(p, r, bearing.length, c, options.grid) for p in bearing.pads]
         self.active: list[NDArray | None] = [None] * len(bearing.pads)
         self.work = WorkCounter()
+        #: per pad: μ (Pa·s), or a nodal viscosity field (thermal models)
+        self.viscosity: list[float | NDArray] = [bearing.viscosity] * len(bearing.pads)
 
     def local_q(self, k: int, u: NDArray) -> NDArray:
         """Pad k's (X, Y, A, S) divided by the clearance."""
@@ -189,7 +202,7 @@ class _Evaluator:
             q,
             qdot,
             self.speed,
-            viscosity=b.viscosity,
+            viscosity=self.viscosity[k],
             radius=b.radius,
             clearance=b.clearance,
             cavitation=self.options.cavitation,

@@ -40,6 +40,7 @@ from .geometry import (
     plain,
     tilting_pad,
 )
+from .lubricant import CELSIUS, Lubricant, iso_vg
 from .reynolds import Grid
 
 __all__ = ["BearingCase", "load_bearing", "parse_bearing"]
@@ -58,6 +59,13 @@ Stiffness = _q("stiffness")
 Mass = _q("mass")
 Inertia = _q("inertia")
 Fraction = _q("dimensionless")
+Temperature = Annotated[float, BeforeValidator(lambda v: to_si(v, "temperature")), Field(gt=0)]
+KinematicViscosity = Annotated[
+    float, BeforeValidator(lambda v: to_si(v, "kinematic_viscosity")), Field(gt=0)
+]
+SpecificHeat = Annotated[float, BeforeValidator(lambda v: to_si(v, "specific_heat")), Field(gt=0)]
+HeatTransfer = Annotated[float, BeforeValidator(lambda v: to_si(v, "heat_transfer")), Field(ge=0)]
+Density = Annotated[float, BeforeValidator(lambda v: to_si(v, "density")), Field(gt=0)]
 Int = Annotated[int, Strict()]
 #: pivot (or reference-angle) position as a fraction of the pad arc
 Offset = Annotated[float, BeforeValidator(lambda v: to_si(v, "dimensionless")), Field(ge=0, le=1)]
@@ -114,12 +122,48 @@ class _PadIn(_Strict):
     offset: Offset = 0.5
 
 
+class _LubricantIn(_Strict):
+    """``[bearing.lubricant]``: one of ``grade``, ``nu40`` + ``nu100``, ``viscosity_points``."""
+
+    name: str = ""
+    grade: str | None = None
+    viscosity_index: Fraction = 100.0
+    nu40: KinematicViscosity | None = None
+    nu100: KinematicViscosity | None = None
+    viscosity_points: list[tuple[Temperature, Viscosity]] | None = Field(
+        default=None, min_length=2, max_length=3
+    )
+    law: Literal["walther", "vogel", "exponential"] | None = None
+    density: Density = 870.0
+    specific_heat: SpecificHeat | None = None
+    pour_point: Temperature = CELSIUS - 6.0
+    max_temperature: Temperature = CELSIUS + 150.0
+
+
+class _ThermalIn(_Strict):
+    """``[bearing.thermal]``."""
+
+    model: Literal["isoviscous", "effective", "thd"]
+    supply_temperature: Temperature
+    temperature: Temperature | None = None
+    carry_over: Fraction = 0.8
+    effective_factor: Fraction = 0.5
+    pad_heat_transfer: HeatTransfer = 0.0
+    journal_heat_transfer: HeatTransfer = 0.0
+    journal_temperature: Temperature | None = None
+    tolerance: float = Field(0.1, gt=0, le=10, description="K")
+    max_iterations: Int = Field(100, ge=1, le=10_000)
+    relaxation: float = Field(0.7, gt=0, le=1)
+
+
 class _Common(_Strict):
     name: str = ""
     diameter: Length
     length: Length
     clearance: Length
-    viscosity: Viscosity
+    viscosity: Viscosity | None = None
+    lubricant: _LubricantIn | None = None
+    thermal: _ThermalIn | None = None
     speed: Speed | None = None
     cavitation: Literal["swift_stieber", "half_sommerfeld", "none"] = "swift_stieber"
     grid: _GridIn = _GridIn()
@@ -211,11 +255,15 @@ class BearingCase:
     load_names
         Names of the load cases ("" when not given).
     options
-        Solver options (grid, cavitation) from the file.
+        Solver options (grid, cavitation, thermal model) from the file.
     source
         The file it came from.
     notes
         Free text from the file.
+    lubricant
+        The ``[bearing.lubricant]``, if given.
+    temperature
+        ``thermal.model = "isoviscous"``: the film temperature (K) the viscosity is taken at.
     """
 
     bearing: Bearing
@@ -225,6 +273,8 @@ class BearingCase:
     options: SolverOptions = field(default_factory=SolverOptions)
     source: str = ""
     notes: str = ""
+    lubricant: Lubricant | None = None
+    temperature: float | None = None
 
 
 def _known_keys() -> set[str]:
@@ -242,6 +292,8 @@ def _known_keys() -> set[str]:
         _PocketIn,
         _LoadIn,
         _GridIn,
+        _LubricantIn,
+        _ThermalIn,
     ):
         keys |= set(cls.model_fields)
     return keys
@@ -295,9 +347,9 @@ def _with_pockets(pockets: list[_PocketIn], n_pads: int) -> dict[int, Pocket]:
     return out
 
 
-def _build(inp: Any) -> Bearing:
+def _build(inp: Any, viscosity: float) -> Bearing:
     common = dict(
-        diameter=inp.diameter, length=inp.length, clearance=inp.clearance, viscosity=inp.viscosity
+        diameter=inp.diameter, length=inp.length, clearance=inp.clearance, viscosity=viscosity
     )
     name = inp.name
     t = inp.type
@@ -421,10 +473,11 @@ def parse_bearing(doc: dict, source: str = "") -> BearingCase:
         ) from None
     inp = data.bearing
     try:
-        bearing = _build(inp)
+        lubricant, thermal, viscosity, temperature = _thermal(inp)
+        bearing = _build(inp, viscosity)
         _check_size(bearing, inp.grid)
         options = SolverOptions(
-            grid=Grid(inp.grid.n_theta, inp.grid.n_z), cavitation=inp.cavitation
+            grid=Grid(inp.grid.n_theta, inp.grid.n_z), cavitation=inp.cavitation, thermal=thermal
         )
     except ModelError as err:
         if err.field and not err.field.startswith("bearing."):
@@ -434,7 +487,137 @@ def parse_bearing(doc: dict, source: str = "") -> BearingCase:
         raise (err.with_file(source) if source else err) from None
     loads = tuple((ld.fx, ld.fy) for ld in inp.loads)
     names = tuple(ld.name for ld in inp.loads)
-    return BearingCase(bearing, inp.speed, loads, names, options, source, inp.notes)
+    return BearingCase(
+        bearing, inp.speed, loads, names, options, source, inp.notes, lubricant, temperature
+    )
+
+
+def _lubricant(lu: _LubricantIn) -> Lubricant:
+    ways = (("grade", lu.grade), ("nu40", lu.nu40), ("viscosity_points", lu.viscosity_points))
+    given = [n for n, v in ways if v is not None]
+    props = dict(
+        density=lu.density,
+        specific_heat=lu.specific_heat,
+        pour_point=lu.pour_point,
+        max_temperature=lu.max_temperature,
+    )
+    if len(given) != 1 or (lu.nu40 is None) != (lu.nu100 is None):
+        raise ModelError(
+            "give the lubricant's viscosity one way",
+            field="lubricant",
+            value=", ".join(given + (["nu100"] if lu.nu100 is not None else [])) or None,
+            expected="grade = 'ISO VG 32', or nu40 and nu100, or viscosity_points (with law)",
+        )
+    if lu.law is not None and lu.viscosity_points is None:
+        raise ModelError(
+            "'law' goes with viscosity_points (a grade or nu40/nu100 use ASTM D341)",
+            field="lubricant.law",
+            value=lu.law,
+            expected="viscosity_points, or no law",
+        )
+    if lu.grade is not None:
+        text = lu.grade.upper().replace("ISO", "").replace("VG", "").strip()
+        try:
+            grade = int(text)
+        except ValueError:
+            raise ModelError(
+                "cannot read the ISO VG grade",
+                field="lubricant.grade",
+                value=lu.grade,
+                expected="e.g. 'ISO VG 32'",
+            ) from None
+        return iso_vg(grade, vi=lu.viscosity_index, **props)
+    name = lu.name
+    if lu.nu40 is not None:
+        return Lubricant.walther(lu.nu40, lu.nu100, name=name, **props)
+    pts = [(float(t), float(m)) for t, m in lu.viscosity_points]
+    law = lu.law or "walther"
+    need = 3 if law == "vogel" else 2
+    if len(pts) != need:
+        raise ModelError(
+            f"the {law} law takes {need} viscosity points",
+            field="lubricant.viscosity_points",
+            value=len(pts),
+            expected=f"{need} [temperature, dynamic viscosity] pairs",
+        )
+    if law == "vogel":
+        return Lubricant.vogel(pts, name=name, **props)
+    if law == "exponential":
+        return Lubricant.exponential(pts[0], pts[1], name=name, **props)
+    # walther through two dynamic viscosities: ν = μ/ρ(T)
+    probe = Lubricant.constant(1.0, density=lu.density)
+    (t1, m1), (t2, m2) = pts
+    nu1, nu2 = m1 / float(probe.density_at(t1)), m2 / float(probe.density_at(t2))
+    return Lubricant.walther(nu1, nu2, t1, t2, name=name, **props)
+
+
+def _thermal(inp: Any):
+    """(lubricant, ThermalModel or None, the bearing's viscosity, isoviscous temperature)."""
+    from .thermal import ThermalModel
+
+    if inp.thermal is None and inp.lubricant is None:
+        if inp.viscosity is None:
+            raise ModelError(
+                "missing required field",
+                field="viscosity",
+                expected="a viscosity, or [bearing.lubricant] with [bearing.thermal]",
+            )
+        return None, None, inp.viscosity, None
+    if inp.lubricant is None or inp.thermal is None:
+        have, need = ("thermal", "lubricant") if inp.lubricant is None else ("lubricant", "thermal")
+        raise ModelError(
+            f"[bearing.{have}] needs [bearing.{need}]",
+            field=need,
+            expected=(
+                "the oil: grade, nu40 and nu100, or viscosity_points"
+                if need == "lubricant"
+                else "model ('isoviscous', 'effective' or 'thd') and supply_temperature"
+            ),
+        )
+    if inp.viscosity is not None:
+        raise ModelError(
+            "the viscosity comes from the lubricant and its temperature",
+            field="viscosity",
+            value=inp.viscosity,
+            expected="no 'viscosity' with [bearing.lubricant] (or drop the lubricant)",
+        )
+    lub = _lubricant(inp.lubricant)
+    th = inp.thermal
+    lub.check_temperature(th.supply_temperature, "thermal.supply_temperature")
+    if th.model == "isoviscous":
+        for name in ("carry_over", "effective_factor"):
+            if name in th.model_fields_set:
+                raise ModelError(
+                    f"{name} has no effect on an isoviscous film",
+                    field=f"thermal.{name}",
+                    value=getattr(th, name),
+                    expected="model = 'effective' or 'thd'",
+                )
+        t = th.temperature if th.temperature is not None else th.supply_temperature
+        lub.check_temperature(t, "thermal.temperature")
+        return lub, None, float(lub.viscosity(t)), t
+    if th.temperature is not None:
+        raise ModelError(
+            "a film temperature is given only with model = 'isoviscous' (the thermal models "
+            "compute it)",
+            field="thermal.temperature",
+            value=f"{th.temperature - CELSIUS:.6g} degC",
+            expected="no 'temperature' here",
+        )
+    model = ThermalModel(
+        th.model,
+        lub,
+        th.supply_temperature,
+        carry_over=th.carry_over,
+        effective_factor=th.effective_factor,
+        pad_heat_transfer=th.pad_heat_transfer,
+        journal_heat_transfer=th.journal_heat_transfer,
+        journal_temperature=th.journal_temperature,
+        tol=th.tolerance,
+        max_iter=th.max_iterations,
+        relaxation=th.relaxation,
+    )
+    return lub, model, float(lub.viscosity(th.supply_temperature)), None
 
 
 def load_bearing(path: str | Path) -> BearingCase:

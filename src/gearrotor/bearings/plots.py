@@ -1,4 +1,5 @@
-"""Bearing plots (matplotlib): pressure maps, eccentricity locus, coefficients vs load/speed.
+"""Bearing plots (matplotlib): pressure and (THD) temperature maps, eccentricity locus,
+coefficients vs load/speed.
 
 Every function returns the :class:`matplotlib.figure.Figure` and, when ``path`` is given, saves
 it there (PNG/SVG by suffix). The Agg backend is used for files; nothing is changed at import.
@@ -18,7 +19,7 @@ from .coefficients import BearingTable, Coefficients
 from .equilibrium import Equilibrium
 from .geometry import Bearing, TiltingPadBearing
 
-__all__ = ["plot_pressure", "plot_locus", "plot_coefficients", "plot_table"]
+__all__ = ["plot_pressure", "plot_temperature", "plot_locus", "plot_coefficients", "plot_table"]
 
 
 def _figure(**kw):
@@ -81,6 +82,68 @@ def plot_pressure(eq: Equilibrium, bearing: Bearing, path: str | Path | None = N
         f"{bearing.name}\nW = ({eq.load[0]:.0f}, {eq.load[1]:.0f}) N, |W| = {w:.0f} N, "
         f"{eq.speed_rpm:.0f} rpm, ε = {eq.eccentricity_ratio:.3f}, "
         f"h_min = {eq.min_film * 1e6:.1f} µm, p_max = {eq.peak_pressure / 1e6:.2f} MPa",
+        fontsize=10,
+    )
+    return _save(fig, path)
+
+
+def plot_temperature(eq: Equilibrium, bearing: Bearing, path: str | Path | None = None):
+    """Film (= pad surface) temperature (°C) of every pad of a THD equilibrium over angle and
+    axial position, and the mid-plane temperature over the circumference with each pad's inlet
+    and outlet temperatures and the supply temperature.
+
+    Raises ValueError for an equilibrium without a THD temperature field.
+    """
+    th = eq.thermal
+    if th is None or th.pads[0].temperature is None:
+        raise ValueError("plot_temperature needs a THD equilibrium (thermal model 'thd')")
+    films = eq.film.pads
+    n = len(films)
+    fig = _figure(figsize=(max(8.0, 2.6 * n), 6.4), layout="constrained")
+    gs = fig.add_gridspec(2, n, height_ratios=[1.2, 1.0])
+    t_s = th.supply_temperature - 273.15
+    t_hi = th.max_temperature - 273.15
+    from matplotlib.ticker import MaxNLocator
+
+    levels = MaxNLocator(nbins=20).tick_values(t_s, t_hi)
+    im = None
+    for k, (film, pt) in enumerate(zip(films, th.pads, strict=True)):
+        ax = fig.add_subplot(gs[0, k])
+        z = np.concatenate([film.z, bearing.length - film.z[-2::-1]]) * 1e3
+        t = pt.temperature - 273.15
+        t = np.concatenate([t, t[:, -2::-1]], axis=1)
+        ang = np.degrees(film.theta)
+        im = ax.contourf(ang, z, t.T, levels=levels, cmap="inferno", extend="both")
+        ax.set_title(f"pad {k + 1}: {ang[0]:.0f}°–{ang[-1]:.0f}°", fontsize=9)
+        ax.set_xlabel("θ (deg)")
+        if k == 0:
+            ax.set_ylabel("z (mm)")
+    if im is not None:
+        fig.colorbar(im, ax=fig.axes, label="film temperature (°C)", shrink=0.9)
+    ax = fig.add_subplot(gs[1, :])
+    for k, (film, pt) in enumerate(zip(films, th.pads, strict=True)):
+        ang = np.degrees(film.theta)
+        line = ax.plot(ang, pt.temperature[:, -1] - 273.15, lw=1.8, label=f"pad {k + 1}")[0]
+        if getattr(bearing.pads[k], "periodic", False):
+            continue  # a 360° film's inlet is where its cavity ends, not at 0°
+        ax.plot(
+            [ang[0], ang[-1]],
+            [pt.inlet_temperature - 273.15, pt.outlet_temperature - 273.15],
+            ls="none",
+            marker="o",
+            ms=4,
+            color=line.get_color(),
+        )
+    ax.axhline(t_s, color="0.4", lw=1.0, ls=":", label="supply")
+    ax.set_xlabel("θ (deg, from +x, counter-clockwise)")
+    ax.set_ylabel("mid-plane temperature (°C)")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8, loc="upper left", ncols=min(n + 1, 6))
+    fig.suptitle(
+        f"{bearing.name}: THD, supply {t_s:.1f} °C, hottest {t_hi:.1f} °C, power loss "
+        f"{th.power_loss / 1e3:.3g} kW\n{eq.speed_rpm:.0f} rpm, W = ({eq.load[0]:.0f}, "
+        f"{eq.load[1]:.0f}) N, ε = {eq.eccentricity_ratio:.3f}"
+        + ("" if getattr(bearing.pads[0], "periodic", False) else " (dots: pad inlet and outlet)"),
         fontsize=10,
     )
     return _save(fig, path)

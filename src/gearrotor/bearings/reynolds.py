@@ -1,19 +1,24 @@
-"""Finite-volume solution of the isoviscous, incompressible Reynolds equation on one pad.
+"""Finite-volume solution of the incompressible Reynolds equation on one pad.
 
-Equation (θ circumferential angle, ζ = z/R, H = h/c, p = μ (R/c)² P)::
+Equation (θ circumferential angle, ζ = z/R, H = h/c, p = μ_ref (R/c)² P, μ̄ = μ/μ_ref)::
 
-    ∂θ(H³ ∂θP) + ∂ζ(H³ ∂ζP) = 6 ω ∂θH + 12 ∂H/∂t
+    ∂θ(H³/μ̄ ∂θP) + ∂ζ(H³/μ̄ ∂ζP) = 6 ω ∂θH + 12 ∂H/∂t
+
+The viscosity is one number (isoviscous, μ̄ = 1) or a nodal field μ(θ, ζ) (thermal models,
+:mod:`gearrotor.bearings.thermal`): the temperature, hence the viscosity, is taken uniform
+across the film. A uniform field takes the isoviscous path, so it gives the isoviscous results
+bit for bit.
 
 Discretisation
 --------------
 Node-centred finite volumes on a uniform (θ, ζ) grid of ``n_theta`` intervals per pad and
 ``n_z`` intervals from the bearing edge to the mid-plane (pockets are axially centred, so the
 film is symmetric about the mid-plane, which is a zero-flux boundary). Face conductances are
-the exact one-dimensional values between two nodes, ``G = Δ / ∫ H⁻³``, and the Couette flux uses
-``H_c = ∫ H⁻² / ∫ H⁻³`` (3-point Gauss per face). For a smooth film this is the usual
-second-order scheme; at a pressure-dam step it is the exact Rayleigh-step flux of the face,
-so steps need not fall on grid lines. Pad edges and bearing ends are at ambient pressure
-(p = 0); a 360° ``periodic`` pad closes on itself.
+the exact one-dimensional values between two nodes, ``G = Δ / ∫ μ̄ H⁻³``, and the Couette flux
+uses ``H_c = ∫ μ̄ H⁻² / ∫ μ̄ H⁻³`` (3-point Gauss per face, μ̄ linear between the nodes). For a
+smooth film this is the usual second-order scheme; at a pressure-dam step it is the exact
+Rayleigh-step flux of the face, so steps need not fall on grid lines. Pad edges and bearing
+ends are at ambient pressure (p = 0); a 360° ``periodic`` pad closes on itself.
 
 Cavitation
 ----------
@@ -40,7 +45,15 @@ from scipy.sparse.linalg import splu
 from ..errors import SolverError
 from .geometry import Pad, TiltingPad
 
-__all__ = ["Grid", "Cavitation", "PadFilm", "WorkCounter", "pad_mesh", "solve_pad"]
+__all__ = [
+    "Grid",
+    "Cavitation",
+    "PadFilm",
+    "WorkCounter",
+    "pad_mesh",
+    "solve_pad",
+    "pad_fluxes",
+]
 
 Cavitation = Literal["swift_stieber", "half_sommerfeld", "none"]
 
@@ -277,8 +290,13 @@ class PadFilm:
     iterations: int = 0
 
 
-def _film_faces(mesh: _Mesh, q: NDArray) -> tuple[NDArray, NDArray, NDArray, NDArray]:
-    """Node film, θ-face conductance G_θ, Couette film H_c, ζ-face conductance G_ζ (all /c)."""
+def _film_faces(
+    mesh: _Mesh, q: NDArray, mubar: NDArray | None = None
+) -> tuple[NDArray, NDArray, NDArray, NDArray]:
+    """Node film, θ-face conductance G_θ, Couette film H_c, ζ-face conductance G_ζ (all /c).
+
+    ``mubar``: nodal viscosity field / μ_ref, shape (m+1, n+1), or None (isoviscous). It is
+    taken linear between two nodes on each face."""
     h_node = mesh.h0_node + np.tensordot(q, mesh.phi_node, axes=1)
     h_q = mesh.h0_q + np.tensordot(q, mesh.phi_q, axes=1)  # (m, g)
     n1 = len(mesh.zeta)
@@ -286,11 +304,19 @@ def _film_faces(mesh: _Mesh, q: NDArray) -> tuple[NDArray, NDArray, NDArray, NDA
         h_min = min(h_node.min(), h_q.min())
         if h_min <= 0.0:
             raise _contact(h_min)
-        inv3 = _GAUSS_W @ (h_q**-3).T  # (m,)
-        inv2 = _GAUSS_W @ (h_q**-2).T
-        g_th = np.repeat((1.0 / inv3)[:, None], n1, axis=1)
-        h_c = np.repeat((inv2 / inv3)[:, None], n1, axis=1)
-        g_ze = np.repeat((h_node**3)[:, None], n1 - 1, axis=1)
+        if mubar is None:
+            inv3 = _GAUSS_W @ (h_q**-3).T  # (m,)
+            inv2 = _GAUSS_W @ (h_q**-2).T
+            g_th = np.repeat((1.0 / inv3)[:, None], n1, axis=1)
+            h_c = np.repeat((inv2 / inv3)[:, None], n1, axis=1)
+            g_ze = np.repeat((h_node**3)[:, None], n1 - 1, axis=1)
+        else:
+            mu_q = _along_theta(mubar)  # (m, g, n+1)
+            inv3 = np.einsum("g,mgn->mn", _GAUSS_W, mu_q * (h_q**-3)[:, :, None])
+            inv2 = np.einsum("g,mgn->mn", _GAUSS_W, mu_q * (h_q**-2)[:, :, None])
+            g_th = 1.0 / inv3
+            h_c = inv2 / inv3
+            g_ze = (h_node**3)[:, None] / (0.5 * (mubar[:, 1:] + mubar[:, :-1]))
         h_full = np.repeat(h_node[:, None], n1, axis=1)
         return h_full, g_th, h_c, g_ze
     h_full = h_node[:, None] + mesh.pocket_node
@@ -299,13 +325,39 @@ def _film_faces(mesh: _Mesh, q: NDArray) -> tuple[NDArray, NDArray, NDArray, NDA
     if h_min <= 0.0:
         raise _contact(h_min)
     hq = h_q[:, :, None, None] + mesh.pocket_q  # (m, g, n+1, gz)
-    inv3 = np.einsum("g,mgnz->mnz", _GAUSS_W, hq**-3)
-    inv2 = np.einsum("g,mgnz->mnz", _GAUSS_W, hq**-2)
+    hzq = h_c[:, :, None, None] + mesh.pocket_zq  # (m+1, gt, n, g)
+    if mubar is None:
+        inv3 = np.einsum("g,mgnz->mnz", _GAUSS_W, hq**-3)
+        inv2 = np.einsum("g,mgnz->mnz", _GAUSS_W, hq**-2)
+        g_ze = np.einsum("t,mtn->mn", _GAUSS_W, 1.0 / (hzq**-3 @ _GAUSS_W))
+    else:
+        mu_q = _along_theta(mubar)[:, :, :, None]  # (m, g, n+1, 1)
+        inv3 = np.einsum("g,mgnz->mnz", _GAUSS_W, mu_q * hq**-3)
+        inv2 = np.einsum("g,mgnz->mnz", _GAUSS_W, mu_q * hq**-2)
+        mu_z = mubar[:, :-1, None] + _GAUSS_X * (mubar[:, 1:] - mubar[:, :-1])[:, :, None]
+        g_ze = np.einsum("t,mtn->mn", _GAUSS_W, 1.0 / ((mu_z[:, None, :, :] * hzq**-3) @ _GAUSS_W))
     g_th = (1.0 / inv3) @ _GAUSS_W
     couette = (inv2 / inv3) @ _GAUSS_W
-    hzq = h_c[:, :, None, None] + mesh.pocket_zq  # (m+1, gt, n, g)
-    g_ze = np.einsum("t,mtn->mn", _GAUSS_W, 1.0 / (hzq**-3 @ _GAUSS_W))
     return h_full, g_th, couette, g_ze
+
+
+def _along_theta(mubar: NDArray) -> NDArray:
+    """The nodal field at the θ-face Gauss points, linear between nodes: shape (m, g, n+1)."""
+    return mubar[:-1, None, :] + _GAUSS_X[None, :, None] * (mubar[1:] - mubar[:-1])[:, None, :]
+
+
+def _viscosity(mesh: _Mesh, viscosity: float | NDArray) -> tuple[float, NDArray | None]:
+    """(μ_ref, μ/μ_ref nodal field or None): a uniform field is the isoviscous case."""
+    if np.ndim(viscosity) == 0:
+        return float(viscosity), None
+    field = np.asarray(viscosity, dtype=float)
+    shape = (len(mesh.theta), len(mesh.zeta))
+    if field.shape != shape:
+        raise ValueError(f"viscosity field of shape {field.shape}, expected {shape}")
+    mu_ref = float(field.flat[0])
+    if np.all(field == mu_ref):
+        return mu_ref, None
+    return mu_ref, field / mu_ref
 
 
 def _contact(h_min: float) -> FilmContact:
@@ -397,7 +449,7 @@ def solve_pad(
     qdot: NDArray,
     omega: float,
     *,
-    viscosity: float,
+    viscosity: float | NDArray,
     radius: float,
     clearance: float,
     cavitation: Cavitation = "swift_stieber",
@@ -417,8 +469,12 @@ def solve_pad(
         Time derivative of ``q`` (1/s).
     omega
         Journal speed (rad/s, signed).
-    viscosity, radius, clearance
-        μ (Pa·s), R (m), c (m).
+    viscosity
+        μ (Pa·s): one number, or a nodal field of shape (m+1, n+1) (the pad's nodes,
+        :attr:`PadFilm.theta` × :attr:`PadFilm.z`). A uniform field is the isoviscous case (same
+        floating-point results as the number).
+    radius, clearance
+        R (m), c (m).
     cavitation
         Cavitation model (see module docstring).
     active
@@ -428,7 +484,8 @@ def solve_pad(
     """
     q = np.asarray(q, dtype=float)
     qdot = np.asarray(qdot, dtype=float)
-    h_full, g_th, h_c, g_ze = _film_faces(mesh, q)
+    mu_ref, mubar = _viscosity(mesh, viscosity)
+    h_full, g_th, h_c, g_ze = _film_faces(mesh, q, mubar)
     m = len(mesh.theta) - 1
     i, j = mesh.unk_i, mesh.unk_j
     iw = (i - 1) % m if mesh.periodic else i - 1
@@ -466,7 +523,7 @@ def solve_pad(
         work.film_solves += 1
         work.factorizations += iters
 
-    scale = viscosity * (radius / clearance) ** 2  # Pa per unit P
+    scale = mu_ref * (radius / clearance) ** 2  # Pa per unit P
     pgrid = np.zeros((m + 1, n + 1))
     pgrid[i, j] = p
     if mesh.periodic:
@@ -495,8 +552,9 @@ def solve_pad(
     dp_dth = np.gradient(pgrid, mesh.dth, axis=0)
     if mesh.periodic:
         dp_dth[0] = dp_dth[-1] = (pgrid[1] - pgrid[m - 1]) / (2 * mesh.dth)
-    dens = omega * (omega / h_full + 0.5 * h_full * dp_dth)
-    power = 2.0 * viscosity * radius**4 / clearance * float(wt @ dens @ wz)
+    couette = omega / h_full if mubar is None else mubar * omega / h_full
+    dens = omega * (couette + 0.5 * h_full * dp_dth)
+    power = 2.0 * mu_ref * radius**4 / clearance * float(wt @ dens @ wz)
     return PadFilm(
         theta=mesh.theta,
         z=mesh.zeta * radius,
@@ -508,3 +566,44 @@ def solve_pad(
         active=act,
         iterations=iters,
     )
+
+
+def pad_fluxes(
+    mesh: _Mesh,
+    film: PadFilm,
+    q: NDArray,
+    omega: float,
+    *,
+    viscosity: float | NDArray,
+    radius: float,
+    clearance: float,
+) -> tuple[NDArray, NDArray]:
+    """Volume flow through every face of a pad's control volumes implied by a steady film.
+
+    The same face conductances and Couette films as :func:`solve_pad`, so at every node with
+    a pressure (uncavitated unknown) the flows balance to round-off.
+
+    Returns
+    -------
+    theta_flow
+        Shape (m, n+1): flow (m³/s, half bearing) from node (i, j) to (i+1, j), positive in
+        +θ. Row j spans the axial width of node j's control volume (half a cell at the bearing
+        edge, j = 0, and at the mid-plane, j = n).
+    axial_flow
+        Shape (m+1, n): flow from node (i, j) to (i, j+1) (towards the mid-plane), over the
+        circumferential width of node i's control volume (half a cell at the ends of a
+        non-periodic pad).
+    """
+    q = np.asarray(q, dtype=float)
+    mu_ref, mubar = _viscosity(mesh, viscosity)
+    _, g_th, h_c, g_ze = _film_faces(mesh, q, mubar)
+    p = film.pressure / (mu_ref * (radius / clearance) ** 2)
+    k = clearance * radius**2 / 12.0
+    wz = mesh.dzw.copy()
+    wz[0] = 0.5 * mesh.dze
+    theta_flow = k * (6.0 * omega * h_c - g_th * np.diff(p, axis=0) / mesh.dth) * wz
+    wt = np.full(len(mesh.theta), mesh.dth)
+    if not mesh.periodic:
+        wt[[0, -1]] *= 0.5
+    axial_flow = -k * g_ze * np.diff(p, axis=1) / mesh.dze * wt[:, None]
+    return theta_flow, axial_flow

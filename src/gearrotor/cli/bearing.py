@@ -1,6 +1,7 @@
 """``gearrotor bearing BEARING.toml [--load FX,FY] [--speed RPM] [--format table|json]
 [--plot DIR]``: equilibrium and the 8 dynamic coefficients of a bearing file
-(:func:`gearrotor.bearings.coefficients`).
+(:func:`gearrotor.bearings.coefficients`); with a thermal model in the file, also the
+temperatures, power loss and oil flows of every pad.
 
 :func:`bearing_command` is the whole command as a Python function (registered through the
 Typer signature :func:`bearing_cli`). It prints to stdout and raises
@@ -29,6 +30,7 @@ if TYPE_CHECKING:
     from ..bearings.coefficients import Coefficients
 
 __all__ = [
+    "thermal_dict",
     "bearing_cli",
     "bearing_command",
     "parse_load",
@@ -137,7 +139,87 @@ def _row(k: int, name: str, co: Coefficients) -> dict:
         d[f"{n}_N_per_m"] = getattr(co, n)
     for n in ("cxx", "cxy", "cyx", "cyy"):
         d[f"{n}_N_s_per_m"] = getattr(co, n)
+    if eq.thermal is not None:
+        d["thermal"] = thermal_dict(eq.thermal)
     return d
+
+
+def thermal_dict(th) -> dict:
+    """A :class:`~gearrotor.bearings.thermal.ThermalResult` as JSON-ready numbers (SI, K)."""
+    pads = [
+        {
+            "pad": k + 1,
+            "inlet_temperature_K": p.inlet_temperature,
+            "outlet_temperature_K": p.outlet_temperature,
+            "max_temperature_K": p.max_temperature,
+            "film_temperature_K": p.film_temperature,
+            "power_loss_W": p.power_loss,
+            "inlet_flow_m3_per_s": p.inlet_flow,
+            "outlet_flow_m3_per_s": p.outlet_flow,
+            "side_flow_m3_per_s": p.side_flow,
+            "carried_flow_m3_per_s": p.carried_flow,
+            "supply_flow_m3_per_s": p.supply_flow,
+        }
+        for k, p in enumerate(th.pads)
+    ]
+    return {
+        "model": th.model,
+        "supply_temperature_K": th.supply_temperature,
+        "max_temperature_K": th.max_temperature,
+        "journal_temperature_K": None
+        if math.isnan(th.journal_temperature)
+        else th.journal_temperature,
+        "power_loss_W": th.power_loss,
+        "side_flow_m3_per_s": th.side_flow,
+        "supply_flow_m3_per_s": th.supply_flow,
+        "heat_carried_W": th.heat_carried,
+        "heat_conducted_W": th.heat_conducted,
+        "energy_residual_W": th.energy_residual,
+        "iterations": th.iterations,
+        "pads": pads,
+    }
+
+
+def _thermal_table(rows: list[dict]) -> list[str]:
+    """Per case and pad: temperatures (°C), power loss and flows (l/min)."""
+    if not any("thermal" in r for r in rows):
+        return []
+    lines = [
+        "",
+        f"{'case':>4} {'pad':>3} {'T_in °C':>8} {'T_out °C':>8} {'T_max °C':>8} "
+        f"{'T_film °C':>9} {'P kW':>7} {'Q_in l/min':>10} {'Q_side':>8} {'Q_fresh':>8}",
+    ]
+    for r in rows:
+        th = r.get("thermal")
+        if th is None:
+            continue
+        for p in th["pads"]:
+            lines.append(
+                f"{r['case']:>4} {p['pad']:>3} {_c(p['inlet_temperature_K']):>8.2f} "
+                f"{_c(p['outlet_temperature_K']):>8.2f} {_c(p['max_temperature_K']):>8.2f} "
+                f"{_c(p['film_temperature_K']):>9.2f} {p['power_loss_W'] / 1e3:>7.3f} "
+                f"{p['inlet_flow_m3_per_s'] * 6e4:>10.3f} {p['side_flow_m3_per_s'] * 6e4:>8.3f} "
+                f"{p['supply_flow_m3_per_s'] * 6e4:>8.3f}"
+            )
+        tj = th["journal_temperature_K"]
+        lines.append(
+            f"{r['case']:>4} all: {th['model']} model, supply {_c(th['supply_temperature_K']):.1f} "
+            f"°C, max {_c(th['max_temperature_K']):.2f} °C, power loss "
+            f"{th['power_loss_W'] / 1e3:.3f} kW, fresh oil {th['supply_flow_m3_per_s'] * 6e4:.3f} "
+            f"l/min, side leakage {th['side_flow_m3_per_s'] * 6e4:.3f} l/min"
+            + (f", journal {_c(tj):.2f} °C" if tj is not None else "")
+            + f" ({th['iterations']} iterations)"
+        )
+    lines.append(
+        "T_in: oil entering the pad (carry-over mixed with fresh oil); T_out: leaving it; "
+        "T_max: hottest film (pad surface); T_film: effective (or mean) film temperature; "
+        "Q_fresh: supply oil drawn"
+    )
+    return lines
+
+
+def _c(kelvin: float) -> float:
+    return kelvin - 273.15
 
 
 def format_table(rows: list[dict], header: str = "") -> str:
@@ -174,6 +256,7 @@ def format_table(rows: list[dict], header: str = "") -> str:
         "Lund's rigid-rotor stability threshold (whirl frequency ratio, critical journal mass); "
         "'-': no threshold, stable for any mass"
     )
+    lines += _thermal_table(rows)
     return "\n".join(lines)
 
 
@@ -207,8 +290,8 @@ def bearing_command(
     fmt
         ``"table"`` or ``"json"``.
     plot
-        Directory for PNG plots (pressure map per case, eccentricity locus, coefficients vs
-        load); created if needed.
+        Directory for PNG plots (pressure map per case, with a THD model also a temperature
+        map per case, eccentricity locus, coefficients vs load); created if needed.
 
     Returns
     -------
@@ -268,6 +351,7 @@ def bearing_command(
         "cavitation": case.options.cavitation,
         "wall_time_s": wall,
     }
+    meta |= _lubricant_meta(case)
     if fmt == "json":
         print(to_json(rows, meta))
     else:
@@ -277,7 +361,7 @@ def bearing_command(
                 header=(
                     f"{b.name} ({path}): D = {b.diameter * 1e3:.2f} mm, "
                     f"L = {b.length * 1e3:.1f} mm, "
-                    f"c = {b.clearance * 1e6:.1f} µm, μ = {b.viscosity:.4g} Pa·s, "
+                    f"c = {b.clearance * 1e6:.1f} µm, {_oil_text(case)}, "
                     f"{w * 30 / math.pi:.0f} rpm; grid {case.options.grid.n_theta}x"
                     f"{case.options.grid.n_z}/pad; {wall:.2f} s"
                 ),
@@ -289,8 +373,41 @@ def bearing_command(
     return results
 
 
+def _lubricant_meta(case) -> dict:
+    """The lubricant and thermal model of a bearing file, for the JSON header."""
+    lub, th = case.lubricant, case.options.thermal
+    if lub is None:
+        return {}
+    out = {
+        "lubricant": {
+            "name": lub.name,
+            "law": lub.law,
+            "density_15C_kg_per_m3": lub.density,
+            "pour_point_K": lub.pour_point,
+            "max_temperature_K": lub.max_temperature,
+        },
+        "thermal_model": th.model if th is not None else "isoviscous",
+    }
+    if th is not None:
+        out["supply_temperature_K"] = th.supply_temperature
+        out["carry_over"] = th.carry_over
+    else:
+        out["film_temperature_K"] = case.temperature
+    return out
+
+
+def _oil_text(case) -> str:
+    b, lub, th = case.bearing, case.lubricant, case.options.thermal
+    if lub is None:
+        return f"μ = {b.viscosity:.4g} Pa·s"
+    name = lub.name or lub.law
+    if th is None:
+        return f"{name} at {_c(case.temperature):.1f} °C (μ = {b.viscosity:.4g} Pa·s, isoviscous)"
+    return f"{name}, {th.model} model, supply {_c(th.supply_temperature):.1f} °C"
+
+
 def _plots(bearing, results: list[Coefficients], outdir: Path, progress=None) -> list[Path]:
-    from ..bearings.plots import plot_coefficients, plot_locus, plot_pressure
+    from ..bearings.plots import plot_coefficients, plot_locus, plot_pressure, plot_temperature
 
     make_directory(outdir, field="--plot")
     out = []
@@ -298,6 +415,11 @@ def _plots(bearing, results: list[Coefficients], outdir: Path, progress=None) ->
         p = outdir / f"pressure_case{k + 1:02d}.png"
         plot_pressure(co.equilibrium, bearing, p)
         out.append(p)
+        th = co.equilibrium.thermal
+        if th is not None and th.pads[0].temperature is not None:
+            p = outdir / f"temperature_case{k + 1:02d}.png"
+            plot_temperature(co.equilibrium, bearing, p)
+            out.append(p)
     p = outdir / "locus.png"
     plot_locus([co.equilibrium for co in results], bearing, p)
     out.append(p)

@@ -19,7 +19,14 @@ from typing import Any
 from pydantic import BaseModel, ValidationError
 
 from ..errors import ModelError
-from ..inputs import MAX_LISTED, read_table, read_toml
+from ..inputs import (
+    MAX_LISTED,
+    WHIRL_TABLE_COLUMNS,
+    read_table,
+    read_toml,
+    read_whirl_table,
+    table_columns,
+)
 from ..model import Train
 
 __all__ = [
@@ -383,17 +390,38 @@ def _check_files(train: Train, file: str) -> None:
             field = f"{group}[{k}].table_file" if table is not None else f"{group}[{k}].fluid_film"
             try:
                 if table is not None:
-                    read_table(table)
+                    if table_columns(table) == WHIRL_TABLE_COLUMNS:
+                        _check_whirl(read_whirl_table(table), b, f"{group}[{k}]", table)
+                    else:
+                        read_table(table)
                 if ff is not None:
                     read_toml(ff.file, "bearing")
             except ModelError as exc:
                 raise ModelError(str(exc), field=field, file=file) from None
+            inline = getattr(b, "table", None)
+            if inline is not None and inline.whirl is not None and inline.whirl_dependent:
+                try:
+                    _check_whirl(inline.whirl_rows(), b, f"{group}[{k}].table", None)
+                except ModelError as exc:
+                    raise exc.with_file(file) from None
             seal_file = getattr(b, "file", None)
             if seal_file is not None:  # a seal file: read here, its fields checked at assembly
                 try:
                     read_toml(seal_file, "seal")
                 except ModelError as exc:
                     raise ModelError(str(exc), field=f"{group}[{k}].file", file=file) from None
+
+
+def _check_whirl(rows, entry, field: str, file: str | None) -> None:
+    """A speed × whirl table's rows fitted within the entry's ``fit_tolerance`` (the fits are
+    kept for the assembly, :func:`gearrotor.elements.fit_row`)."""
+    import numpy as np
+
+    from ..elements.whirl_bearing import fit_rows
+
+    if all(np.all(v == v[0]) for _, _, v in rows):
+        return  # constant in whirl: a speed table
+    fit_rows(rows, entry.fit_tolerance, field=field, file=file)
 
 
 def _check_gear_files(train: Train, file: str) -> None:

@@ -12,6 +12,7 @@ from typing import Annotated, Literal
 
 from pydantic import (
     BaseModel,
+    BeforeValidator,
     ConfigDict,
     Field,
     Strict,
@@ -39,6 +40,7 @@ from ..units import (
     Time,
     Torque,
     UnbalanceAmount,
+    to_si,
 )
 from .gear_pair import GearPair
 
@@ -286,29 +288,127 @@ class Shaft(Spec):
     speed: AngularSpeed | None = None
 
 
+_COEFFICIENT_NAMES = ("kxx", "kxy", "kyx", "kyy", "cxx", "cxy", "cyx", "cyy")
+
+
+def _table_values(kind: str):
+    """A coefficient column of a table: an array of values (one per speed) or, in a speed ×
+    whirl table, an array of rows (one per speed, one value per whirl frequency); each value a
+    number (SI) or a string with units."""
+
+    def convert(v):
+        if not isinstance(v, list):
+            raise ValueError(
+                "expected an array of values, one per speed (with 'whirl': one row per speed)"
+            )
+        rows = [isinstance(r, list) for r in v]
+        if any(rows) and not all(rows):
+            raise ValueError(
+                "mixes values and rows: give one value per speed, or (with 'whirl') one row "
+                "of values per speed"
+            )
+        try:
+            if v and all(rows):
+                return [[to_si(x, kind) for x in r] for r in v]
+            return [to_si(x, kind) for x in v]
+        except ValueError as exc:
+            raise ValueError(str(exc)) from None
+
+    return Annotated[list, BeforeValidator(convert)]
+
+
+def _drop_absent(handler, obj, keys: tuple[str, ...]):
+    # optional fields added later serialise only when given, so the model JSON (study case
+    # keys, transient checkpoint fingerprints) of existing models does not change
+    out = handler(obj)
+    for key in keys:
+        if getattr(obj, key) is None:
+            out.pop(key, None)
+    return out
+
+
 class BearingTable(Spec):
-    """Eight coefficients tabulated against shaft speed (linear interpolation)."""
+    """Eight coefficients tabulated against shaft speed (linear interpolation), or against
+    shaft speed and whirl frequency: with ``whirl`` (whirl frequencies, increasing, >= 0,
+    covering the speeds) each coefficient is one row per speed with one value per whirl
+    frequency (a speed × whirl table, ``docs/model_format.md``)."""
 
     speed: list[AngularSpeed] = Field(min_length=1)
-    kxx: list[Stiffness]
-    kxy: list[Stiffness]
-    kyx: list[Stiffness]
-    kyy: list[Stiffness]
-    cxx: list[Damping]
-    cxy: list[Damping]
-    cyx: list[Damping]
-    cyy: list[Damping]
+    whirl: list[AngularSpeed] | None = Field(default=None, min_length=1)
+    kxx: _table_values("stiffness")
+    kxy: _table_values("stiffness")
+    kyx: _table_values("stiffness")
+    kyy: _table_values("stiffness")
+    cxx: _table_values("damping")
+    cxy: _table_values("damping")
+    cyx: _table_values("damping")
+    cyy: _table_values("damping")
     extrapolate: Literal["error", "hold"] = "error"
+
+    @model_serializer(mode="wrap")
+    def _without_absent_whirl(self, handler):
+        return _drop_absent(handler, self, ("whirl",))
 
     @model_validator(mode="after")
     def _lengths(self) -> BearingTable:
         n = len(self.speed)
-        for name in ("kxx", "kxy", "kyx", "kyy", "cxx", "cxy", "cyx", "cyy"):
-            if len(getattr(self, name)) != n:
-                raise ValueError(f"'{name}' has {len(getattr(self, name))} values, 'speed' has {n}")
+        for name in _COEFFICIENT_NAMES:
+            vals = getattr(self, name)
+            if len(vals) != n:
+                raise ValueError(f"'{name}' has {len(vals)} values, 'speed' has {n}")
+            two_d = bool(vals) and isinstance(vals[0], list)
+            if self.whirl is None and two_d:
+                raise ValueError(
+                    f"'{name}' has rows (a speed × whirl table) but the table has no 'whirl': "
+                    "give the whirl frequencies of the columns, e.g. whirl = ['0 rpm', "
+                    "'3000 rpm', '6000 rpm']"
+                )
+            if self.whirl is not None:
+                m = len(self.whirl)
+                bad = [i for i, r in enumerate(vals) if not isinstance(r, list) or len(r) != m]
+                if bad:
+                    got = vals[bad[0]]
+                    size = len(got) if isinstance(got, list) else "a single value"
+                    raise ValueError(
+                        f"'{name}' row {bad[0]} has {size}, 'whirl' has {m} frequencies: one "
+                        "row per speed, one value per whirl frequency"
+                    )
         if any(b <= a for a, b in zip(self.speed, self.speed[1:], strict=False)):
             raise ValueError("'speed' must be strictly increasing")
+        if self.whirl is not None:
+            w = self.whirl
+            if w[0] < 0 or any(b <= a for a, b in zip(w, w[1:], strict=False)):
+                raise ValueError("'whirl' must be >= 0 and strictly increasing")
+            lo, hi = min(abs(s) for s in self.speed), max(abs(s) for s in self.speed)
+            if w[0] > lo * (1 + 1e-12) or w[-1] < hi * (1 - 1e-12):
+                raise ValueError(
+                    f"'whirl' ({w[0] * 30 / math.pi:.6g}..{w[-1] * 30 / math.pi:.6g} rpm) must "
+                    f"cover the speeds ({lo * 30 / math.pi:.6g}..{hi * 30 / math.pi:.6g} rpm): "
+                    "the synchronous coefficients (whirl = speed) are read from the table"
+                )
         return self
+
+    def whirl_rows(self) -> tuple:
+        """A speed × whirl table's rows ``(|speed|, whirl (n_w,), values (n_w, 8))`` in SI,
+        by increasing |speed| (valid by construction: the validator checked the whirl
+        frequencies and that they cover the speeds)."""
+        import numpy as np
+
+        w = np.asarray(self.whirl, float)
+        rows = []
+        for i, s in enumerate(self.speed):
+            cols = [np.asarray(getattr(self, n)[i], float) for n in _COEFFICIENT_NAMES]
+            rows.append((abs(float(s)), w.copy(), np.column_stack(cols)))
+        return tuple(sorted(rows, key=lambda r: r[0]))
+
+    @property
+    def whirl_dependent(self) -> bool:
+        """True when a coefficient changes along a row (over whirl)."""
+        if self.whirl is None:
+            return False
+        return any(
+            any(v != r[0] for v in r) for name in _COEFFICIENT_NAMES for r in getattr(self, name)
+        )
 
 
 class Support(Spec):
@@ -399,6 +499,13 @@ class Bearing(NodeRef):
     fluid_film: FluidFilm | None = None
     extrapolate: Literal["error", "hold"] = "error"
     support: Support | None = None
+    #: speed × whirl tables: the largest relative misfit accepted of the rational fit that the
+    #: eigenproblem uses off the whirl axis (default 1e-4)
+    fit_tolerance: Dimensionless | None = Field(default=None, gt=0, lt=1)
+
+    @model_serializer(mode="wrap")
+    def _without_absent_fit(self, handler):
+        return _drop_absent(handler, self, ("fit_tolerance",))
 
     @model_validator(mode="after")
     def _one_source(self) -> Bearing:
@@ -410,6 +517,11 @@ class Bearing(NodeRef):
         if sum(sources) + constant > 1:
             raise ValueError(
                 "give one coefficient source: constants, 'table', 'table_file' or 'fluid_film'"
+            )
+        if self.fit_tolerance is not None and self.table is None and self.table_file is None:
+            raise ValueError(
+                "'fit_tolerance' belongs to a speed × whirl table ('table' with 'whirl', or a "
+                "'table_file' with a whirl_rpm column)"
             )
         return self
 
@@ -463,7 +575,15 @@ class Seal(NodeRef):
     table_file: str | None = None
     file: str | None = None
     speeds: list[AngularSpeed] | None = Field(default=None, min_length=1)
+    #: a seal ``file`` solved at these whirl frequencies too (and at each speed's own): a
+    #: speed × whirl table (docs/seals.md)
+    whirls: list[AngularSpeed] | None = Field(default=None, min_length=2)
     extrapolate: Literal["error", "hold"] = "error"
+    fit_tolerance: Dimensionless | None = Field(default=None, gt=0, lt=1)
+
+    @model_serializer(mode="wrap")
+    def _without_absent_whirl(self, handler):
+        return _drop_absent(handler, self, ("whirls", "fit_tolerance"))
 
     _speeds = field_validator("speeds")(_distinct_speeds)
 
@@ -483,6 +603,21 @@ class Seal(NodeRef):
                 "a seal 'file' goes with 'speeds', the shaft speeds at which its coefficients "
                 "are tabulated (e.g. speeds = ['4000 rpm', '8000 rpm', '12000 rpm'])"
             )
+        if self.whirls is not None:
+            if self.file is None:
+                raise ValueError(
+                    "'whirls' are the whirl frequencies at which a seal 'file' is solved; a "
+                    "table gives its own ('table.whirl' or a whirl_rpm column)"
+                )
+            w = self.whirls
+            if w[0] < 0 or any(b <= a for a, b in zip(w, w[1:], strict=False)):
+                raise ValueError("'whirls' must be >= 0 and strictly increasing")
+        if self.fit_tolerance is not None and self.whirls is None and self.table is None:
+            if self.table_file is None:
+                raise ValueError(
+                    "'fit_tolerance' belongs to a speed × whirl table ('table' with 'whirl', a "
+                    "'table_file' with a whirl_rpm column, or a seal 'file' with 'whirls')"
+                )
         return self
 
     def coefficients(self) -> tuple[float, ...]:

@@ -76,6 +76,8 @@ def _bearing_type(b) -> str:
     if b.fluid_film is not None:
         return f"fluid film ({Path(b.fluid_film.file).name})"
     if b.table is not None:
+        if b.table.whirl is not None:
+            return f"table ({len(b.table.speed)} speeds × {len(b.table.whirl)} whirl)"
         return f"table ({len(b.table.speed)} speeds)"
     if b.table_file is not None:
         return f"table ({Path(b.table_file).name})"

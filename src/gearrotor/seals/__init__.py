@@ -9,7 +9,13 @@ their sources are in the module docstrings of :mod:`.labyrinth` and :mod:`.annul
 """
 
 from .annular import AnnularSeal, Friction
-from .coefficients import COEFFICIENT_KEYS, SealResult, seal_coefficients, seal_table
+from .coefficients import (
+    COEFFICIENT_KEYS,
+    SealResult,
+    seal_coefficients,
+    seal_table,
+    seal_whirl_table,
+)
 from .fluids import IdealGas, Liquid, RealGas, coolprop_available
 from .io import SEAL_TYPES, load_seal, parse_seal
 from .labyrinth import LabyrinthSeal
@@ -29,4 +35,5 @@ __all__ = [
     "parse_seal",
     "seal_coefficients",
     "seal_table",
+    "seal_whirl_table",
 ]

@@ -26,7 +26,7 @@ from .labyrinth import (
     labyrinth_swirl,
 )
 
-__all__ = ["SealResult", "seal_coefficients", "seal_table", "COEFFICIENT_KEYS"]
+__all__ = ["SealResult", "seal_coefficients", "seal_table", "seal_whirl_table", "COEFFICIENT_KEYS"]
 
 #: JSON keys of the 8 coefficients, in the order kxx kxy kyx kyy cxx cxy cyx cyy.
 COEFFICIENT_KEYS = (
@@ -262,3 +262,29 @@ def seal_table(
     if sign < 0:
         vals[:, [1, 2, 5, 6]] *= -1.0
     return w, vals
+
+
+def seal_whirl_table(
+    seal: LabyrinthSeal | AnnularSeal, speeds, whirls, sign: float = 1.0
+) -> tuple[tuple[float, NDArray, NDArray], ...]:
+    """The coefficients over speed and whirl frequency (issue 24): one row per |speed| (rad/s,
+    sorted), each at the ``whirls`` (rad/s, ≥ 0) and at its own speed (synchronous), as
+    ``(speed, whirl (n_w,), values (n_w, 8))``. The flow is solved once per speed and the
+    perturbation once per whirl frequency. With ``sign = −1`` (a shaft turning about −z) the
+    cross-coupled terms change sign."""
+    out = []
+    for s in np.unique(np.abs(np.asarray(speeds, float))):
+        om = np.unique(np.append(np.abs(np.asarray(whirls, float)), s))
+        if isinstance(seal, LabyrinthSeal):
+            flow = _labyrinth_flow_cached(seal)
+            swirl = labyrinth_swirl(seal, flow, s)
+        else:
+            flow, swirl = annular_flow(seal, s), None
+        vals = np.empty((len(om), 8))
+        for j, w in enumerate(om):
+            hf, hb, ww = _impedances(seal, flow, s, w, swirl)
+            vals[j] = _eight(*coefficients_from_impedance(hf, hb, ww))
+        if sign < 0:
+            vals[:, [1, 2, 5, 6]] *= -1.0
+        out.append((float(s), om, vals))
+    return tuple(out)

@@ -379,4 +379,22 @@ def _modes_table(res, status: list[str]) -> str:
         "3× the fastest shaft speed; any growing mode fails; the other modes below the threshold "
         "are not judged, their status says why).</p>"
     )
+    fd = res.frequency_dependence
+    if fd is not None:  # speed × whirl tables (gearrotor.analyses.whirl)
+        names = ", ".join(e["name"] for e in fd["elements"])
+        misfit = max((e["max_misfit"] for e in fd["elements"]), default=0.0)
+        extra += (
+            f"<p>Frequency-dependent coefficients (speed × whirl tables: {_e(names)}): every "
+            "mode with the coefficients at its own eigenvalue, through the rational fit of the "
+            f"tables ({fd['states']} states added to the eigenproblem, largest misfit "
+            f"{misfit:.2g}, {fd['eigensolves']} eigensolve). Type P: a mode of those states "
+            "(the bearing or seal moves, the rotor barely), not judged as a lateral mode."
+            + (
+                f" {fd['modes_beyond_whirl_tables']} mode(s) above the tables' highest whirl "
+                "frequency see the fit's continuation."
+                if fd["modes_beyond_whirl_tables"]
+                else ""
+            )
+            + "</p>"
+        )
     return "\n".join(rows) + extra

@@ -410,6 +410,7 @@ def _not_judged_detail(
     for st, ds in by.items():
         ld = [d.get("log_dec", d.get("min_log_dec")) for d in ds]
         zero = [d for d, v in zip(ds, ld, strict=True) if v == 0]
+        zero.sort(key=lambda d: (d.get("mode") is None, d.get("mode") or 0, d.get("track", 0)))
         damped = sorted(((d, v) for d, v in zip(ds, ld, strict=True) if v != 0), key=lambda x: x[1])
         items = [f"{_names(zero, named)} undamped (log dec 0)"] if zero else []
         items += [_point(d, v, named, speed_key) for d, v in damped[:most]]
