@@ -16,7 +16,7 @@ def _known(s: complex) -> np.ndarray:
     """A 2×2 impedance: D + sE + s²F + R1/(s − p1) + R2/(s − p2) + conj, p1 real, p2 complex."""
     D = np.array([[3e7, 4e6], [-2e6, 5e7]])
     E = np.array([[2e4, 1e3], [1e3, 3e4]])
-    F = np.array([[-6.0, 0.5], [-0.5, -6.0]])  # added mass (force −F ü): Z has +s²F
+    F = np.array([[6.0, 0.5], [-0.5, 6.0]])  # added mass M, m (Childs): Z(iω) = K − Mω² + …
     p1, R1 = -900.0, np.array([[-4e9, 1e9], [0.0, -2e9]])
     p2 = -150.0 + 1100.0j
     R2 = np.array([[-2e9 + 1e9j, 3e8], [-3e8j, -1e9 - 5e8j]])
@@ -38,7 +38,7 @@ def test_a_known_rational_impedance_is_recovered_to_round_off():
     assert misfit < 1e-12
     assert sorted(np.round(fit.poles.real, 6)) == [-900.0, -150.0, -150.0]
     assert fit.n_states == 6
-    np.testing.assert_allclose(fit.F, [[-6.0, 0.5], [-0.5, -6.0]], rtol=1e-8)
+    np.testing.assert_allclose(fit.F, [[6.0, 0.5], [-0.5, 6.0]], rtol=1e-8)
     # off the whirl axis too (the point of the fit: damped eigenvalues), and Z(s̄) = conj Z(s)
     for s in (-300 + 500j, -40 + 2500j, -1500 + 10j):
         ref = _known(s)
@@ -88,3 +88,17 @@ def test_samples_are_the_table_coefficients(n):
     z = impedance_samples(whirl, vals)
     np.testing.assert_array_equal(z.real, vals[:, :4])
     np.testing.assert_array_equal(z.imag, whirl[:, None] * vals[:, 4:])
+
+
+def test_no_negative_added_mass():
+    """A stiffening K(ω) = K0 + aω² is met by an s² term only with a negative mass, whose
+    continuation m λ² + k = 0 (m < 0) would grow: the fit takes poles instead, and every fit's
+    added mass is positive semidefinite."""
+    whirl = np.linspace(0.0, 3000.0, 10)
+    row = np.zeros((10, 8))
+    row[:, 0] = row[:, 3] = 2e7 + 3.0 * whirl**2  # N/m: +27e6 at 3000 rad/s
+    row[:, 4] = row[:, 7] = 1e4
+    fit, misfit = fit_impedance(whirl, row, tolerance=1e-6)
+    assert misfit <= 1e-6
+    assert np.linalg.eigvalsh(0.5 * (fit.F + fit.F.T)).min() >= -1e-9
+    assert fit.n_poles >= 1 and np.all(fit.poles.real < 0)

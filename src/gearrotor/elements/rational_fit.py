@@ -25,7 +25,9 @@ the largest tabulated whirl frequency and the samples weighted by 1/‖Z(iω_j)�
 relative at every frequency. The order is the lowest (number of poles N, then whether an s²
 term is needed) whose misfit ``max_j ‖Z_fit(iω_j) − Z_j‖_F / ‖Z_j‖_F`` is within the tolerance;
 at most N + 3 ≤ n_w unknowns per entry (half of the 2 n_w real equations), so a coarse table is
-not over-fitted.
+not over-fitted. An s² term is an added mass (Childs' liquid seals: K − Mω²); a fit whose added
+mass has a negative symmetric part is not taken (it would continue a stiffening beyond the
+table as a spurious growing root): poles take that stiffening.
 
 An impedance that is exactly rational is recovered to round-off once the table has a few more
 whirl frequencies than unknowns: a tilting-pad bearing (the pads' equations, Lund's
@@ -238,12 +240,23 @@ def fit_impedance(
             if N + npoly > max(n_w, 2) or (npoly == 3 and n_w < 3):
                 continue
             poles, X, misfit = _fit(s, Zs, w, N, npoly)
+            if npoly == 3 and _negative_mass(X[-1], norms.max()):
+                continue
             if best is None or misfit < best[3] * (1 - 1e-12):
                 best = (poles, X, npoly, misfit)
             if misfit <= tolerance:
                 return _realization(poles, X, npoly, top, misfit, whirl), misfit
     poles, X, npoly, misfit = best
     return _realization(poles, X, npoly, top, misfit, whirl), misfit
+
+
+def _negative_mass(f: NDArray, z_max: float) -> bool:
+    """Whether the s² coefficient (normalised frequency: its contribution at the highest whirl
+    frequency) has a negative symmetric part beyond round-off: a negative added mass, which
+    would fit a stiffening over the table but continue beyond it as a spurious instability
+    (m λ² + k = 0 with m < 0 has a growing root). Such a fit is not taken."""
+    F = f.reshape(2, 2)
+    return bool(np.linalg.eigvalsh(0.5 * (F + F.T)).min() < -1e-8 * z_max)
 
 
 def _realization(poles, X, npoly, top, misfit, whirl) -> RationalImpedance:
