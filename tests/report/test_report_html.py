@@ -204,6 +204,20 @@ def test_mode_shape_traces_are_the_deflected_shafts(report):
     ]
 
 
+def test_mode_shape_figure_is_valid_plotly(report):
+    """The 3-D mode figure is built without plotly's per-property validation (speed): every
+    trace and the layout must still pass it (a misspelt property would be dropped silently
+    by plotly.js)."""
+    import plotly.graph_objects as go
+
+    res = report.modal
+    fig = ix.mode_shape_figure(res, modes=[0, 1], n_phase=2)
+    spec = fig.to_dict()
+    checked = go.Figure(spec)  # validates; raises ValueError on an unknown property
+    assert len(checked.data) == len(fig.data)
+    assert checked.layout.scene.xaxis.title.text == "x (m)"
+
+
 def test_torsional_spokes_swing_with_torsion(report):
     """The spoke of a node turns by 0.8 rad per unit normalised torsion θz·r (doc of
     mode_shape_figure): check it on the mode with the most torsional energy."""

@@ -72,7 +72,9 @@ def _badge(ok) -> str:
 def _figure_html(fig, div_id: str) -> str:
     import plotly.io as pio
 
-    fig.update_layout(template="plotly_white")
+    if getattr(fig, "_validate", True):
+        fig.update_layout(template="plotly_white")
+    # else: built without validation (the 3-D mode shapes), with the template in its layout
     h = fig.layout.height or 500
     inner = pio.to_html(
         fig,

@@ -87,11 +87,11 @@ class AuditSection(Section):
         }
 
     def write(self, ctx: Context) -> list[Part]:
-        from ...audit import plot_level1, plot_level2, plot_screening, plot_ucs_map
-
         res = ctx.results.get("audit")
         if res is None:
             return []
+        from ...audit import plot_level1, plot_level2, plot_screening, plot_ucs_map
+
         ucs, audit, unb = res["ucs"], res["stability"], res["unbalance"]
         checks = _api_checks(unb, ctx)
         checks["unbalance"] = _unbalances_used(ctx)

@@ -129,12 +129,17 @@ def mode_shape_figure(
     spoke = 0.45 * scale
     swing = 0.8  # rad of spoke rotation for a unit normalised torsional displacement
 
-    fig = go.Figure()
+    # The traces and the layout are built as plain dicts and the figure is made without
+    # plotly's per-property validation (``_validate=False``): validating the ~400 traces and the
+    # menus' visibility lists took 0.5 s of the flagship report; tests/report validate the
+    # figure once (test_mode_shape_figure_is_valid_plotly).
+    data: list[dict] = []
     # static traces: undeformed centre lines, bearings, gear nodes
     n_static = 0
     for k, s in enumerate(shafts):
-        fig.add_trace(
-            go.Scatter3d(
+        data.append(
+            dict(
+                type="scatter3d",
                 x=np.full(len(s.z), pos[k, 0]),
                 y=np.full(len(s.z), pos[k, 1]),
                 z=s.z,
@@ -153,7 +158,7 @@ def mode_shape_figure(
         by.append(pos[si, 1])
         bz.append(shafts[si].z[node])
         bt.append(f"bearing {getattr(b, 'name', '') or ''} ({shafts[si].name} node {node})")
-    n_static += _markers(fig, bx, by, bz, bt, "bearings", symbol="diamond", size=5, color="black")
+    n_static += _markers(data, bx, by, bz, bt, "bearings", symbol="diamond", size=5, color="black")
     gx, gy, gz, gt = [], [], [], []
     for mi in asm.meshes:
         for side in (0, 1):
@@ -164,7 +169,7 @@ def mode_shape_figure(
             gz.append(shafts[si].z[node])
             gt.append(f"gear of mesh {mi.name} ({shafts[si].name} node {node})")
     n_static += _markers(
-        fig, gx, gy, gz, gt, "gears", symbol="circle-open", size=9, color="#555555"
+        data, gx, gy, gz, gt, "gears", symbol="circle-open", size=9, color="#555555"
     )
 
     # fixed axes (no rescaling while the phase moves), box proportional to the ranges
@@ -194,16 +199,13 @@ def mode_shape_figure(
                 y = pos[k, 1] + scale * np.real(phi[offs + 1] * rot)
                 tz = np.real(phi[offs + 5] * rot) * s.outer_radius
                 ang = np.pi / 2 + swing * tz
-                # centre line, a gap, then one spoke per node (torsion)
-                xs = list(x) + [None]
-                ys = list(y) + [None]
-                zs = list(s.z) + [None]
-                for j in range(len(s.z)):
-                    xs += [x[j], x[j] + spoke * np.cos(ang[j]), None]
-                    ys += [y[j], y[j] + spoke * np.sin(ang[j]), None]
-                    zs += [s.z[j], s.z[j], None]
-                fig.add_trace(
-                    go.Scatter3d(
+                # centre line, a gap, then one spoke per node (torsion): (centre, tip, gap)
+                xs = _with_spokes(x, x + spoke * np.cos(ang))
+                ys = _with_spokes(y, y + spoke * np.sin(ang))
+                zs = _with_spokes(s.z, s.z)
+                data.append(
+                    dict(
+                        type="scatter3d",
                         x=xs,
                         y=ys,
                         z=zs,
@@ -255,7 +257,7 @@ def mode_shape_figure(
                 ],
             )
         )
-    fig.update_layout(
+    layout = dict(
         title=dict(
             text=_mode_title(result, modes[0], statuses),
             font=dict(size=13),
@@ -290,9 +292,9 @@ def mode_shape_figure(
         ],
         sliders=[slider_for(modes[0])],
         scene=dict(
-            xaxis=dict(title="x (m)", range=ranges[0], autorange=False),
-            yaxis=dict(title="y (m)", range=ranges[1], autorange=False),
-            zaxis=dict(title="z (m)", range=ranges[2], autorange=False),
+            xaxis=dict(title=dict(text="x (m)"), range=ranges[0], autorange=False),
+            yaxis=dict(title=dict(text="y (m)"), range=ranges[1], autorange=False),
+            zaxis=dict(title=dict(text="z (m)"), range=ranges[2], autorange=False),
             aspectmode="manual",
             aspectratio=aspect,
             camera=dict(eye=dict(x=0.95, y=0.6, z=-0.8), up=dict(x=0, y=1, z=0)),
@@ -301,17 +303,38 @@ def mode_shape_figure(
         margin=dict(l=10, r=10, t=50, b=10),
         legend=dict(x=1.0, xanchor="right", y=1.0),
         meta=dict(kind="mode-shapes", modes=modes, n_phase=n_phase, scale_m=scale),
+        # the report's template, as its dict (without validation a name stays a string)
+        template=_template("plotly_white"),
     )
-    return fig
+    return go.Figure(data=data, layout=layout, _validate=False)
 
 
-def _markers(fig, x, y, z, text, name: str, **marker) -> int:
+def _template(name: str) -> dict:
+    import plotly.io as pio
+
+    return pio.templates[name].to_plotly_json()
+
+
+def _with_spokes(centre, tip) -> list:
+    """The coordinates of a deflected centre line and its spokes as one line trace: the
+    centre line, a gap (None), then per node its centre, its spoke's tip and a gap (Python
+    floats: plotly writes them without per-element conversion)."""
+    n = len(centre)
+    out = np.empty(n + 1 + 3 * n, dtype=object)
+    out[:n] = np.asarray(centre, float).tolist()
+    out[n + 1 :: 3] = out[:n]
+    out[n + 2 :: 3] = np.asarray(tip, float).tolist()
+    return out.tolist()
+
+
+def _markers(data: list[dict], x, y, z, text, name: str, **marker) -> int:
     """Add a static trace of markers (hover: ``text``) when there are any; returns the number
     of traces added."""
     if not x:
         return 0
-    fig.add_trace(
-        _go().Scatter3d(
+    data.append(
+        dict(
+            type="scatter3d",
             x=x,
             y=y,
             z=z,

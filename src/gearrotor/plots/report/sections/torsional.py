@@ -85,6 +85,9 @@ class TorsionalSection(Section):
         ctx.results["torsional"] = out
 
     def write(self, ctx: Context) -> list[Part]:
+        res = ctx.results.get("torsional")
+        if res is None:  # (before the imports: they load the torsional analyses)
+            return []
         from ...torsional import (
             plot_fatigue_damage,
             plot_interference,
@@ -93,9 +96,6 @@ class TorsionalSection(Section):
             plot_torsional_transient,
         )
 
-        res = ctx.results.get("torsional")
-        if res is None:
-            return []
         modes, inter = res["modes"], res["interference"]
         summary = {
             "modes": modes.to_dict()["modes"],

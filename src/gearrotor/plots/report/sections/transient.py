@@ -35,12 +35,12 @@ class TransientSection(Section):
         ctx.results["transient"] = _read_transient(ctx.transient_file)
 
     def write(self, ctx: Context) -> list[Part]:
+        ds = ctx.results.get("transient")
+        if ds is None:  # (before the imports: the transient package compiles its kernels)
+            return []
         from ....analyses.transient import plots as tplots
         from ...waterfall import plot_speed_waterfall, speed_varies, speed_waterfall
 
-        ds = ctx.results.get("transient")
-        if ds is None:
-            return []
         for name, fn in (
             ("transient_spectra.png", tplots.plot_spectra),
             ("transient_whirl_power.png", tplots.plot_whirl_power),
