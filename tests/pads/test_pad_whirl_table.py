@@ -92,7 +92,7 @@ def test_convergence_with_whirl_table_density(pad_model):
     )
     errors = []
     for k, whirls in enumerate(grids):
-        for tol in (1e-10, 1e-8, 1e-6, 1e-4, 1e-3, 1e-2, 0.1, 0.5):
+        for tol in (1e-10, 1e-8, 1e-6, 1e-4, 1e-3, 1e-2, 0.1, 0.5, 0.9):
             try:
                 asm = _table_model(tmp, train, whirls, f"grid{k}.csv", tol)
                 break

@@ -158,3 +158,21 @@ def test_a_whirl_table_file_runs(tmp_path):
     for ra, rb in zip(ea.rows, eb.rows, strict=True):
         np.testing.assert_allclose(ra.values, rb.values, rtol=1e-15)
         np.testing.assert_allclose(ra.whirl, rb.whirl, rtol=1e-15)
+
+
+def test_a_seal_takes_a_whirl_table_with_negative_direct_terms(tmp_path):
+    """[[seals]] take the same 2-D table; a seal's direct stiffness may be negative."""
+    seal = TABLE.replace("fit_tolerance = 0.02", "fit_tolerance = 0.2").replace(
+        "[[2e7, 2.2e7, 2.8e7], [2.1e7, 2.3e7, 2.9e7]]", "[[-2e6, -3e6, -5e6], [-2e6, -3e6, -5e6]]"
+    )
+    p = tmp_path / "m.toml"
+    p.write_text(
+        MODEL.format(bearing='k = "2e7 N/m"\nc = "2e4 N*s/m"')
+        + '[[seals]]\nshaft = "rotor"\nnode = 2\n'
+        + seal
+    )
+    asm = assemble(load_model(p))
+    info = asm.bearings[-1]
+    assert info.kind == "seal" and type(info.element).__name__ == "WhirlBearing"
+    # synchronous at 3000 rpm: halfway between the whirl frequencies 0 and 6000 rpm
+    assert info.element.coefficients(3000 * np.pi / 30)[0] == pytest.approx(-2.5e6)

@@ -80,13 +80,14 @@ def test_the_synchronous_model_misses_what_the_table_carries(models):
 def test_convergence_with_table_density():
     """The fit needs n_w ≥ 6 whirl frequencies to resolve the pedestal's four poles (at most
     N + 2 ≤ n_w unknowns per entry): with the smallest tolerance each density can meet, the
-    eigenvalue error falls with the density (measured 0.41, 0.15, 0.12 for 3, 4, 5
-    frequencies) and is round-off from 6 on (1.7e-13)."""
+    eigenvalue error falls with the density (measured 0.71, 0.15, 0.12 for 3, 4, 5
+    frequencies: with three only a pole-free fit keeps the table's damping positive) and is
+    round-off from 6 on (1.7e-13)."""
     r0 = modal(pedestal_model(), max_frequency=TOP)
     errors = []
     for n_w in (3, 4, 5, 6, 8):
         whirls = np.linspace(0, 30000, n_w)
-        for tol in (1e-10, 1e-8, 1e-6, 1e-4, 1e-3, 1e-2, 0.1, 0.5):
+        for tol in (1e-10, 1e-8, 1e-6, 1e-4, 1e-3, 1e-2, 0.1, 0.5, 0.9):
             try:
                 asm = assemble(
                     table_model(table_of(pedestal_impedance, [6000], whirls), fit_tolerance=tol)

@@ -25,7 +25,13 @@ the largest tabulated whirl frequency and the samples weighted by 1/‖Z(iω_j)�
 relative at every frequency. The order is the lowest (number of poles N, then whether an s²
 term is needed) whose misfit ``max_j ‖Z_fit(iω_j) − Z_j‖_F / ‖Z_j‖_F`` is within the tolerance;
 at most N + 3 ≤ n_w unknowns per entry (half of the 2 n_w real equations), so a coarse table is
-not over-fitted.
+not over-fitted. An s² term is an added mass (Childs' liquid seals: K − Mω²); a fit whose added
+mass has a negative symmetric part is not taken (it would continue a stiffening beyond the
+table as a spurious growing root): poles take that stiffening. Nor is a fit that dissipates
+less than nothing where the table does not: when the table's damping ``C(ω)`` has a positive
+semidefinite symmetric part at every sample, a fit's must too at the samples and at 61
+frequencies from 10⁻³ to 10³ times the highest one (else a coarse table's fit may trade a far
+pole against a negative high-frequency damping, which shows as spurious growing roots).
 
 An impedance that is exactly rational is recovered to round-off once the table has a few more
 whirl frequencies than unknowns: a tilting-pad bearing (the pads' equations, Lund's
@@ -232,18 +238,49 @@ def fit_impedance(
     norms = np.linalg.norm(Zs, axis=1)
     w = 1.0 / np.where(norms > 0, norms, 1.0)
     n_w = len(whirl)
+    # the table's damping: when it dissipates at every sample (C's symmetric part ≥ 0), a fit
+    # must too, at every frequency (module docstring)
+    c_data = _damping_min(Zs[s.imag > 0], s.imag[s.imag > 0])
+    dissipative = c_data is not None and c_data[0] >= -1e-12 * c_data[1]
+    check = np.concatenate([s.imag[s.imag > 0], np.logspace(-3, 3, 61)])
     best = None
     for N in range(0, max_poles + 1):
         for npoly in (2, 3):
             if N + npoly > max(n_w, 2) or (npoly == 3 and n_w < 3):
                 continue
             poles, X, misfit = _fit(s, Zs, w, N, npoly)
+            if npoly == 3 and _negative_mass(X[-1], norms.max()):
+                continue
+            if dissipative:
+                fitted = np.hstack([_basis(1j * check, poles), _polynomial(1j * check, npoly)])
+                c_fit = _damping_min(fitted @ X, check)
+                if c_fit[0] < -1e-6 * c_data[1]:
+                    continue
             if best is None or misfit < best[3] * (1 - 1e-12):
                 best = (poles, X, npoly, misfit)
             if misfit <= tolerance:
                 return _realization(poles, X, npoly, top, misfit, whirl), misfit
     poles, X, npoly, misfit = best
     return _realization(poles, X, npoly, top, misfit, whirl), misfit
+
+
+def _damping_min(Z: NDArray, w: NDArray) -> tuple[float, float] | None:
+    """(smallest eigenvalue of the damping's symmetric part, largest damping norm) over the
+    impedances Z (n, 4) at the (normalised, > 0) frequencies w; None without any."""
+    if not len(w):
+        return None
+    C = (Z.imag / w[:, None]).reshape(-1, 2, 2)
+    sym = 0.5 * (C + np.transpose(C, (0, 2, 1)))
+    return float(np.linalg.eigvalsh(sym).min()), float(np.abs(C).max())
+
+
+def _negative_mass(f: NDArray, z_max: float) -> bool:
+    """Whether the s² coefficient (normalised frequency: its contribution at the highest whirl
+    frequency) has a negative symmetric part beyond round-off: a negative added mass, which
+    would fit a stiffening over the table but continue beyond it as a spurious instability
+    (m λ² + k = 0 with m < 0 has a growing root). Such a fit is not taken."""
+    F = f.reshape(2, 2)
+    return bool(np.linalg.eigvalsh(0.5 * (F + F.T)).min() < -1e-8 * z_max)
 
 
 def _realization(poles, X, npoly, top, misfit, whirl) -> RationalImpedance:

@@ -17,18 +17,22 @@ What a ROSS file holds and what it becomes (all values SI in both):
   pressure and helix angle from the file); the file holds no mesh stiffness or orientation (a
   ``MultiRotor`` keeps them in memory only), so they are inputs of the import.
 * ``BearingElement_*`` and its subclasses (``SealElement_*``, ball, roller, fluid-film tables):
-  ``kxx``..``cyy`` (one value: constant; a list against ``speed`` in rad/s: a table; a list
-  against the whirl ``frequency`` only is taken at synchronous whirl, frequency = speed, as
-  ROSS's synchronous analyses do) → a bearing, or a seal for seals; ``kzz``/``czz`` → a
-  thrust bearing. A bearing to a link node carrying a ``PointMass`` that a second, diagonal
-  bearing holds to ground becomes a bearing on a pedestal (``support``).
+  ``kxx``..``cyy`` (one value: constant; a list against ``speed`` in rad/s: a table; a 2-D
+  table against ``speed`` and the whirl ``frequency``: a speed × whirl table; a list against
+  ``frequency`` only: a speed × whirl table whose rows are that list at every speed, one row
+  at each tabulated frequency) → a bearing, or a seal for seals; ``kzz``/``czz`` → a thrust
+  bearing. Speed × whirl tables (docs/model_format.md) carry the frequency dependence into the
+  eigenproblem exactly for their rational fit, where ROSS's ``run_modal`` reads them at
+  synchronous whirl or, with ``matched_whirl=True``, at each mode's damped frequency. A
+  bearing to a link node carrying a ``PointMass`` that a second, diagonal bearing holds to
+  ground becomes a bearing on a pedestal (``support``).
 * ``PointMass_*`` on a shaft node → a disk with that mass.
 
 Refused, each with a one-line error naming the element and what to do: mass coefficients
 (``mxx``...), shaft elements without shear, rotary inertia or gyroscopic terms, axial force or
-torque preload, whirl-frequency-dependent coefficients, global or modal damping, magnetic
-bearings, couplings and motors. Between table points ROSS interpolates by PCHIP and gearrotor
-linearly: results agree at the table's speeds.
+torque preload, global or modal damping, magnetic bearings, couplings and motors. Between
+table points ROSS interpolates by PCHIP and gearrotor linearly: results agree at the table's
+speeds.
 """
 
 from __future__ import annotations
@@ -418,8 +422,11 @@ def _shafts(file, shafts, out):
     return chains, node_map, materials, sections, method
 
 
-def _coefficients(file, key, d) -> tuple[np.ndarray | None, np.ndarray]:
-    """(speeds or None, (n, 8) coefficients)."""
+def _coefficients(file, key, d) -> tuple[np.ndarray | None, np.ndarray, np.ndarray | None]:
+    """(speeds or None, coefficients, whirl frequencies or None): constants (1, 8); a speed
+    table (n, 8); a speed × whirl table (n_speed, n_whirl, 8) with its whirl frequencies (ROSS
+    3.x's 2-D ``(speed, frequency)`` tables, and its tables over ``frequency`` only, whose rows
+    are the same at every speed: one row per tabulated frequency, at that speed)."""
     for c in _MASS_COEFS:
         if c in d and np.any(np.asarray(d[c], float) != 0.0):
             raise _err(
@@ -429,17 +436,10 @@ def _coefficients(file, key, d) -> tuple[np.ndarray | None, np.ndarray]:
                 value=d[c],
                 expected="0 (gearrotor bearings have stiffness and damping)",
             )
-    cols = []
-    for c in _COEFS:
-        v = np.asarray(d.get(c, 0.0), dtype=float)
-        if v.ndim > 1:
-            raise _err(
-                file,
-                f"{key}.{c}",
-                "whirl-frequency-dependent coefficients are not imported",
-                expected="coefficients against speed only (synchronous)",
-            )
-        cols.append(np.atleast_1d(v))
+    cols = [np.asarray(d.get(c, 0.0), dtype=float) for c in _COEFS]
+    if any(v.ndim > 1 for v in cols):
+        return _whirl_coefficients(file, key, d, cols)
+    cols = [np.atleast_1d(v) for v in cols]
     n = max(len(c) for c in cols)
     for c, name in zip(cols, _COEFS, strict=True):
         if len(c) not in (1, n):
@@ -452,7 +452,8 @@ def _coefficients(file, key, d) -> tuple[np.ndarray | None, np.ndarray]:
             )
     vals = np.column_stack([np.broadcast_to(c, (n,)) for c in cols])
     if n == 1:
-        return None, vals
+        return None, vals, None
+    frequency_only = d.get("speed") is None and d.get("frequency") is not None
     speed = d.get("speed", d.get("frequency"))
     if speed is None or len(np.atleast_1d(speed)) != n:
         raise _err(
@@ -464,7 +465,54 @@ def _coefficients(file, key, d) -> tuple[np.ndarray | None, np.ndarray]:
         )
     speed = np.asarray(speed, float)
     order = np.argsort(speed)
-    return speed[order], vals[order]
+    if frequency_only:  # the same row at every speed: a row per frequency, at that speed
+        f = np.abs(speed[order])
+        return f, np.broadcast_to(vals[order], (len(f), len(f), 8)).copy(), f
+    return speed[order], vals[order], None
+
+
+def _fit_tolerance(whirl: np.ndarray, vals: np.ndarray) -> float | None:
+    """None when every row of a speed × whirl table is fitted within the default tolerance,
+    else a tolerance just above the largest misfit its whirl frequencies allow (a coarse ROSS
+    table: three frequencies allow one pole), so that the imported model loads; the model file
+    shows it."""
+    from ..elements import FIT_TOLERANCE, fit_row
+
+    worst = 0.0
+    for v in vals:
+        if np.all(v == v[0]):
+            continue
+        _, misfit = fit_row(np.abs(whirl), v, FIT_TOLERANCE)
+        worst = max(worst, misfit)
+    if worst <= FIT_TOLERANCE:
+        return None
+    return float(f"{1.2 * worst:.2g}")
+
+
+def _whirl_coefficients(file, key, d, cols):
+    """A ROSS 2-D table: coefficients (len(speed), len(frequency))."""
+    speed, freq = d.get("speed"), d.get("frequency")
+    if speed is None or freq is None:
+        raise _err(
+            file,
+            f"{key}.speed",
+            "a 2-D coefficient table needs its 'speed' and 'frequency' axes",
+            expected="speed and frequency lists (rad/s)",
+        )
+    speed, freq = np.asarray(speed, float), np.asarray(freq, float)
+    shape = (len(speed), len(freq))
+    for c, name in zip(cols, _COEFS, strict=True):
+        if c.ndim != 0 and c.shape != shape:
+            raise _err(
+                file,
+                f"{key}.{name}",
+                "a 2-D coefficient table of the wrong shape",
+                value=list(c.shape),
+                expected=f"{list(shape)} (len(speed), len(frequency))",
+            )
+    vals = np.stack([np.broadcast_to(c, shape) for c in cols], axis=-1)
+    order = np.argsort(speed)
+    return speed[order], vals[order], freq
 
 
 def _bearings(file, groups, node_map, point, chains, out):
@@ -490,10 +538,19 @@ def _bearings(file, groups, node_map, point, chains, out):
         if n not in node_map:
             continue
         si, node = node_map[n]
-        speed, vals = _coefficients(file, key, d)
+        speed, vals, whirl = _coefficients(file, key, d)
         entry: dict = {"name": str(d.get("tag", key.split("_", 1)[1])), "_shaft": si, "node": node}
         if speed is None:
             entry.update({c_: float(v) for c_, v in zip(_COEFS, vals[0], strict=True)})
+        elif whirl is not None:  # a speed × whirl table (docs/model_format.md)
+            entry["table"] = {
+                "speed": speed.tolist(),
+                "whirl": whirl.tolist(),
+                **{c_: vals[:, :, j].tolist() for j, c_ in enumerate(_COEFS)},
+            }
+            tol = _fit_tolerance(whirl, vals)
+            if tol is not None:
+                entry["fit_tolerance"] = tol
         else:
             entry["table"] = {
                 "speed": speed.tolist(),
@@ -512,7 +569,7 @@ def _bearings(file, groups, node_map, point, chains, out):
                     expected="a PointMass node with a BearingElement to ground",
                 )
             gkey, gd = ground_of_link[link]
-            gs, gv = _coefficients(file, gkey, gd)
+            gs, gv, _ = _coefficients(file, gkey, gd)
             if gs is not None or any(gv[0][j] for j in (1, 2, 5, 6)):
                 raise _err(
                     file,
@@ -537,7 +594,7 @@ def _bearings(file, groups, node_map, point, chains, out):
         kzz = np.atleast_1d(np.asarray(d.get("kzz", 0.0), float))
         czz = np.atleast_1d(np.asarray(d.get("czz", 0.0), float))
         if np.any(kzz) or np.any(czz):
-            if len(set(kzz)) > 1 or len(set(czz)) > 1:
+            if len(np.unique(kzz)) > 1 or len(np.unique(czz)) > 1:
                 raise _err(
                     file,
                     f"{key}.kzz",
@@ -708,11 +765,16 @@ def model_toml(imported: ImportedModel, source: str) -> str:
             for k, v in item.items():
                 if k == "table":
                     continue
-                lines.append(f"{k} = {_value(k, v)}")
+                note = ""
+                if k == "fit_tolerance":  # set by the import: the table cannot do better
+                    note = "  # the misfit this table's whirl frequencies allow (import)"
+                lines.append(f"{k} = {_value(k, v)}{note}")
             if "table" in item:
                 t = item["table"]
                 lines.append(f"[{group}.table]  # speeds in rad/s (ROSS); N/m and N*s/m")
                 lines.append(f"speed = {_value('', [f'{x!r} rad/s' for x in t['speed']])}")
+                if "whirl" in t:  # a speed × whirl table: a row per speed
+                    lines.append(f"whirl = {_value('', [f'{x!r} rad/s' for x in t['whirl']])}")
                 for c in _COEFS:
                     lines.append(f"{c} = {_value('', t[c])}")
             lines.append("")
@@ -897,7 +959,14 @@ def ross_script(asm) -> str:
             node = int((b.dofs[0] - asm.node_offset[si][0]) // 6)
             cls = "SealElement" if b.kind == "seal" else "BearingElement"
             el = b.element
-            if el.speed_dependent:
+            if getattr(el, "whirl_dependent", False):
+                # a speed × whirl table: ROSS's 2-D (speed, frequency) table on the union of
+                # the rows' whirl frequencies (each row linear in whirl between its own)
+                freq = np.unique(np.concatenate([r.whirl for r in el.rows]))
+                grid = np.array([[r.at_whirl(f) for f in freq] for r in el.rows])
+                coef = ", ".join(f"{c}={grid[:, :, j].tolist()!r}" for j, c in enumerate(_COEFS))
+                coef += f", speed={[r.speed for r in el.rows]!r}, frequency={freq.tolist()!r}"
+            elif el.speed_dependent:
                 t = el.table
                 coef = ", ".join(f"{c}={t.values[:, j].tolist()!r}" for j, c in enumerate(_COEFS))
                 coef += f", speed={t.speed.tolist()!r}"

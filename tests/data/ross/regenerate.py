@@ -8,7 +8,8 @@ Writes, next to this script: the rotors of ROSS's own examples as ROSS saves the
 (``Rotor.save``); the ROSS scripts ``gearrotor export --to ross-python`` writes for the
 flagship (``export_*.py``, with the overrides listed in EXPORTS); and ``ross_modal.json``:
 ROSS's ``run_modal`` (default 12 modes) of each rotor at the listed speeds (natural frequencies
-wn, damped frequencies wd in rad/s, log decs).
+wn, damped frequencies wd in rad/s, log decs). The speed × whirl table reference has its own
+script, ``whirl_reference.py`` (run the same way).
 """
 
 import json
