@@ -164,17 +164,26 @@ _SET: contextvars.ContextVar[_Set | None] = contextvars.ContextVar("output_set",
 
 @contextlib.contextmanager
 def _signals_held() -> Iterator[None]:
-    """SIGINT and SIGTERM held back (delivered when the block ends) in the main thread."""
-    if threading.current_thread() is not threading.main_thread() or not hasattr(
-        signal, "pthread_sigmask"
-    ):
+    """SIGINT and SIGTERM held back (delivered when the block ends) in the main thread.
+
+    The Python handlers are swapped for ones that only note the signal, not the thread's
+    signal mask: a signal sent to the process goes to any thread that does not block it (the
+    BLAS library's worker threads do not), and Python then runs its handler in the main thread
+    all the same (issue 28: with OpenBLAS threads a Ctrl-C landed between two renames)."""
+    if threading.current_thread() is not threading.main_thread():
         yield
         return
-    old = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT, signal.SIGTERM})
+    caught: list[int] = []
+    # (a handler installed from C, getsignal None, cannot be put back from Python: left alone)
+    held = [s for s in (signal.SIGINT, signal.SIGTERM) if signal.getsignal(s) is not None]
+    old = {s: signal.signal(s, lambda signum, frame: caught.append(signum)) for s in held}
     try:
         yield
     finally:
-        signal.pthread_sigmask(signal.SIG_SETMASK, old)
+        for s, handler in old.items():
+            signal.signal(s, handler)
+        for s in dict.fromkeys(caught):
+            signal.raise_signal(s)
 
 
 @contextlib.contextmanager
