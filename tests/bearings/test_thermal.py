@@ -469,6 +469,27 @@ def _doc(**over):
     return {"bearing": d}
 
 
+def test_bearing_file_wall_coefficients_and_conductivity():
+    """``"inf"`` (or TOML's inf) holds a wall at its sink's temperature; the oil's thermal
+    conductivity takes units."""
+    for inf in ("inf", math.inf):
+        case = parse_bearing(
+            _doc(
+                lubricant={"grade": "ISO VG 32", "thermal_conductivity": "0.149 W/(m*K)"},
+                thermal={
+                    "model": "thd",
+                    "supply_temperature": "40 degC",
+                    "journal_heat_transfer": inf,
+                    "pad_heat_transfer": "568.5 W/(m^2*K)",
+                },
+                viscosity=None,
+            )
+        )
+        th = case.options.thermal
+        assert th.journal_heat_transfer == math.inf and th.pad_heat_transfer == 568.5
+        assert th.lubricant.thermal_conductivity == pytest.approx(0.149)
+
+
 def test_bearing_file_thermal_tables():
     case = parse_bearing(
         _doc(
@@ -555,6 +576,23 @@ def test_bearing_file_thermal_tables():
             ),
             "bearing.thermal",
             "did you mean 'carry_over'",
+        ),
+        (
+            dict(lubricant={"grade": "ISO VG 32", "thermal_conductivity": "0 W/(m*K)"}),
+            "bearing.lubricant.thermal_conductivity",
+            "greater than 0",
+        ),
+        (
+            dict(
+                lubricant={"grade": "ISO VG 32"},
+                thermal={
+                    "model": "thd",
+                    "supply_temperature": "40 degC",
+                    "journal_heat_transfer": "-5 W/(m^2*K)",
+                },
+            ),
+            "bearing.thermal.journal_heat_transfer",
+            "greater than or equal to 0",
         ),
         (dict(viscosity=None), "bearing.viscosity", "missing required field"),
     ],
