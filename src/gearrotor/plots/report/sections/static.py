@@ -39,7 +39,7 @@ class OperatingPointsSection(Section):
                 ) from None
 
     def run(self, ctx: Context) -> None:
-        from ....analyses.modal import modal
+        from ....analyses.lateral.modal import modal
         from ....analyses.static import static
 
         train = ctx.base_train or ctx.train
@@ -108,7 +108,7 @@ class OperatingPointsSection(Section):
 def _least_stable(md) -> int | None:
     """The mode of least log dec among those the stability criteria judge at this point and
     the growing ones (None: none)."""
-    from ....analyses.stability import is_unstable
+    from ....analyses.audit.stability import is_unstable
 
     crit = modal_criteria(md)
     el = [
