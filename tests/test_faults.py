@@ -848,6 +848,8 @@ EVERY = {
     ("static",): [SINGLE],
     ("bearing",): [BEARING],
     ("seal",): ["seals/pump_wear_ring.toml", "--speed", "3000"],
+    ("mesh",): ["gears/spur_50_50.toml"],
+    ("mesh-response",): [UNITY],
     ("transient",): [SINGLE],
     ("transient-plot",): ["RESULT"],
     ("report",): [SINGLE, "--output", "OUT"],

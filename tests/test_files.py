@@ -306,6 +306,37 @@ def test_signal_during_commit_comes_after_it(tmp_path, monkeypatch):
     assert sent and sorted(p.name for p in tmp_path.iterdir()) == [f"{k}.txt" for k in range(5)]
 
 
+def test_signal_during_commit_with_other_threads_alive(tmp_path, monkeypatch):
+    """The same with another thread alive (BLAS, numba and executor threads are): the kernel
+    hands a process-directed SIGINT to a thread that does not block it, and Python raises it in
+    the main thread at once; a per-thread signal mask let it through between two renames (CI,
+    stop 29)."""
+    import signal
+    import threading
+
+    done = threading.Event()
+    other = threading.Thread(target=done.wait, daemon=True)
+    other.start()
+    real = files.os.replace
+    sent = []
+
+    def replace(src, dst):
+        if not sent:
+            sent.append(dst)
+            os.kill(os.getpid(), signal.SIGINT)
+        real(src, dst)
+
+    monkeypatch.setattr(files.os, "replace", replace)
+    try:
+        with pytest.raises(KeyboardInterrupt), files.output_set():
+            for k in range(5):
+                files.write_text(tmp_path / f"{k}.txt", str(k))
+    finally:
+        done.set()
+        other.join()
+    assert sent and sorted(p.name for p in tmp_path.iterdir()) == [f"{k}.txt" for k in range(5)]
+
+
 # ---- stale temporaries of every output (issue 23) ------------------------------------------
 def test_check_output_removes_the_temporaries_killed_runs_left(tmp_path):
     """A run killed while writing (SIGKILL) leaves ``NAME.tmp-PID-TOKEN`` full-size files; the

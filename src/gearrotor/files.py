@@ -164,17 +164,28 @@ _SET: contextvars.ContextVar[_Set | None] = contextvars.ContextVar("output_set",
 
 @contextlib.contextmanager
 def _signals_held() -> Iterator[None]:
-    """SIGINT and SIGTERM held back (delivered when the block ends) in the main thread."""
-    if threading.current_thread() is not threading.main_thread() or not hasattr(
-        signal, "pthread_sigmask"
-    ):
+    """SIGINT and SIGTERM held back while the block runs and delivered when it ends.
+
+    Python runs its signal handlers in the main thread whichever thread the kernel hands the
+    signal to (BLAS, numba and executor threads do not block it), so the handlers themselves
+    are swapped for ones that only note the signal: a per-thread signal mask would let a
+    process-directed signal through another thread."""
+    if threading.current_thread() is not threading.main_thread():
         yield
         return
-    old = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT, signal.SIGTERM})
+    pending: list[int] = []
+    held = {}
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        handler = signal.getsignal(sig)
+        if handler is not None:  # None: installed outside Python, left alone
+            held[sig] = signal.signal(sig, lambda signum, _frame: pending.append(signum))
     try:
         yield
     finally:
-        signal.pthread_sigmask(signal.SIG_SETMASK, old)
+        for sig, handler in held.items():
+            signal.signal(sig, handler)
+        if pending:
+            signal.raise_signal(pending[0])
 
 
 @contextlib.contextmanager
@@ -261,6 +272,10 @@ def save_figure(fig, path: str | os.PathLike, **savefig_kw) -> Path:
     suffix of ``path`` (PNG by default)."""
     path = Path(path)
     savefig_kw.setdefault("format", path.suffix.lstrip(".").lower() or "png")
+    if savefig_kw["format"] == "png":
+        # zlib level 3 instead of Pillow's 6: 13 % less time for an 8-mode page of the report
+        # (0.45 -> 0.39 s), 9 % larger file (the same pixels)
+        savefig_kw.setdefault("pil_kwargs", {"compress_level": 3})
     buf = io.BytesIO()
     fig.savefig(buf, **savefig_kw)
     return write_bytes(path, buf.getbuffer())

@@ -172,7 +172,7 @@ def _stability(res, camp, undamped_kinds: frozenset[str]) -> dict:
     out: dict = {
         "threshold_log_dec": LOG_DEC_THRESHOLD,
         "undamped_dofs": sorted(undamped_kinds),
-        # the modes judged (analyses.stability.criterion_class): Level II's
+        # the modes judged (analyses.audit.stability.criterion_class): Level II's
         "criterion": {
             "min_lateral": MIN_LATERAL,
             "window_speed_multiple": WINDOW_MULTIPLE,

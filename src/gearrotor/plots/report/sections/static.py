@@ -48,7 +48,7 @@ class OperatingPointsSection(Section):
             st = static(train, name)
             md = modal(train, operating_point=name, max_frequency=ctx.max_frequency)
             # the modes API 617 Level II judges, as the stability section (one definition:
-            # analyses.stability.criterion_class; undamped torsional modes of a model without
+            # analyses.audit.stability.criterion_class; undamped torsional modes of a model without
             # torsional damping would sit at log dec 0 at every point and hide the lateral
             # trend), and any growing mode, whatever it is
             rows.append((st, md, _least_stable(md)))
