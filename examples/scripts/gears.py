@@ -37,8 +37,8 @@ from pathlib import Path  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 
-from gearrotor.analyses.floquet import floquet  # noqa: E402
-from gearrotor.analyses.mesh_response import mesh_response  # noqa: E402
+from gearrotor.analyses.lateral.floquet import floquet  # noqa: E402
+from gearrotor.analyses.lateral.mesh_response import mesh_response  # noqa: E402
 from gearrotor.files import save_figure  # noqa: E402
 from gearrotor.gears import load_gear_pair, mesh_curves  # noqa: E402
 from gearrotor.gears.plots import plot_mesh_cycle  # noqa: E402

@@ -1,4 +1,4 @@
-"""Periodic response over speed by harmonic balance (gearrotor.analyses.mesh_response): the
+"""Periodic response over speed by harmonic balance (gearrotor.analyses.lateral.mesh_response): the
 time-invariant limit against the direct frequency response and the unbalance analysis, the
 resonance at the mesh mode, convergence in the harmonics, the mean mesh force, and (slow)
 agreement with the nonlinear transient integrated to steady state."""
@@ -13,7 +13,7 @@ import pytest
 from typer.testing import CliRunner
 
 from gearrotor import load_model
-from gearrotor.analyses.mesh_response import mesh_response
+from gearrotor.analyses.lateral.mesh_response import mesh_response
 from gearrotor.cli import app
 from gearrotor.model import ExternalTorque
 

@@ -1,7 +1,7 @@
 """``gearrotor mesh-response MODEL [--min-speed RPM] [--max-speed RPM] [--n-speeds N]
 [--harmonics H] [--nonlinear [--sweep up|down]] [--format table|json] [--plot DIR]``: the
 periodic steady state of the train under its mesh excitation and unbalance over a speed
-range, by harmonic balance (:func:`gearrotor.analyses.mesh_response.mesh_response`)."""
+range, by harmonic balance (:func:`gearrotor.analyses.lateral.mesh_response.mesh_response`)."""
 
 from __future__ import annotations
 
@@ -89,7 +89,7 @@ def mesh_response_command(
     if plot is not None:
         check_output(plot, "directory", field="--plot")
     train = load_model(model, parse_overrides(set_))
-    from ..analyses.mesh_response import mesh_response
+    from ..analyses.lateral.mesh_response import mesh_response
 
     default_max = 1.25 * abs(train.speed) / RPM
     lo, hi = sweep_range(train, min_speed, max_speed, 0.0, default_max)

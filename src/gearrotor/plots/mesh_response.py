@@ -1,5 +1,5 @@
 """Figures of the periodic mesh response over speed
-(:func:`gearrotor.analyses.mesh_response.mesh_response`): the dynamic transmission error and
+(:func:`gearrotor.analyses.lateral.mesh_response.mesh_response`): the dynamic transmission error and
 the dynamic factor (with ISO 6336-1's K_v), probe amplitudes at 1x and at 1x and 2x mesh
 frequency, and the bearings' dynamic forces. Each function returns the Figure and saves it
 atomically when ``path`` is given."""

@@ -54,12 +54,12 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from numpy.typing import NDArray
 
-from ..errors import ModelError, SolverError
-from ..model import Train
-from ..threads import managed
+from ...errors import ModelError, SolverError
+from ...model import Train
+from ...threads import managed
+from ..transient.equations import TransientSystem, build_system
+from ..transient.mesh import stiffness as law_stiffness
 from .floquet import _common_period
-from .transient.equations import TransientSystem, build_system
-from .transient.mesh import stiffness as law_stiffness
 
 __all__ = ["MeshResponseResult", "mesh_response", "MESH_HARMONICS"]
 
@@ -274,8 +274,8 @@ class MeshResponseResult:
 def _iso_kv(train: Train, asm, m, speeds: NDArray) -> tuple[NDArray, float]:
     """ISO 6336-1 method B K_v of a geometry mesh over the reference speeds, and the reference
     speed (rad/s) at which the pinion reaches the resonance speed n_E1."""
-    from ..gears.iso6336 import dynamic_factor
-    from ..gears.model_mesh import model_mesh
+    from ...gears.iso6336 import dynamic_factor
+    from ...gears.model_mesh import model_mesh
 
     mm = model_mesh(train, m.spec_index)
     spec = train.meshes[m.spec_index]
@@ -621,7 +621,7 @@ def mesh_response(
     op_force = np.full(nm, np.nan)
     for k, m in enumerate(asm.meshes):
         if kinds[k] == "geometry":
-            from ..gears.model_mesh import model_mesh
+            from ...gears.model_mesh import model_mesh
 
             op_force[k] = model_mesh(train, m.spec_index).curves.force
 
