@@ -13,6 +13,7 @@ __all__ = [
     "mode_shape_curves",
     "plot_bode",
     "plot_campbell",
+    "plot_mode_shape_pages",
     "plot_mode_shapes",
     "plot_orbits",
     "place_labels",
@@ -167,23 +168,50 @@ def plot_mode_shapes(
     ``statuses``: every mode's status (the report's words, e.g. ``stable``, ``no torsional
     damping in the model``), printed under the mode's numbers.
     """
-    from matplotlib.lines import Line2D
-
-    plt = _plt()
-    asm = result.assembly
-    layout = asm.train.layout()
     if modes is None:
         modes = [i for i in range(len(result)) if not result.overdamped[i]][:max_modes]
-    modes = list(modes)
-    ns = len(layout.shafts)
-    width, height = 4.2 * ns + 1.4, 2.1 * len(modes) + 1.0
+    fig = _mode_shape_page(result, len(modes))
+    _draw_mode_shapes(fig, result, list(modes), orbit, statuses)
+    return _save(fig, path, tight=False)
+
+
+def plot_mode_shape_pages(
+    result, pages: list[list[int]], paths: list, *, statuses: list[str] | None = None
+) -> None:
+    """:func:`plot_mode_shapes` of each page of modes into its path (the report's pages of 8):
+    pages of the same number of modes are drawn on one figure, its axes kept and their curves
+    replaced (the panels' ticks, made on the first draw, are most of a page's cost)."""
+    plt = _plt()
+    fig = None
+    for modes, path in zip(pages, paths, strict=True):
+        if fig is None or len(fig.axes) != len(modes) * len(result.assembly.train.shafts):
+            if fig is not None:
+                plt.close(fig)
+            fig = _mode_shape_page(result, len(modes))
+        else:
+            for ax in fig.axes:
+                for artist in [*ax.lines, *ax.texts]:
+                    artist.remove()
+            fig.legends.clear()
+        _draw_mode_shapes(fig, result, list(modes), False, statuses)
+        _save(fig, path, tight=False)
+    if fig is not None:
+        plt.close(fig)
+
+
+def _mode_shape_page(result, n_modes: int):
+    """The empty figure of :func:`plot_mode_shapes` for ``n_modes`` rows (one column per
+    shaft), laid out in inches."""
+    plt = _plt()
+    ns = len(result.assembly.train.shafts)
+    width, height = 4.2 * ns + 1.4, 2.1 * n_modes + 1.0
     # margins in inches, fixed (a constrained layout measured every tick label of every panel
     # three times: 0.5 s of the 0.8 s an 8-mode figure took): the row labels (4 lines of 8 pt
     # and the tick labels) on the left, the title and the column names on top, the axis label
     # and the legend below
     left, right, top, bottom, wgap, hgap = 1.05, 0.12, 0.62, 0.78, 0.42, 0.14
-    fig, axes = plt.subplots(
-        len(modes),
+    fig, _ = plt.subplots(
+        n_modes,
         ns,
         figsize=(width, height),
         squeeze=False,
@@ -194,9 +222,22 @@ def plot_mode_shapes(
             top=1 - top / height,
             bottom=bottom / height,
             wspace=wgap / ((width - left - right - wgap * (ns - 1)) / ns),
-            hspace=hgap / ((height - top - bottom - hgap * (len(modes) - 1)) / len(modes)),
+            hspace=hgap / ((height - top - bottom - hgap * (n_modes - 1)) / n_modes),
         ),
     )
+    return fig
+
+
+def _draw_mode_shapes(fig, result, modes: list[int], orbit: bool, statuses) -> None:
+    """The curves, marks, labels and legend of :func:`plot_mode_shapes` on the axes of
+    :func:`_mode_shape_page` (row per mode, column per shaft)."""
+    from matplotlib.lines import Line2D
+
+    asm = result.assembly
+    layout = asm.train.layout()
+    ns = len(layout.shafts)
+    axes = np.array(fig.axes).reshape(len(modes), ns)
+    height = fig.get_size_inches()[1]
     drawn = {"lateral"}  # the kinds of curve drawn somewhere, for the legend
     for row, m in enumerate(modes):
         for col, sl in enumerate(layout.shafts):
@@ -261,7 +302,6 @@ def plot_mode_shapes(
         fontsize=8,
         frameon=False,
     )
-    return _save(fig, path, tight=False)
 
 
 def campbell_markers(

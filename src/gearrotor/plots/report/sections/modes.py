@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ....analyses.modal import format_log_dec, format_zeta
+from ....analyses.lateral.modal import format_log_dec, format_zeta
 from ..base import Context, Part, Section
 from ..blocks import LOG_DEC_THRESHOLD, RPM, _color, _e, _figure_html, _go
 from ..verdicts import model_undamped_kinds, status_row_class
@@ -33,7 +33,7 @@ class ModesSection(Section):
         )
 
     def write(self, ctx: Context) -> list[Part]:
-        from ...figures import plot_mode_shapes
+        from ...figures import plot_mode_shape_pages
 
         res = ctx.results.get("modal")
         if res is None:
@@ -44,14 +44,10 @@ class ModesSection(Section):
             row["status"] = st  # the words of the table, the stability checks and the figures
         ctx.summary["modal"] = d
         el = shown_modes(res, status, named=summary_mode_names(ctx))
-        for k in range(0, len(el), 8):
-            ctx.png(
-                plot_mode_shapes,
-                f"modes_{k // 8 + 1}.png",
-                res,
-                modes=el[k : k + 8],
-                statuses=status,
-            )
+        pages = [el[k : k + 8] for k in range(0, len(el), 8)]
+        paths = [ctx.directory / f"modes_{i + 1}.png" for i in range(len(pages))]
+        plot_mode_shape_pages(res, pages, paths, statuses=status)
+        ctx.figures.extend(paths)
         body = _modes_table(res, status)
         if el:
             body += _figure_html(mode_shape_figure(res, el, statuses=status), "fig-modes")
@@ -380,7 +376,7 @@ def _modes_table(res, status: list[str]) -> str:
         "are not judged, their status says why).</p>"
     )
     fd = res.frequency_dependence
-    if fd is not None:  # speed × whirl tables (gearrotor.analyses.whirl)
+    if fd is not None:  # speed × whirl tables (gearrotor.analyses.lateral.whirl)
         names = ", ".join(e["name"] for e in fd["elements"])
         misfit = max((e["max_misfit"] for e in fd["elements"]), default=0.0)
         extra += (
