@@ -1,6 +1,6 @@
 """Benchmark: Floquet exponents of the compressor gearbox (SPEC 6.3) at Ka/Kg = 0.75.
 
-Times the two transition-matrix schemes of :mod:`gearrotor.analyses.floquet` on the same
+Times the two transition-matrix schemes of :mod:`gearrotor.analyses.lateral.floquet` on the same
 reduced model (102 modes, 204 states): the Lawson RK4 in the mean system's eigen-coordinates
 (the default) and 4th-order Magnus steps with a matrix exponential per step (the fallback), at
 the step count the default converges to, and prints the largest multiplier difference.
@@ -21,7 +21,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "src"))
 
-from gearrotor.analyses.floquet import floquet  # noqa: E402
+from gearrotor.analyses.lateral.floquet import floquet  # noqa: E402
 from gearrotor.analyses.transient import build_system  # noqa: E402
 from gearrotor.io import load_model  # noqa: E402
 

@@ -22,7 +22,7 @@ from gearrotor.analyses import campbell, modal
 from gearrotor.assembly import assemble
 from gearrotor.io import load_model
 
-_modal = importlib.import_module("gearrotor.analyses.modal")  # the module, not the function
+_modal = importlib.import_module("gearrotor.analyses.lateral.modal")  # the module, not the function
 RPM = np.pi / 30
 MODEL = Path(__file__).resolve().parents[1] / "examples" / "unity_gearbox.toml"
 

@@ -158,7 +158,7 @@ def main() -> None:
     from gearrotor.assembly import assemble
     from gearrotor.io import load_model
 
-    mm = importlib.import_module("gearrotor.analyses.modal")
+    mm = importlib.import_module("gearrotor.analyses.lateral.modal")
     train = load_model(MODEL)
     asm = assemble(train)
     print(f"machine: {cpu_name()}; {environment()}")

@@ -37,9 +37,9 @@ import numpy as np
 from _machine import busy_neighbour, cpu_name, environment
 
 from gearrotor.analyses import campbell, modal
-from gearrotor.analyses.modal import SPARSE_FROM, auto_method
+from gearrotor.analyses.lateral.modal import SPARSE_FROM, auto_method
+from gearrotor.analyses.lateral.unbalance import unbalance_response
 from gearrotor.analyses.transient import ModalRK4, transient
-from gearrotor.analyses.unbalance import unbalance_response
 from gearrotor.assembly import assemble
 from gearrotor.io.model_file import model_from_dict
 

@@ -29,7 +29,7 @@ sys.path.insert(0, str(ROOT / "src"))
 
 from _machine import cpu_name  # noqa: E402
 
-from gearrotor.analyses.modal import modal  # noqa: E402
+from gearrotor.analyses.lateral.modal import modal  # noqa: E402
 from gearrotor.assembly import _assemble, _solve_seal_whirl_table, assemble  # noqa: E402
 from gearrotor.bearings import load_bearing  # noqa: E402
 from gearrotor.bearings.pads import save_whirl_table, whirl_table  # noqa: E402

@@ -228,3 +228,62 @@ def test_test_modules_have_unique_names():
             clashes.append(f"{seen[p.name].relative_to(tests)} and {p.relative_to(tests)}")
         seen[p.name] = p
     assert not clashes, "test modules with the same name: " + "; ".join(clashes)
+
+
+# Former module names (issue 26): a 0.1 package with no external users keeps no aliases. Each
+# old name now reads as one of the analyses' rooms (static, lateral, audit, torsional,
+# transient) or the model.
+FORMER = {
+    "gearrotor.analyses.parametric": "gearrotor.analyses.lateral.floquet",
+    "gearrotor.analyses.transient.integrators": "gearrotor.analyses.transient",
+    "gearrotor.plots.interactive": "gearrotor.plots.report.sections",
+    "gearrotor.analyses.operating": "gearrotor.model.speed_range",
+    "gearrotor.analyses.static.operating": "gearrotor.analyses.static.operating_point",
+    "gearrotor.analyses.api617": "gearrotor.analyses.audit.api_unbalance",
+    "gearrotor.model.audit": "gearrotor.model.api_audit",
+    "gearrotor.analyses.modal": "gearrotor.analyses.lateral.modal",
+    "gearrotor.analyses.campbell": "gearrotor.analyses.lateral.campbell",
+    "gearrotor.analyses.unbalance": "gearrotor.analyses.lateral.unbalance",
+    "gearrotor.analyses.stability": "gearrotor.analyses.audit.stability",
+    "gearrotor.analyses.ucs": "gearrotor.analyses.audit.ucs",
+}
+
+
+def _is_alias(path: Path) -> bool:
+    """A module whose body is only imports and ``__all__``: names re-exported from elsewhere."""
+    body = [
+        n
+        for n in ast.parse(path.read_text(encoding="utf-8")).body
+        if not (isinstance(n, ast.Expr) and isinstance(n.value, ast.Constant))
+    ]
+
+    def reexport(n: ast.stmt) -> bool:
+        if isinstance(n, ast.Import | ast.ImportFrom):
+            return True
+        return isinstance(n, ast.Assign) and all(
+            isinstance(t, ast.Name) and t.id == "__all__" for t in n.targets
+        )
+
+    return bool(body) and all(reexport(n) for n in body)
+
+
+def test_no_alias_module():
+    """No module re-exports names under a former name (a package's ``__init__`` gathering its
+    own modules' names is its ordinary layout), no former module name is back, and no file of
+    the repository imports one."""
+    aliases = [m for m, (p, is_pkg) in MODULES.items() if not is_pkg and _is_alias(p)]
+    assert not aliases, f"alias modules (only imports and __all__): {aliases}"
+    back = sorted(set(FORMER) & set(MODULES))
+    assert not back, f"former module names are back: {back}"
+    root = SRC.parent
+    users = []
+    for folder in ("src", "tests", "benchmarks", "examples"):
+        for p in sorted((root / folder).rglob("*.py")):
+            for node in _imports(ast.parse(p.read_text(encoding="utf-8")), lazy=True):
+                names = (
+                    [a.name for a in node.names]
+                    if isinstance(node, ast.Import)
+                    else [node.module or ""]
+                )
+                users += [f"{p.relative_to(root)}: {n}" for n in names if n in FORMER]
+    assert not users, "imports of former module names:\n" + "\n".join(users)

@@ -11,7 +11,7 @@ import scipy.linalg as la
 from scipy.integrate import solve_ivp
 
 from gearrotor.analyses import modal
-from gearrotor.analyses.floquet import _lawson_monodromy, _magnus_monodromy, floquet
+from gearrotor.analyses.lateral.floquet import _lawson_monodromy, _magnus_monodromy, floquet
 from gearrotor.errors import ModelError
 from gearrotor.io import load_model
 from gearrotor.model import Train

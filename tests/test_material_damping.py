@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from gearrotor.analyses import campbell, modal, unbalance_response
-from gearrotor.analyses.floquet import floquet
+from gearrotor.analyses.lateral.floquet import floquet
 from gearrotor.analyses.transient import RK4, ModalRK4, Save, build_system, transient
 from gearrotor.assembly import assemble
 from gearrotor.errors import ModelError

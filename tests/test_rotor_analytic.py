@@ -6,7 +6,7 @@ import pytest
 import scipy.linalg as la
 
 from gearrotor.analyses import modal, unbalance_response
-from gearrotor.analyses.modal import state_matrices
+from gearrotor.analyses.lateral.modal import state_matrices
 from gearrotor.elements import DiskElement, ShaftElement, shear_coefficient
 from helpers import single_shaft
 

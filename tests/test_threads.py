@@ -108,7 +108,7 @@ def test_busy_cores_sees_a_busy_neighbour():
 
 
 def test_analysis_runs_on_one_thread_and_restores(monkeypatch, auto, two_threads_outside, examples):
-    modal_mod = importlib.import_module("gearrotor.analyses.modal")
+    modal_mod = importlib.import_module("gearrotor.analyses.lateral.modal")
 
     seen = _spy(monkeypatch, modal_mod, "_classify")
     train = load_model(examples / "unity_gearbox.toml")
@@ -118,7 +118,7 @@ def test_analysis_runs_on_one_thread_and_restores(monkeypatch, auto, two_threads
 
 
 def test_fixed_setting_and_large_operations(monkeypatch, two_threads_outside, examples):
-    modal_mod = importlib.import_module("gearrotor.analyses.modal")
+    modal_mod = importlib.import_module("gearrotor.analyses.lateral.modal")
 
     seen = _spy(monkeypatch, modal_mod, "_classify")
     train = load_model(examples / "unity_gearbox.toml")
@@ -139,7 +139,7 @@ def test_fixed_setting_and_large_operations(monkeypatch, two_threads_outside, ex
 
 @pytest.mark.skipif(CORES < 2, reason="needs 2 cores")
 def test_cli_threads_option_reaches_the_analysis(monkeypatch, auto, two_threads_outside, examples):
-    modal_mod = importlib.import_module("gearrotor.analyses.modal")
+    modal_mod = importlib.import_module("gearrotor.analyses.lateral.modal")
 
     seen = _spy(monkeypatch, modal_mod, "_classify")
     model = str(examples / "unity_gearbox.toml")

@@ -447,7 +447,7 @@ def floquet_study(figures: Path | None) -> dict:
     2 % mesh damping and without, and without it on the located pinion (section 7); the 10x
     mode and its 42x − 10x partner are followed by their undamped frequencies; a speed sweep
     of the largest growth rate at Ka/Kg = 0.75."""
-    from gearrotor.analyses.floquet import floquet
+    from gearrotor.analyses.lateral.floquet import floquet
     from gearrotor.analyses.transient import build_system
 
     out: dict = {"cases": [], "sweep": []}

@@ -41,7 +41,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import compressor_gearbox as cg  # noqa: E402
 
 from gearrotor.analyses import modal  # noqa: E402
-from gearrotor.analyses.floquet import floquet  # noqa: E402
+from gearrotor.analyses.lateral.floquet import floquet  # noqa: E402
 from gearrotor.analyses.transient import ModalRK4, transient  # noqa: E402
 from gearrotor.analyses.transient.equations import build_system  # noqa: E402
 from gearrotor.io import load_model  # noqa: E402

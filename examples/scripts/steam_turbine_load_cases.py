@@ -39,8 +39,8 @@ import tempfile  # noqa: E402
 import time  # noqa: E402
 from pathlib import Path  # noqa: E402
 
-from gearrotor.analyses.stability import level2  # noqa: E402
-from gearrotor.analyses.static.operating import model_at_operating_point  # noqa: E402
+from gearrotor.analyses.audit.stability import level2  # noqa: E402
+from gearrotor.analyses.static.operating_point import model_at_operating_point  # noqa: E402
 from gearrotor.errors import ModelError  # noqa: E402
 from gearrotor.io import load_model  # noqa: E402
 

@@ -50,7 +50,7 @@ import numpy as np  # noqa: E402
 import scipy.sparse as sp  # noqa: E402
 
 from gearrotor.analyses import campbell, modal, unbalance_response  # noqa: E402
-from gearrotor.analyses.unbalance import api617_unbalance, shaft_masses  # noqa: E402
+from gearrotor.analyses.lateral.unbalance import api617_unbalance, shaft_masses  # noqa: E402
 from gearrotor.assembly import Assembly, assemble  # noqa: E402
 from gearrotor.bearings import Grid, SolverOptions, axial_groove, coefficients_table, save_table  # noqa: E402
 from gearrotor.elements import MeshGeometry  # noqa: E402

@@ -30,8 +30,8 @@ __all__ = [
 _LAZY = {
     "Assembly": ".assembly",
     "assemble": ".assembly",
-    "ModalResult": ".analyses.modal",
-    "modal": ".analyses.modal",
+    "ModalResult": ".analyses.lateral.modal",
+    "modal": ".analyses.lateral.modal",
     "load_model": ".io",
     "Train": ".model",
     "transient": ".analyses.transient",

@@ -92,6 +92,7 @@ KINDS: dict[str, tuple[str, str, str]] = {
     "kinematic_viscosity": ("m^2/s", "a kinematic viscosity", "32 mm^2/s"),
     "specific_heat": ("J/(kg*K)", "a specific heat capacity", "1950 J/(kg*K)"),
     "heat_transfer": ("W/(m^2*K)", "a heat transfer coefficient", "500 W/(m^2*K)"),
+    "thermal_conductivity": ("W/(m*K)", "a thermal conductivity", "0.13 W/(m*K)"),
     "dimensionless": ("", "a plain number", "0.3"),
     "voltage": ("V", "a voltage", "13.8 kV"),
     "resistance": ("ohm", "a resistance or reactance", "0.64 ohm"),
@@ -243,7 +244,7 @@ def to_si(value: Any, kind: str) -> float:
 
 
 # kinds whose units divide by a temperature difference, and the offset units pint would refuse
-_PER_DEGREE = {"specific_heat", "heat_transfer"}
+_PER_DEGREE = {"specific_heat", "heat_transfer", "thermal_conductivity"}
 _DEGREE = re.compile(r"(?<![\w°])(degC|degF|°C|°F)(?!\w)")
 
 _NUMBER_UNIT = re.compile(r"([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(.*)")

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from gearrotor.analyses import unbalance_response
-from gearrotor.analyses.api617 import (
+from gearrotor.analyses.audit.api_unbalance import (
     CloseClearance,
     clearance_check,
     mode_unbalances,

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from gearrotor.analyses import model_operating_range, unbalance_response
-from gearrotor.analyses.api617 import api617_basis, api617_unbalances
+from gearrotor.analyses.audit.api_unbalance import api617_basis, api617_unbalances
 from gearrotor.errors import ModelError
 from gearrotor.io import load_model, model_from_dict
 from helpers import single_shaft

@@ -11,7 +11,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from gearrotor.analyses import Site, Stage, level1, level2, modal
-from gearrotor.analyses.stability import (
+from gearrotor.analyses.audit.stability import (
     _unit_coupling,
     anticipated_cross_coupling,
     csr_boundary,
@@ -445,7 +445,7 @@ def test_continuation_cost_is_bounded(monkeypatch):
     """Where no mode matches clearly at any step (forced here), the continuation halves each step
     at most MAX_HALVINGS times and stops halving after SOLVE_BUDGET solves: the cost stays
     bounded (without the budget the halvings of every sub-step would compound)."""
-    from gearrotor.analyses import stability
+    from gearrotor.analyses.audit import stability
 
     real = stability._Follower._match
 

@@ -9,7 +9,7 @@ from scipy.optimize import brentq
 
 from doc_examples import ROOT, run
 from gearrotor.analyses import modal, rigid_support_criticals, ucs_map
-from gearrotor.analyses.ucs import MAX_MODES
+from gearrotor.analyses.audit.ucs import MAX_MODES
 from gearrotor.elements import shear_coefficient
 from gearrotor.errors import ModelError
 from gearrotor.io import load_model
@@ -350,7 +350,7 @@ def test_every_value_of_the_map_is_a_root_and_the_sorted_roots_rise():
     solve of the whole pencil), and the sorted roots never fall with k and stay below those
     with the journals pinned (the min-max theorem the branches rest on: K_b ⪰ 0, and pinning
     is the limit k -> oo), on the steam turbine's pinion."""
-    from gearrotor.analyses.ucs import _Synchronous
+    from gearrotor.analyses.audit.ucs import _Synchronous
 
     res = example_map("steam_turbine_gearbox.toml")
     prob = _Synchronous(res.train)
@@ -384,7 +384,7 @@ def test_a_branch_is_followed_by_shape_through_a_crossing():
     assert np.all(np.abs(q[np.isfinite(q)] - 1) < 1e-6)
     first = b[:, 0]
     assert first[0] < wz < first[-1]  # the first branch crosses the axial mode
-    from gearrotor.analyses.ucs import _Synchronous
+    from gearrotor.analyses.audit.ucs import _Synchronous
 
     prob = _Synchronous(t)
     j = int(np.searchsorted(first, wz))  # just above the crossing
@@ -462,7 +462,7 @@ def test_intersections_are_exact_roots_against_a_brute_force_solve():
     (1e-9; interpolating the branch between stiffnesses was up to 0.85 % off), and a
     brute-force bisection of that sorted root against the curve with dense solves finds the
     same N (1e-9)."""
-    from gearrotor.analyses.ucs import _Synchronous
+    from gearrotor.analyses.audit.ucs import _Synchronous
 
     res = example_map("steam_turbine_gearbox.toml")
     prob = _Synchronous(res.train)

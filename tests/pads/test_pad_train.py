@@ -14,8 +14,8 @@ import numpy as np
 import pytest
 from pad_models import reduced_at, rotor_impedance, write
 
-from gearrotor.analyses.modal import modal
-from gearrotor.analyses.unbalance import unbalance_response
+from gearrotor.analyses.lateral.modal import modal
+from gearrotor.analyses.lateral.unbalance import unbalance_response
 from gearrotor.assembly import assemble
 
 RPM = np.pi / 30

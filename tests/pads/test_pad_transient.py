@@ -10,11 +10,11 @@ import numpy as np
 import pytest
 from pad_models import write
 
+from gearrotor.analyses.lateral.unbalance import unbalance_response
 from gearrotor.analyses.transient import RK4, ModalRK4, transient
 from gearrotor.analyses.transient.equations import build_system
 from gearrotor.analyses.transient.forces import _output_dofs
 from gearrotor.analyses.transient.prepare import _prepare_modal
-from gearrotor.analyses.unbalance import unbalance_response
 from gearrotor.assembly import assemble
 
 

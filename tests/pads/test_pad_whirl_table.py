@@ -16,8 +16,8 @@ import numpy as np
 import pytest
 from pad_models import write
 
-from gearrotor.analyses.modal import modal
-from gearrotor.analyses.unbalance import unbalance_response
+from gearrotor.analyses.lateral.modal import modal
+from gearrotor.analyses.lateral.unbalance import unbalance_response
 from gearrotor.assembly import assemble
 from gearrotor.bearings import load_bearing
 from gearrotor.bearings.pads import save_whirl_table, whirl_table

@@ -16,7 +16,7 @@ import pytest
 from scipy.optimize import linear_sum_assignment
 
 from gearrotor.analyses import campbell, modal
-from gearrotor.analyses.campbell import _candidates, _speed_vectors, _Subspace, mac
+from gearrotor.analyses.lateral.campbell import _candidates, _speed_vectors, _Subspace, mac
 from gearrotor.assembly import assemble
 from gearrotor.io import load_model
 

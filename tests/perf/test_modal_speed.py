@@ -22,7 +22,7 @@ import scipy.sparse as sp
 from gearrotor.assembly import assemble
 from gearrotor.io import load_model
 
-mm = importlib.import_module("gearrotor.analyses.modal")
+mm = importlib.import_module("gearrotor.analyses.lateral.modal")
 
 ROOT = __import__("pathlib").Path(__file__).resolve().parents[2]
 RPM = np.pi / 30

@@ -15,7 +15,7 @@ import numpy as np
 from gearrotor.assembly import assemble
 from gearrotor.io import load_model
 
-mm = importlib.import_module("gearrotor.analyses.modal")
+mm = importlib.import_module("gearrotor.analyses.lateral.modal")
 
 
 def test_n_modes_lowest_without_max_frequency(examples):

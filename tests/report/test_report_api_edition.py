@@ -22,7 +22,7 @@ import pytest
 pytest.importorskip("plotly", reason="the HTML report needs plotly (gearrotor[report])")
 pytest.importorskip("matplotlib", reason="the report's PNG figures need matplotlib")
 
-from gearrotor.analyses.api617 import (  # noqa: E402
+from gearrotor.analyses.audit.api_unbalance import (  # noqa: E402
     CloseClearance,
     bearing_clearances,
     clearance_check,

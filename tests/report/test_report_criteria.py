@@ -1,5 +1,5 @@
 """The report's stability checks judge the modes API 617 Level II judges (issue 22 follow-up):
-one definition (``gearrotor.analyses.stability.criterion_class``) for the audit, the report's
+one definition (``gearrotor.analyses.audit.stability.criterion_class``) for the audit, the report's
 modal and Campbell checks and its operating-points section; every other low-damped mode is a
 stated, not-judged status; a growing mode fails whatever it is, a round-off log dec does not.
 
@@ -18,8 +18,7 @@ import numpy as np
 import pytest
 
 from gearrotor.analyses import campbell, modal
-from gearrotor.analyses.modal import ROUNDOFF
-from gearrotor.analyses.stability import (
+from gearrotor.analyses.audit.stability import (
     UNSTABLE_LOG_DEC,
     criterion_class,
     forward_lateral_modes,
@@ -27,6 +26,7 @@ from gearrotor.analyses.stability import (
     level2,
     stability_window,
 )
+from gearrotor.analyses.lateral.modal import ROUNDOFF
 from gearrotor.assembly import assemble
 from gearrotor.io import load_model
 from gearrotor.plots.report.base import Context

@@ -20,8 +20,8 @@ from typer.testing import CliRunner  # noqa: E402
 from gearrotor.cli.report import report_command  # noqa: E402
 from gearrotor.errors import ModelError  # noqa: E402
 from gearrotor.io import load_model  # noqa: E402
-from gearrotor.plots import interactive as ix  # noqa: E402
 from gearrotor.plots.report import make_report, parse_analyses  # noqa: E402
+from gearrotor.plots.report.sections.modes import mode_shape_figure  # noqa: E402
 
 RPM = np.pi / 30
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
@@ -168,7 +168,7 @@ def test_api_checks_match_the_unbalance_result(report):
 def test_mode_shape_traces_are_the_deflected_shafts(report):
     res = report.modal
     modes = [i for i in range(len(res)) if not res.overdamped[i]][:4]
-    fig = ix.mode_shape_figure(res, modes=modes, n_phase=8)
+    fig = mode_shape_figure(res, modes=modes, n_phase=8)
     asm = res.assembly
     shafts = asm.train.layout().shafts
     ns = len(shafts)
@@ -211,7 +211,7 @@ def test_mode_shape_figure_is_valid_plotly(report):
     import plotly.graph_objects as go
 
     res = report.modal
-    fig = ix.mode_shape_figure(res, modes=[0, 1], n_phase=2)
+    fig = mode_shape_figure(res, modes=[0, 1], n_phase=2)
     spec = fig.to_dict()
     checked = go.Figure(spec)  # validates; raises ValueError on an unknown property
     assert len(checked.data) == len(fig.data)
@@ -223,7 +223,7 @@ def test_torsional_spokes_swing_with_torsion(report):
     mode_shape_figure): check it on the mode with the most torsional energy."""
     res = report.modal
     m = int(np.argmax(res.energy_fractions[:, 2]))
-    fig = ix.mode_shape_figure(res, modes=[m], n_phase=4)
+    fig = mode_shape_figure(res, modes=[m], n_phase=4)
     asm = res.assembly
     s = asm.train.layout().shafts[0]
     n_static = len(fig.data) - 4 * len(asm.train.layout().shafts)

@@ -207,7 +207,7 @@ def test_real_run_up(runup_result):
 def test_figures(runup_result, tmp_path):
     pytest.importorskip("matplotlib", reason="the PNG needs matplotlib")
     pytest.importorskip("plotly", reason="the interactive figure needs plotly")
-    from gearrotor.plots.interactive import speed_waterfall_figure
+    from gearrotor.plots.report.sections.transient import speed_waterfall_figure
     from gearrotor.plots.waterfall import plot_speed_waterfall
 
     wf = speed_waterfall(runup_result[0])

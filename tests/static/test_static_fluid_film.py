@@ -144,7 +144,7 @@ def test_floquet_and_campbell_at_operating_point(examples):
     from test_static_gears import gear_pair
 
     from gearrotor.analyses import campbell
-    from gearrotor.analyses.floquet import floquet
+    from gearrotor.analyses.lateral.floquet import floquet
 
     file = str(examples / "bearings" / "plain_ld1.toml")
     t = gear_pair()

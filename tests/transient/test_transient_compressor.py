@@ -28,9 +28,9 @@ from gearrotor.analyses.transient import (
     Save,
     amplitude_at,
     build_system,
+    rk4_max_step,
     transient,
 )
-from gearrotor.analyses.transient.integrators import rk4_max_step
 from gearrotor.cli.transient import plot_command, transient_command
 from gearrotor.errors import SolverError
 from gearrotor.io import load_model

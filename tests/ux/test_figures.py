@@ -20,7 +20,7 @@ def _campbell():
     """A Campbell result by hand: one forward and one backward mode over 2000..8000 rpm, orders
     1x and 30x; with the axis to 50,000 cpm the 30x line (60,000 cpm at 2000 rpm) is above the
     axes over the whole sweep."""
-    from gearrotor.analyses.campbell import CampbellResult, Crossing, ExcitationOrder
+    from gearrotor.analyses.lateral.campbell import CampbellResult, Crossing, ExcitationOrder
 
     s = np.linspace(2000, 8000, 7) * RPM
     f = np.column_stack([np.full(7, 5000.0), np.full(7, 30000.0)]) * RPM

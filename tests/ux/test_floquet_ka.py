@@ -9,7 +9,7 @@ import sys
 import pytest
 
 from gearrotor import load_model
-from gearrotor.analyses.floquet import check_ka_ratio
+from gearrotor.analyses.lateral.floquet import check_ka_ratio
 from gearrotor.analyses.transient import build_system
 from gearrotor.errors import ModelError
 
@@ -44,7 +44,7 @@ def test_cli_refuses_in_one_line_before_running(examples):
 
 
 def test_law_used_is_reported(examples):
-    from gearrotor.analyses.floquet import floquet
+    from gearrotor.analyses.lateral.floquet import floquet
 
     train = load_model(
         examples / "unity_gearbox.toml",

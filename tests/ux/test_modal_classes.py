@@ -11,7 +11,7 @@ from tests.helpers import single_shaft
 
 from gearrotor import load_model
 from gearrotor.analyses import modal
-from gearrotor.analyses.modal import MODE_CLASSES
+from gearrotor.analyses.lateral.modal import MODE_CLASSES
 
 RPM = np.pi / 30
 

@@ -13,10 +13,10 @@ import numpy as np
 import pytest
 from whirl_models import RPM, pedestal_impedance, pedestal_model, table_model, table_of
 
-from gearrotor.analyses.campbell import campbell
-from gearrotor.analyses.modal import modal
-from gearrotor.analyses.stability import level1, level2
-from gearrotor.analyses.unbalance import unbalance_response
+from gearrotor.analyses.audit.stability import level1, level2
+from gearrotor.analyses.lateral.campbell import campbell
+from gearrotor.analyses.lateral.modal import modal
+from gearrotor.analyses.lateral.unbalance import unbalance_response
 from gearrotor.assembly import assemble
 from gearrotor.errors import ModelError
 from gearrotor.model import Train
@@ -149,7 +149,7 @@ def test_sparse_solve_agrees_with_dense(models):
     """The sparse path (shift-invert Arnoldi on the augmented pencil, ``method="sparse"``, what
     "auto" takes from 400 DOFs with a max_frequency) finds every eigenvalue with |λ| ≤
     max_frequency, those of the dense solve, refined to the dense solve's residual."""
-    from gearrotor.analyses.whirl import residuals
+    from gearrotor.analyses.lateral.whirl import residuals
 
     _, asm = models
     d = modal(asm, max_frequency=TOP, method="dense")

@@ -14,7 +14,7 @@ and the synchronous model misses it by more for every mode away from 1x.
 import numpy as np
 import pytest
 
-from gearrotor.analyses.modal import modal
+from gearrotor.analyses.lateral.modal import modal
 from gearrotor.assembly import assemble
 from gearrotor.io import load_model
 from gearrotor.model import Train
@@ -85,7 +85,7 @@ def test_modes_move_as_the_seals_frequency_dependence_predicts(models):
 def test_level2_judges_the_rotor_modes_not_the_seals_own(models):
     """API 617 Level II on the whirl model: the modes of the seal fit's states (type P, the
     rotor barely moves) are not forward lateral modes; the rotor's forward modes are judged."""
-    from gearrotor.analyses.stability import level2
+    from gearrotor.analyses.audit.stability import level2
 
     *_, whirl, _ = models
     modes = level2(whirl, speeds=[W]).evaluations[0].modes
@@ -100,7 +100,7 @@ def test_campbell_tracks_the_rotor_modes(models):
     """Campbell leaves the fitted states' own modes out: their number follows each row's fit
     order (no identity over speed); the six rotor modes are tracked, their residual on the
     nonlinear problem at round-off."""
-    from gearrotor.analyses.campbell import campbell
+    from gearrotor.analyses.lateral.campbell import campbell
 
     *_, whirl, _ = models
     c = campbell(whirl, speeds=np.array([10000.0, 11000.0, 12000.0]) * RPM, max_frequency=TOP)

@@ -10,10 +10,10 @@ import numpy as np
 import pytest
 from whirl_models import RPM, base, pedestal_impedance, table_model, table_of
 
-from gearrotor.analyses.campbell import campbell
-from gearrotor.analyses.modal import modal
+from gearrotor.analyses.lateral.campbell import campbell
+from gearrotor.analyses.lateral.modal import modal
+from gearrotor.analyses.lateral.unbalance import unbalance_response
 from gearrotor.analyses.transient import ModalRK4, transient
-from gearrotor.analyses.unbalance import unbalance_response
 from gearrotor.assembly import assemble
 from gearrotor.elements import RadialBearing, WhirlBearing
 from gearrotor.model import Train

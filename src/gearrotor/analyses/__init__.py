@@ -5,9 +5,9 @@ modules); the others on first use (PEP 562), so that a command importing one ana
 load the rest (the stability audit and the UCS map bring scipy.optimize).
 """
 
-from .campbell import CampbellResult, ExcitationOrder, campbell, default_orders
-from .modal import ModalResult, modal
-from .operating import model_max_continuous_speed, model_operating_range
+from ..model.speed_range import model_max_continuous_speed, model_operating_range
+from .lateral.campbell import CampbellResult, ExcitationOrder, campbell, default_orders
+from .lateral.modal import ModalResult, modal
 
 __all__ = [
     "CampbellResult",
@@ -38,11 +38,13 @@ __all__ = [
 ]
 
 _LAZY = {
-    **dict.fromkeys(("StabilityAudit", "level1_inputs", "stability_audit"), ".audit"),
     **dict.fromkeys(
-        ("Level1Result", "Level2Result", "Site", "Stage", "level1", "level2"), ".stability"
+        ("StabilityAudit", "level1_inputs", "stability_audit"), ".audit.stability_audit"
     ),
-    **dict.fromkeys(("UCSResult", "rigid_support_criticals", "ucs_map"), ".ucs"),
+    **dict.fromkeys(
+        ("Level1Result", "Level2Result", "Site", "Stage", "level1", "level2"), ".audit.stability"
+    ),
+    **dict.fromkeys(("UCSResult", "rigid_support_criticals", "ucs_map"), ".audit.ucs"),
     **dict.fromkeys(
         (
             "UnbalanceResult",
@@ -51,7 +53,7 @@ _LAZY = {
             "api617_vibration_limit",
             "unbalance_response",
         ),
-        ".unbalance",
+        ".lateral.unbalance",
     ),
 }
 

@@ -288,7 +288,7 @@ def excitation_frequency_range(asm: Assembly, top: float) -> tuple[float, str]:
     headroom, ``HEADROOM × (1 + SEPARATION_MARGIN) × max(multiple × |shaft speed|)``, and at
     least ``MIN_SPEED_MULTIPLE × top``. The report's default ``--max-frequency`` and the
     element fineness of ``gearrotor show`` use it."""
-    from .campbell import default_orders
+    from .lateral.campbell import default_orders
 
     ratios = np.abs(asm.speed_ratio)
     orders = [(o, o.multiple * ratios[o.shaft] * top) for o in default_orders(asm)]
@@ -404,7 +404,7 @@ def _refined(train: Train) -> Train:
 
 
 def _convergence(train: Train, speed: float, max_frequency: float) -> tuple[ConvergenceRow, ...]:
-    from .modal import modal
+    from .lateral.modal import modal
 
     coarse = modal(train, speed=speed, max_frequency=max_frequency)
     fine = modal(_refined(train), speed=speed, max_frequency=max_frequency * 1.2)

@@ -64,7 +64,16 @@ KinematicViscosity = Annotated[
     float, BeforeValidator(lambda v: to_si(v, "kinematic_viscosity")), Field(gt=0)
 ]
 SpecificHeat = Annotated[float, BeforeValidator(lambda v: to_si(v, "specific_heat")), Field(gt=0)]
-HeatTransfer = Annotated[float, BeforeValidator(lambda v: to_si(v, "heat_transfer")), Field(ge=0)]
+Conductivity = Annotated[
+    float, BeforeValidator(lambda v: to_si(v, "thermal_conductivity")), Field(gt=0)
+]
+HeatTransfer = Annotated[
+    float,
+    BeforeValidator(
+        lambda v: math.inf if v == math.inf or v == "inf" else to_si(v, "heat_transfer")
+    ),
+    Field(ge=0),
+]
 Density = Annotated[float, BeforeValidator(lambda v: to_si(v, "density")), Field(gt=0)]
 Int = Annotated[int, Strict()]
 #: pivot (or reference-angle) position as a fraction of the pad arc
@@ -136,6 +145,7 @@ class _LubricantIn(_Strict):
     law: Literal["walther", "vogel", "exponential"] | None = None
     density: Density = 870.0
     specific_heat: SpecificHeat | None = None
+    thermal_conductivity: Conductivity = 0.13
     pour_point: Temperature = CELSIUS - 6.0
     max_temperature: Temperature = CELSIUS + 150.0
 
@@ -498,6 +508,7 @@ def _lubricant(lu: _LubricantIn) -> Lubricant:
     props = dict(
         density=lu.density,
         specific_heat=lu.specific_heat,
+        thermal_conductivity=lu.thermal_conductivity,
         pour_point=lu.pour_point,
         max_temperature=lu.max_temperature,
     )

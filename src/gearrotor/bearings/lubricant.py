@@ -385,6 +385,10 @@ class Lubricant:
         Density at 15 °C (kg/m³).
     specific_heat
         J/(kg·K), constant; None = Cragoe's correlation of temperature.
+    thermal_conductivity
+        W/(m·K), constant; default 0.13 (mineral turbine oils near 40–80 °C: 0.13–0.14,
+        falling slowly with temperature). Used only for the cross-film temperature profile
+        of a THD film that conducts heat to the journal or the pads.
     pour_point
         Lowest temperature the laws are used at (K).
     max_temperature
@@ -397,6 +401,7 @@ class Lubricant:
     coefficients: tuple[float, ...]
     density: float = PRESET_DENSITY
     specific_heat: float | None = None
+    thermal_conductivity: float = 0.13
     pour_point: float = PRESET_POUR_POINT
     max_temperature: float = DEFAULT_MAX_TEMPERATURE
     name: str = ""
@@ -407,6 +412,13 @@ class Lubricant:
                 raise ModelError(
                     f"{fld} must be positive", field=f"lubricant.{fld}", value=v, expected="> 0"
                 )
+        if not (math.isfinite(self.thermal_conductivity) and self.thermal_conductivity > 0):
+            raise ModelError(
+                "thermal conductivity must be positive",
+                field="lubricant.thermal_conductivity",
+                value=self.thermal_conductivity,
+                expected="> 0 W/(m*K)",
+            )
         if self.specific_heat is not None and not self.specific_heat > 0:
             raise ModelError(
                 "specific heat must be positive",
@@ -583,6 +595,7 @@ def iso_vg(
     vi: float = 100.0,
     density: float = PRESET_DENSITY,
     specific_heat: float | None = None,
+    thermal_conductivity: float = 0.13,
     pour_point: float = PRESET_POUR_POINT,
     max_temperature: float = DEFAULT_MAX_TEMPERATURE,
 ) -> Lubricant:
@@ -615,6 +628,7 @@ def iso_vg(
         nu100,
         density=density,
         specific_heat=specific_heat,
+        thermal_conductivity=thermal_conductivity,
         pour_point=pour_point,
         max_temperature=max_temperature,
         name=f"ISO VG {grade} (VI {vi:g})",

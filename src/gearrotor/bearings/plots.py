@@ -88,9 +88,11 @@ def plot_pressure(eq: Equilibrium, bearing: Bearing, path: str | Path | None = N
 
 
 def plot_temperature(eq: Equilibrium, bearing: Bearing, path: str | Path | None = None):
-    """Film (= pad surface) temperature (°C) of every pad of a THD equilibrium over angle and
+    """Film (bulk) temperature (°C) of every pad of a THD equilibrium over angle and
     axial position, and the mid-plane temperature over the circumference with each pad's inlet
-    and outlet temperatures and the supply temperature.
+    and outlet temperatures and the supply temperature; where heat goes to the journal or the
+    pads, also the pad surface temperature (dashed), whose hottest value is the bearing's
+    reported maximum.
 
     Raises ValueError for an equilibrium without a THD temperature field.
     """
@@ -102,7 +104,7 @@ def plot_temperature(eq: Equilibrium, bearing: Bearing, path: str | Path | None 
     fig = _figure(figsize=(max(8.0, 2.6 * n), 6.4), layout="constrained")
     gs = fig.add_gridspec(2, n, height_ratios=[1.2, 1.0])
     t_s = th.supply_temperature - 273.15
-    t_hi = th.max_temperature - 273.15
+    t_hi = max(float(p.temperature.max()) for p in th.pads) - 273.15
     from matplotlib.ticker import MaxNLocator
 
     levels = MaxNLocator(nbins=20).tick_values(t_s, t_hi)
@@ -121,9 +123,22 @@ def plot_temperature(eq: Equilibrium, bearing: Bearing, path: str | Path | None 
     if im is not None:
         fig.colorbar(im, ax=fig.axes, label="film temperature (°C)", shrink=0.9)
     ax = fig.add_subplot(gs[1, :])
+    surface = any(
+        p.surface_temperature is not None
+        and not np.array_equal(p.surface_temperature, p.temperature)
+        for p in th.pads
+    )
     for k, (film, pt) in enumerate(zip(films, th.pads, strict=True)):
         ang = np.degrees(film.theta)
         line = ax.plot(ang, pt.temperature[:, -1] - 273.15, lw=1.8, label=f"pad {k + 1}")[0]
+        if surface:
+            ax.plot(
+                ang,
+                pt.surface_temperature[:, -1] - 273.15,
+                lw=1.2,
+                ls="--",
+                color=line.get_color(),
+            )
         if getattr(bearing.pads[k], "periodic", False):
             continue  # a 360° film's inlet is where its cavity ends, not at 0°
         ax.plot(
@@ -134,13 +149,20 @@ def plot_temperature(eq: Equilibrium, bearing: Bearing, path: str | Path | None 
             ms=4,
             color=line.get_color(),
         )
+    if surface:
+        ax.plot([], [], color="0.3", lw=1.2, ls="--", label="pad surface")
     ax.axhline(t_s, color="0.4", lw=1.0, ls=":", label="supply")
     ax.set_xlabel("θ (deg, from +x, counter-clockwise)")
     ax.set_ylabel("mid-plane temperature (°C)")
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=8, loc="upper left", ncols=min(n + 1, 6))
+    ax.legend(fontsize=8, loc="upper left", ncols=min(n + 2, 7))
+    hottest = (
+        f"hottest oil {t_hi:.1f} °C, pad surface {th.max_temperature - 273.15:.1f} °C"
+        if surface
+        else f"hottest {t_hi:.1f} °C"
+    )
     fig.suptitle(
-        f"{bearing.name}: THD, supply {t_s:.1f} °C, hottest {t_hi:.1f} °C, power loss "
+        f"{bearing.name}\nTHD, supply {t_s:.1f} °C, {hottest}, power loss "
         f"{th.power_loss / 1e3:.3g} kW\n{eq.speed_rpm:.0f} rpm, W = ({eq.load[0]:.0f}, "
         f"{eq.load[1]:.0f}) N, ε = {eq.eccentricity_ratio:.3f}"
         + ("" if getattr(bearing.pads[0], "periodic", False) else " (dots: pad inlet and outlet)"),

@@ -42,12 +42,31 @@ only the make-up is fresh.
 ``"thd"`` (2-D energy equation in the film, fixed-geometry and tilting-pad journals)
     Steady energy balance of every control volume, circumferential and axial convection by the
     flow field above (first-order upwind, conservative), dissipation, conduction across the film
-    neglected in its plane (Péclet numbers of 10⁴–10⁶), and optionally heat to the pads
-    (``pad_heat_transfer`` α_p: an overall coefficient from the film to the oil behind the pads,
-    at the supply temperature) and to the journal (``journal_heat_transfer`` α_j; the journal at
+    neglected in its plane (Péclet numbers of 10⁴–10⁶), and optionally heat to the pads and
+    to the journal. The energy balance carries the film's bulk (mixing-cup) temperature T,
+    which also sets the viscosity (a nodal field on every pad). Across the film the
+    temperature is taken parabolic under Couette flow (journal moving at U, pad at rest),
+    with the wall fluxes q_j into the journal and q_p into the pad:
+    ``T(y) = T₀ + (q_j/k) y − (q_j + q_p) y²/(2kh)`` (y from the journal, h the film
+    thickness, k the oil's thermal conductivity), whose mixing-cup mean is T. Its walls
+    conduct on: the journal surface T(0) to the journal body at T_j through
+    ``journal_heat_transfer`` α_j (inf: the surface at T_j), the pad surface T(h) through the
+    pad to the oil behind it, at the supply temperature T_s, through ``pad_heat_transfer`` α_p
+    (the pad's conduction and the back's convection in series). Per node this gives
+
+        T − T_j = q_j/α_j + h (3 q_j − q_p)/(12 k),
+        T − T_s = q_p/α_p − h (3 q_j − 5 q_p)/(12 k),
+
+    linear in T, solved for (q_j, q_p) (:func:`_film_conductances`): the film's own
+    conductance (4k/h towards a journal when the pad is adiabatic) in series with the walls'.
+    The pad surface (babbitt) temperature is ``T(h) = T + h (3 q_j − 5 q_p)/(12 k)``: the bulk
+    temperature in an adiabatic film; above it where a cooler journal draws heat through
+    the film (a developed film over a journal at T_j: T_j + μU²/(2k), Brinkman's
+    adiabatic-wall temperature, against a bulk at T_j + μU²/(4k)). The journal is at
     ``journal_temperature``, or, when not given, at the temperature that makes its net heat
-    flow zero). The film temperature is taken uniform across the film, so it is also the pad
-    surface (babbitt) temperature. A nodal viscosity field on every pad.
+    flow zero, solved within every energy balance (the fields are affine in it at a given
+    film: two balances give it, a third is taken at it). The hottest temperature reported is
+    the pad surface's.
 
 Energy is conserved exactly (to round-off) in both models: the power loss equals the heat the
 flows carry out (enthalpy out − in, fresh oil at the supply temperature) plus the heat
@@ -105,10 +124,14 @@ class ThermalModel:
         ``"effective"``: the pad film temperature ``T_in + f (T_out − T_in)``, 0..1; default 0.5
         (the mean film temperature, Raimondi & Boyd 1958).
     pad_heat_transfer
-        ``"thd"``: overall heat transfer coefficient from the film to the oil behind the pads
-        (W/(m²·K)); 0 = adiabatic (default).
+        ``"thd"``: heat transfer coefficient from the pad surface to the oil behind the pads
+        (at the supply temperature): the pad's conduction and the back's convection in series
+        (W/(m²·K)); 0 = adiabatic (default); the film's own cross-film conductance is added in
+        series (module docstring).
     journal_heat_transfer
-        ``"thd"``: heat transfer coefficient from the film to the journal (W/(m²·K)); default 0.
+        ``"thd"``: heat transfer coefficient from the journal surface to the journal body
+        (W/(m²·K)); inf = the surface at the journal temperature (a steel journal); default 0
+        (adiabatic); the film's conductance is added in series.
     journal_temperature
         ``"thd"``: journal temperature (K); None = the temperature at which the journal takes no
         net heat (it only carries heat from the hot to the cold part of the film).
@@ -158,12 +181,12 @@ class ThermalModel:
                 )
         for name in ("pad_heat_transfer", "journal_heat_transfer"):
             v = getattr(self, name)
-            if not (math.isfinite(v) and v >= 0.0):
+            if not v >= 0.0:  # inf: the wall at its sink's temperature
                 raise ModelError(
                     f"{name} must be ≥ 0",
                     field=f"thermal.{name}",
                     value=v,
-                    expected="a coefficient ≥ 0 W/(m^2*K)",
+                    expected="a coefficient ≥ 0 W/(m^2*K), or inf",
                 )
             if v > 0 and self.model != "thd":
                 raise ModelError(
@@ -201,7 +224,8 @@ class PadThermal:
     outlet_temperature
         Flow-weighted oil leaving at the trailing edge and out of cavities (K).
     max_temperature
-        Hottest film (= pad surface) temperature (K).
+        Hottest pad surface (babbitt) temperature (K): the film's in an adiabatic film
+        (module docstring).
     film_temperature
         ``"effective"``: the pad's effective temperature; ``"thd"``: the area mean (K).
     power_loss
@@ -221,8 +245,11 @@ class PadThermal:
     heat_carried
         Enthalpy the oil carries out of the pad: ρ c (Σ outflow · T − Σ inflow · T) (W).
     temperature
-        ``"thd"``: film temperature at the pad's nodes (K), shape (m+1, n+1) (θ from the pad
-        start, z from the bearing edge to the mid-plane); None for ``"effective"``.
+        ``"thd"``: film (bulk) temperature at the pad's nodes (K), shape (m+1, n+1) (θ from
+        the pad start, z from the bearing edge to the mid-plane); None for ``"effective"``.
+    surface_temperature
+        ``"thd"``: pad surface temperature at the same nodes (K) (module docstring); None for
+        ``"effective"``.
     viscosity
         The viscosity the film was solved with: Pa·s, or the nodal field.
     """
@@ -241,6 +268,7 @@ class PadThermal:
     heat_carried: float
     temperature: NDArray | None = field(default=None, repr=False)
     viscosity: float | NDArray = field(default=0.0, repr=False)
+    surface_temperature: NDArray | None = field(default=None, repr=False)
 
 
 @dataclass(frozen=True)
@@ -288,7 +316,7 @@ class ThermalResult:
 
     @property
     def max_temperature(self) -> float:
-        """Hottest film temperature (K)."""
+        """Hottest pad surface temperature (K)."""
         return max(p.max_temperature for p in self.pads)
 
     @property
@@ -625,6 +653,7 @@ class _PadState:
     flow: PadFlow
     dissipation: NDArray  # W per cell (half bearing)
     reverse: bool
+    film: NDArray  # film thickness per cell (m)
     # bulk quantities (whole bearing length)
     q_in: float = 0.0
     q_out: float = 0.0
@@ -641,7 +670,7 @@ def _pad_state(ev: Any, k: int, film: PadFilm, u: NDArray) -> _PadState:
     flow, h, grad2, mu = pad_flow(mesh, film, q, ev.speed, ev.viscosity[k], b.radius, b.clearance)
     u_s = abs(ev.speed) * b.radius
     phi = flow.fill * (mu * u_s**2 / h + h**3 * grad2 / (12.0 * mu)).ravel()
-    st = _PadState(flow, phi * flow.area, ev.speed < 0)
+    st = _PadState(flow, phi * flow.area, ev.speed < 0, h.ravel())
     st.q_side = 2.0 * float(flow.side.sum())
     st.q_make = 2.0 * float(flow.makeup.sum())
     st.power = 2.0 * float(st.dissipation.sum())
@@ -750,25 +779,52 @@ def _effective_step(
     return t_eff, out
 
 
+def _film_conductances(
+    film: NDArray, conductivity: float, a_j: float, a_p: float
+) -> tuple[NDArray, NDArray, NDArray, NDArray]:
+    """Per node, (g_jj, g_js, g_pj, g_ps) (W/(m²·K)) with q_j = g_jj (T − T_j) + g_js (T − T_s)
+    and q_p = g_pj (T − T_j) + g_ps (T − T_s): the wall fluxes of the film's parabolic
+    cross-film profile (module docstring) in series with the walls' coefficients α_j, α_p
+    (0: an adiabatic wall; inf: the wall at the sink temperature)."""
+    a = film / (12.0 * conductivity)
+    zero = np.zeros_like(a)
+    if a_j > 0 and a_p > 0:
+        r_j, r_p = 1.0 / a_j, 1.0 / a_p
+        det = (r_j + 3.0 * a) * (r_p + 5.0 * a) - 3.0 * a * a
+        return (r_p + 5.0 * a) / det, a / det, 3.0 * a / det, (r_j + 3.0 * a) / det
+    if a_j > 0:
+        return 1.0 / (1.0 / a_j + 3.0 * a), zero, zero, zero
+    if a_p > 0:
+        return zero, zero, zero, 1.0 / (1.0 / a_p + 5.0 * a)
+    return zero, zero, zero, zero
+
+
 def _thd_step(
     model: ThermalModel,
     states: list[_PadState],
     up: list[int],
     rho_c: float,
     t_journal: float,
-) -> tuple[list[NDArray], list[dict]]:
+) -> tuple[list[NDArray], list[dict], float]:
     """2-D energy equation of every pad; returns the temperature fields (flow coordinates,
-    flattened) and the pad outputs."""
+    flattened), the pad outputs, and the journal temperature at which the journal takes no
+    net heat from these fields (NaN without heat to the journal)."""
     t_s = model.supply_temperature
     a_p, a_j = model.pad_heat_transfer, model.journal_heat_transfer
+    conductivity = model.lubricant.thermal_conductivity
     n = len(states)
     sols = []
+    gs = []
     a = np.zeros(n)
     b = np.zeros(n)
     for k, st in enumerate(states):
         f = st.flow
         size = f.fill.size
-        cond = (a_p + a_j) * f.fill * f.area
+        g_jj, g_js, g_pj, g_ps = g = _film_conductances(st.film, conductivity, a_j, a_p)
+        gs.append(g)
+        # heat out of a cell: (g_j + g_s) T − g_j T_j − g_s T_s on its wetted area
+        g_j, g_s = g_jj + g_pj, g_js + g_ps
+        cond = (g_j + g_s) * f.fill * f.area
         out = np.bincount(f.up, f.flow, size) + f.outlet + f.side + f.spill
         mat = sp.csc_matrix(
             (
@@ -786,7 +842,7 @@ def _thd_step(
             lu = splu(mat)
         except RuntimeError:
             raise _no_flow(k) from None
-        src = st.dissipation + f.fill * f.area * (a_p * t_s + a_j * t_journal)
+        src = st.dissipation + f.fill * f.area * (g_s * t_s + g_j * t_journal)
         if f.periodic:
             t0 = lu.solve(src + rho_c * f.makeup * t_s)
             t1 = np.zeros(size)
@@ -820,17 +876,27 @@ def _thd_step(
             * rho_c
             * float((drain + f.side) @ temp - f.inlet.sum() * t_in[k] - f.makeup.sum() * t_make)
         )
-        cond = 2.0 * float(f.fill * f.area @ (a_p * (temp - t_s) + a_j * (temp - t_journal)))
+        g_jj, g_js, g_pj, g_ps = gs[k]
+        d_j, d_s = temp - t_journal, temp - t_s
+        q_j = g_jj * d_j + g_js * d_s
+        q_p = g_pj * d_j + g_ps * d_s
+        cond = 2.0 * float(f.fill * f.area @ (q_j + q_p))
         if f.periodic:
             t_inlet = (st.q_rec * t_out + st.q_make * t_s) / st.q_in if st.q_in > 0 else t_s
         else:
             t_inlet = float(t_in[k])
+        # the pad surface: the pad-side value of the film's cross-film profile (module
+        # docstring); the bulk temperature itself in an adiabatic film
+        surface = temp
+        if a_p > 0 or a_j > 0:
+            surface = temp + st.film * (3.0 * q_j - 5.0 * q_p) / (12.0 * conductivity)
         fields.append(temp)
         outs.append(
             dict(
+                surface=surface,
                 inlet_temperature=float(t_inlet),
                 outlet_temperature=t_out,
-                max_temperature=float(temp.max()),
+                max_temperature=float(surface.max()),
                 film_temperature=float(f.area @ temp / f.area.sum()),
                 power_loss=st.power,
                 inlet_flow=st.q_in,
@@ -842,7 +908,16 @@ def _thd_step(
                 heat_carried=heat,
             )
         )
-    return fields, outs
+    # the journal's temperature for zero net heat: Σ w q_j = 0, q_j linear in T_j
+    t_j_next = float("nan")
+    if a_j > 0:
+        num = den = 0.0
+        for st, temp, (g_jj, g_js, _, _) in zip(states, fields, gs, strict=True):
+            w = st.flow.fill * st.flow.area
+            num += float(w @ (g_jj * temp + g_js * (temp - t_s)))
+            den += float(w @ g_jj)
+        t_j_next = num / den
+    return fields, outs, t_j_next
 
 
 # ---------------------------------------------------------------------------------------------
@@ -922,17 +997,28 @@ def solve_thermal(
         t_mean = float(np.mean([np.mean(t) for t in temps]))
         rho_c = float(lub.density_at(t_mean) * lub.specific_heat_at(t_mean))
         if thd:
-            flat, outs = _thd_step(model, states, up, rho_c, t_journal)
+            flat, outs, t_j_next = _thd_step(model, states, up, rho_c, t_journal)
+            if auto_journal and model.journal_heat_transfer > 0:
+                # the fields are affine in the journal temperature at this film, and so is
+                # the zero-net-heat journal temperature they give: its fixed point exactly
+                # (a second balance 1 K away), then the balance there
+                f1 = _thd_step(model, states, up, rho_c, t_journal + 1.0)[2]
+                slope = f1 - t_j_next
+                if slope < 1.0:
+                    t_fix = t_journal + (t_j_next - t_journal) / (1.0 - slope)
+                    flat, outs, t_j_next = _thd_step(model, states, up, rho_c, t_fix)
+                    t_journal = t_fix
             new = [
                 _from_flow_coords(f.reshape(st.flow.shape), st.reverse, st.flow.periodic)
                 for f, st in zip(flat, states, strict=True)
             ]
             change = _field_change(new, temps, [f.pressure for f in film.pads])
             if auto_journal and model.journal_heat_transfer > 0:
-                w = [st.flow.fill * st.flow.area for st in states]
-                t_journal = float(
-                    sum(wk @ f for wk, f in zip(w, flat, strict=True)) / sum(wk.sum() for wk in w)
-                )
+                # the journal settles with the film (the result reports the temperature the
+                # last energy balance used)
+                change = max(change, abs(t_j_next - t_journal))
+                if change > model.tol:
+                    t_journal = t_j_next
         else:
             t_eff, outs = _effective_step(model, states, up, rho_c)
             new = [float(t) for t in t_eff]
@@ -957,11 +1043,18 @@ def solve_thermal(
             f"temperature {hi - CELSIUS:.4g} degC ({lub.name or 'lubricant'}): the bearing "
             "overheats at this load and speed"
         )
+    surfaces = [
+        _from_flow_coords(o.pop("surface").reshape(st.flow.shape), st.reverse, st.flow.periodic)
+        if thd
+        else None
+        for o, st in zip(outs, states, strict=True)
+    ]
     pads = tuple(
         PadThermal(
             **o,
             temperature=new[k] if thd else None,
             viscosity=ev.viscosity[k],
+            surface_temperature=surfaces[k],
         )
         for k, o in enumerate(outs)
     )

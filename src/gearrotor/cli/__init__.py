@@ -18,10 +18,10 @@ command             module                      calls
 ``transient``,      :mod:`.transient`           :func:`gearrotor.analyses.transient.transient`
 ``transient-plot``
 ``report``          :mod:`.report`              :func:`gearrotor.plots.report.make_report`
-``floquet``         :mod:`.floquet`             :func:`gearrotor.analyses.floquet.floquet`
-``mesh-response``   :mod:`.mesh_response`       :func:`gearrotor.analyses.mesh_response`
-``ucs``             :mod:`.ucs`                 :func:`gearrotor.analyses.ucs.ucs_map`
-``stability``       :mod:`.stability`           :func:`gearrotor.analyses.audit.stability_audit`
+``floquet``         :mod:`.floquet`             :func:`gearrotor.analyses.lateral.floquet.floquet`
+``mesh-response``   :mod:`.mesh_response`       :mod:`gearrotor.analyses.lateral.mesh_response`
+``ucs``             :mod:`.ucs`                 :func:`gearrotor.analyses.ucs_map`
+``stability``       :mod:`.stability`           :func:`gearrotor.analyses.stability_audit`
 ``import-ross``     :mod:`.ross`                :func:`gearrotor.interop.import_ross`
 ``export``          :mod:`.ross`                :func:`gearrotor.interop.ross_script`
 ``study ...``       :mod:`.study`               :mod:`gearrotor.studies`

@@ -121,7 +121,7 @@ def campbell_command(
         )
         typer.echo(res.table())
     if plot is not None:
-        from ..analyses.operating import model_operating_range
+        from ..model.speed_range import model_operating_range
         from ..plots import plot_campbell
 
         plot_campbell(

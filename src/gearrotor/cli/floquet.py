@@ -1,5 +1,5 @@
 """``gearrotor floquet``: parametric stability under the time-varying mesh stiffness
-(:func:`gearrotor.analyses.floquet.floquet`). rpm and cpm at the boundary, rad/s inside."""
+(:func:`gearrotor.analyses.lateral.floquet.floquet`). rpm and cpm at the boundary, rad/s inside."""
 
 from __future__ import annotations
 
@@ -89,11 +89,11 @@ def floquet_command(
                 "speeds must be positive", field="--speeds", value=v, expected="> 0 rpm"
             )
     check_operating_point(train, operating_point)
-    from ..analyses.floquet import check_ka_ratio, floquet
+    from ..analyses.lateral.floquet import check_ka_ratio, floquet
     from ..analyses.transient import build_system
 
     if operating_point is not None:
-        from ..analyses.static.operating import model_at_operating_point
+        from ..analyses.static.operating_point import model_at_operating_point
 
         if sp == [None]:
             w_op = train.operating_point(operating_point).reference_speed(train.speed)

@@ -1,7 +1,7 @@
 """``gearrotor mesh-response MODEL [--min-speed RPM] [--max-speed RPM] [--n-speeds N]
-[--harmonics H] [--format table|json] [--plot DIR]``: the periodic steady state of the train
-under its mesh excitation and unbalance over a speed range, by harmonic balance
-(:func:`gearrotor.analyses.mesh_response.mesh_response`)."""
+[--harmonics H] [--nonlinear [--sweep up|down]] [--format table|json] [--plot DIR]``: the
+periodic steady state of the train under its mesh excitation and unbalance over a speed
+range, by harmonic balance (:func:`gearrotor.analyses.lateral.mesh_response.mesh_response`)."""
 
 from __future__ import annotations
 
@@ -19,6 +19,7 @@ from .options import (
     FormatOpt,
     SetOpt,
     check_format,
+    choice,
     count,
     rpm,
     speed_grid,
@@ -52,6 +53,22 @@ def mesh_response_command(
         int,
         typer.Option(parser=count(1, 200), help="mesh harmonics kept (of each mesh law)"),
     ] = 10,
+    nonlinear: Annotated[
+        bool,
+        typer.Option(
+            "--nonlinear",
+            help="solve with the meshes' backlash law (teeth separating, back-flank contact) "
+            "instead of the linear one, continued from speed to speed",
+        ),
+    ] = False,
+    sweep: Annotated[
+        str,
+        typer.Option(
+            parser=choice("up", "down"),
+            help="with --nonlinear: the direction the solution is continued in (down: the "
+            "resonant branch of a softening mesh, as a run-down or a start from rest reaches it)",
+        ),
+    ] = "down",
     format: FormatOpt = "table",
     plot: Annotated[
         Path | None,
@@ -72,14 +89,14 @@ def mesh_response_command(
     if plot is not None:
         check_output(plot, "directory", field="--plot")
     train = load_model(model, parse_overrides(set_))
-    from ..analyses.mesh_response import mesh_response
+    from ..analyses.lateral.mesh_response import mesh_response
 
     default_max = 1.25 * abs(train.speed) / RPM
     lo, hi = sweep_range(train, min_speed, max_speed, 0.0, default_max)
     if min_speed is None:
         lo = max(lo, 0.05 * hi)
     speeds = speed_grid(lo, hi, n_speeds, "--min-speed/--max-speed")
-    res = mesh_response(train, speeds=speeds, harmonics=harmonics)
+    res = mesh_response(train, speeds=speeds, harmonics=harmonics, nonlinear=nonlinear, sweep=sweep)
     doc = {"model": str(model), **res.to_dict()}
     if format == "json":
         typer.echo(json.dumps(doc, indent=1))

@@ -1,5 +1,5 @@
 """``gearrotor stability``: the API 617 stability audit, Level I and Level II
-(:func:`gearrotor.analyses.audit.stability_audit`).
+(:func:`gearrotor.analyses.audit.stability_audit.stability_audit`).
 
 Level I inputs come from the model's ``[api_audit]`` table; the options replace them: ``--qa``
 (Q_A directly) or the formula's inputs (``--power``, ``--diameter``, ``--height``,
@@ -82,7 +82,7 @@ def parse_site(text: str) -> tuple[str, int | str, float]:
 
 def parse_stage(text: str):
     """``SHAFT:NODE:power=...,diameter=...,height=...[,density_ratio=...][,kind=axial]``."""
-    from ..analyses.stability import Stage
+    from ..analyses.audit.stability import Stage
     from ..units import to_si
 
     head, _, rest = text.partition(":")
@@ -235,9 +235,9 @@ def stability_command(
 ) -> None:
     """API 617 stability audit: Level I (Q_0 by root search, Q_0/Q_A, screening chart) and
     Level II (log dec of every forward lateral mode with the model's destabilisers)."""
-    from ..analyses.audit import stability_audit
-    from ..analyses.stability import Stage
-    from ..analyses.stability import edition as pick_edition
+    from ..analyses.audit.stability import Stage
+    from ..analyses.audit.stability import edition as pick_edition
+    from ..analyses.audit.stability_audit import stability_audit
     from ..io import load_model, parse_overrides
     from ..model import NodeRef
 
@@ -252,7 +252,7 @@ def stability_command(
     q = _positive(qa, "stiffness", "--qa")
     rho = _positive(average_density, "density", "--average-density")
     if rho is not None:
-        from ..model.audit import gas_density
+        from ..model.api_audit import gas_density
 
         try:
             gas_density(rho)
@@ -329,7 +329,7 @@ def stability_command(
         first = sites[0]
         node = first[1]
         if node == "mid_span":
-            from ..analyses.stability import mid_span
+            from ..analyses.audit.stability import mid_span
 
             node = mid_span(train, first[0]).node
         stages = [

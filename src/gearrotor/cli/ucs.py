@@ -1,4 +1,4 @@
-"""``gearrotor ucs``: the undamped critical speed map (:func:`gearrotor.analyses.ucs.ucs_map`)."""
+"""``gearrotor ucs``: the undamped critical speed map (:func:`gearrotor.analyses.ucs_map`)."""
 
 from __future__ import annotations
 
@@ -89,7 +89,7 @@ def ucs_command(
     over speed and the exact intersections, the rigid-support criticals. With
     --operating-point the bearing curves are at the point's static loads (its torque held)
     at every speed of the curve."""
-    from ..analyses.ucs import MAX_MODES, ucs_map
+    from ..analyses.audit.ucs import MAX_MODES, ucs_map
     from ..io import load_model, parse_overrides
 
     check_format(format)

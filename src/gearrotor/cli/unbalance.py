@@ -95,14 +95,14 @@ def unbalance_command(
 ) -> None:
     """Steady-state unbalance response: Bode, peaks, critical speeds, API 684 AF and margins."""
     from ..analyses import model_operating_range, unbalance_response
-    from ..analyses.api617 import (
+    from ..analyses.audit.api_unbalance import (
         CloseClearance,
         api617_unbalances,
         clearance_check,
         close_clearances,
         mode_unbalances,
     )
-    from ..analyses.stability import edition as pick_edition
+    from ..analyses.audit.stability import edition as pick_edition
     from ..assembly import assemble
     from ..errors import ModelError
     from ..io import load_model, parse_overrides

@@ -13,7 +13,7 @@ D, E, F real 2×2, the poles p_k real or in complex-conjugate pairs with Re p_k 
 (pairs: conjugate) residues R_k, so that Z(s̄) = conj Z(s) as for every real system. Its state
 realization ``Z(s) = D + sE + s²F + C_s (sI − A_s)⁻¹ B_s`` adds first-order states to the
 rotor's equations, and the eigenvalues of the augmented system are exactly the roots of
-``det(P(λ) + Z(λ)) = 0`` for the fitted Z (``gearrotor.analyses.whirl``).
+``det(P(λ) + Z(λ)) = 0`` for the fitted Z (``gearrotor.analyses.lateral.whirl``).
 
 Method: vector fitting (Gustavsen & Semlyen 1999, "Rational approximation of frequency domain
 responses by vector fitting", IEEE Trans. Power Delivery 14(3):1052–1061) with the relaxed

@@ -15,7 +15,7 @@ frequencies ω (rad/s, ≥ 0). Two readings of the same numbers:
   (:class:`~gearrotor.elements.rational_fit.RationalImpedance`), blended linearly in speed
   between rows, ``Z(Ω, s) = (1 − t) Z_i(s) + t Z_{i+1}(s)`` (the same linear interpolation in
   speed, now for every s); :meth:`WhirlBearing.realization` gives it in state form, whose
-  states the modal analysis adds to the rotor's (``gearrotor.analyses.whirl``).
+  states the modal analysis adds to the rotor's (``gearrotor.analyses.lateral.whirl``).
 
 At a tabulated (speed, whirl) point the two agree to the fit's misfit (at most the model's
 ``fit_tolerance``).

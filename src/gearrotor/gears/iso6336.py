@@ -1,5 +1,6 @@
 """ISO 6336-1:2006 method B internal dynamic factor K_v of a gear pair (clause 6.4), for the
-comparison with the dynamic factor of :func:`gearrotor.analyses.mesh_response.mesh_response`.
+comparison with the dynamic factor of
+:func:`gearrotor.analyses.lateral.mesh_response.mesh_response`.
 
 The pair is idealised as two rigid disc gears coupled by the mesh stiffness: the resonance
 speed of the pinion is ``n_E1 = 30000/(π z1) √(c_γα / m_red)`` (min⁻¹; c_γα in N/(mm·µm), the

@@ -1,6 +1,6 @@
 """What a machine is: the train model and its validated components."""
 
-from .audit import ApiAudit, AuditSite, AuditStage
+from .api_audit import ApiAudit, AuditSite, AuditStage
 from .components import (
     Backlash,
     Bearing,

@@ -18,7 +18,7 @@ from pydantic import Field, field_validator, model_serializer, model_validator
 
 from ..errors import ModelError
 from ..units import AngularSpeed
-from .audit import ApiAudit
+from .api_audit import ApiAudit
 from .components import (
     Bearing,
     Coupling,

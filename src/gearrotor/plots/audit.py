@@ -119,8 +119,8 @@ def _ucs_panel(plt, ax, result, s, k) -> None:
 
 def plot_level1(result, path=None):
     """Level I: log dec of the followed mode (the first forward mode of the loaded shaft, see
-    :mod:`gearrotor.analyses.stability`) against the applied cross-coupling Q, the least log dec
-    of every forward lateral mode beside it (dotted, where it is lower), Q_A, the threshold Q_0,
+    :mod:`gearrotor.analyses.audit.stability`) against the applied cross-coupling Q, the least log
+    dec of every forward lateral mode beside it (dotted, where it is lower), Q_A, the threshold Q_0,
     the 0.1 acceptance line, and a shaded band where the followed mode's character changes."""
     plt = _plt()
     fig, ax = plt.subplots(figsize=(7.4, 4.8))
@@ -180,7 +180,7 @@ def plot_screening(result, path=None):
     (region A below the boundary, region B above). Without a gas density (a gearbox, a steam
     turbine given Q_A directly) the machine's CSR is drawn as a line across every density: its
     point lies on it, and the chart says the region is not evaluated."""
-    from ..analyses.stability import SCREENING_DENSITY_LIMIT, csr_boundary
+    from ..analyses.audit.stability import SCREENING_DENSITY_LIMIT, csr_boundary
 
     plt = _plt()
     fig, ax = plt.subplots(figsize=(6.5, 4.6))

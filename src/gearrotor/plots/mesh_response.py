@@ -1,5 +1,5 @@
 """Figures of the periodic mesh response over speed
-(:func:`gearrotor.analyses.mesh_response.mesh_response`): the dynamic transmission error and
+(:func:`gearrotor.analyses.lateral.mesh_response.mesh_response`): the dynamic transmission error and
 the dynamic factor (with ISO 6336-1's K_v), probe amplitudes at 1x and at 1x and 2x mesh
 frequency, and the bearings' dynamic forces. Each function returns the Figure and saves it
 atomically when ``path`` is given."""
@@ -57,22 +57,34 @@ def plot_mesh_response(res, path: str | Path | None = None, title: str | None = 
     excitation (solid) and with unbalance (dashed), contact loss shaded grey; the dynamic
     factor max F / mean F and ISO 6336-1 method B K_v (dotted); probe amplitudes (µm, 0-pk,
     log) at 1x, 1x mesh and 2x mesh. Parametrically unstable speeds are shaded red and the
-    periodic response is not drawn there."""
+    periodic response is not drawn there. A nonlinear result (backlash law) is drawn at every
+    speed, with the linear DTE dotted, the speeds where the teeth separate shaded grey and
+    those where Newton's method did not converge marked x."""
+    nl = bool(getattr(res, "nonlinear", False))
     fig = _figure(figsize=(8.6, 9.6), layout="constrained")
     ax1, ax2, ax3 = fig.subplots(3, 1, sharex=True)
     x = res.speed_rpm
-    bad = res.unstable
+    bad = res.unstable if not nl else np.zeros(len(x), bool)
     for ax in (ax1, ax2, ax3):
         _spans(ax, x, bad, "#f4c7c3", "parametrically unstable" if ax is ax2 else None)
         _spans(ax, x, res.contact_loss.any(axis=1) & ~bad, "0.85",
-               "contact loss (linear response invalid)" if ax is ax2 else None)  # fmt: skip
+               ("teeth separate (nonlinear solution)" if nl
+                else "contact loss (linear response invalid)") if ax is ax2 else None)  # fmt: skip
 
     def ok(a):  # the periodic response where it is stable (it means nothing elsewhere)
         return np.where(bad, np.nan, a)
 
     for k, name in enumerate(res.meshes):
         c = f"C{k}"
-        ax1.plot(x, ok(res.dte_rms[:, k]) * 1e6, color=c, label=f"{name}: mesh excitation")
+        ax1.plot(x, ok(res.dte_rms[:, k]) * 1e6, color=c,
+                 label=f"{name}: mesh excitation" + (" (backlash law)" if nl else ""))  # fmt: skip
+        if nl and res.dte_rms_linear is not None:
+            ax1.plot(x, res.dte_rms_linear[:, k] * 1e6, color=c, ls=":", lw=1,
+                     label="linear (teeth always in contact)")  # fmt: skip
+            miss = ~np.asarray(res.converged, bool)
+            if miss.any():
+                ax1.plot(x[miss], res.dte_rms[miss, k] * 1e6, "x", color="k", ms=5,
+                         label="not converged")  # fmt: skip
         if np.any(res.dte_rms_total[:, k] > res.dte_rms[:, k] * (1 + 1e-6)):
             ax1.plot(x, ok(res.dte_rms_total[:, k]) * 1e6, color=c, ls="--", lw=1,
                      label="+ unbalance")  # fmt: skip

@@ -12,7 +12,7 @@ sweeps through it.
 * :func:`speed_varies` says whether a run changes speed enough for such a plot (the report draws
   it only then);
 * :func:`plot_speed_waterfall` draws it with matplotlib (the plotly version is
-  :func:`gearrotor.plots.interactive.speed_waterfall_figure`).
+  :func:`gearrotor.plots.report.sections.transient.speed_waterfall_figure`).
 
 Window length: the 1x of a shaft sweeping at α rev/s² moves by one frequency bin (1/T) during a
 window of length T when T = 1/√α, which balances smearing by the sweep against the resolution;

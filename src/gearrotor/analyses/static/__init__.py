@@ -8,7 +8,7 @@ coefficients at the static loads, which every linear analysis then uses.
 
 from .analysis import journal_equilibrium, resolve_operating_point, static, static_sweep
 from .loads import ToothForces, tooth_forces
-from .operating import at_operating_point
+from .operating_point import at_operating_point
 from .results import BearingLoad, MeshLoad, ShaftStatics, StaticResult, StaticSweep
 from .solver import Contact, LinearStatic, rigid_modes, solve_static
 

@@ -53,7 +53,7 @@ def transient_at_operating_point(model: Train | Assembly, operating_point) -> tu
     """
     from ..static import static
     from ..static.analysis import _gravity_field
-    from ..static.operating import model_at_operating_point
+    from ..static.operating_point import model_at_operating_point
 
     if not isinstance(model, (Train, Assembly)):
         raise TypeError("transient(operating_point=...) takes a Train or its Assembly")

@@ -99,9 +99,9 @@ class Context:
     @property
     def api_edition(self):
         """The API 617 edition of the ``--api`` unbalance and the audit
-        (:class:`~gearrotor.analyses.stability.Edition`): the one asked for, else the model's
+        (:class:`~gearrotor.analyses.audit.stability.Edition`): the one asked for, else the model's
         ``[api_audit] edition``, else the 8th."""
-        from ...analyses.stability import edition
+        from ...analyses.audit.stability import edition
 
         if self.edition is not None:
             return edition(self.edition, "--edition")

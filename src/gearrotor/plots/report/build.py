@@ -135,11 +135,12 @@ def make_report(
     api : the unbalance section uses the API 617 unbalance, 4 × 6350 W/N g·mm per plane of the
         model's unbalances (W the plane's share of its shaft's mass, kg; N its shaft's speed at
         the operating speed, rpm; phases as in the model) instead of the model's amounts
-        (:func:`gearrotor.analyses.api617.api617_unbalances`); with the 9th edition 2 × 6350
-        W/N g·mm at the antinodes of the reference shaft's first forward mode
-        (:func:`gearrotor.analyses.api617.mode_unbalances`) and the close-clearance check
-        (:func:`gearrotor.analyses.api617.clearance_check`) at the model's close clearances
-        (:func:`gearrotor.analyses.api617.close_clearances`)
+        (:func:`gearrotor.analyses.audit.api_unbalance.api617_unbalances`); with the 9th
+        edition 2 × 6350 W/N g·mm at the antinodes of the reference shaft's first forward mode
+        (:func:`gearrotor.analyses.audit.api_unbalance.mode_unbalances`) and the
+        close-clearance check (:func:`gearrotor.analyses.audit.api_unbalance.clearance_check`)
+        at the model's close clearances
+        (:func:`gearrotor.analyses.audit.api_unbalance.close_clearances`)
     edition : API 617 edition of ``api`` and the audit section, ``"8th"`` or ``"9th"``
         (default: the model's ``[api_audit] edition``, else the 8th); the sections say which
     n_campbell, n_unbalance : number of speeds of the Campbell and unbalance sweeps
@@ -174,7 +175,7 @@ def make_report(
     if transient is not None and "transient" not in analyses:
         analyses = (*analyses, "transient")
     if edition is not None:
-        from ...analyses.stability import edition as pick_edition
+        from ...analyses.audit.stability import edition as pick_edition
 
         edition = pick_edition(edition, "--edition").key
         if not api and "audit" not in analyses:
@@ -232,7 +233,7 @@ def make_report(
             value=None if speed is None else f"{w * RPM:.6g} rpm",
             expected="a speed > 0 rpm (the direction of rotation follows the model)",
         )
-    from ...analyses.operating import model_operating_range
+    from ...model.speed_range import model_operating_range
 
     operating_range = None if speed_given else model_operating_range(train)
     top = max(w, operating_range[1]) if operating_range is not None else w

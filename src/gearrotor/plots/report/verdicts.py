@@ -5,14 +5,14 @@ the command line's output).
 
 Mode status (:func:`mode_status`), against the acceptance threshold
 :data:`~.blocks.LOG_DEC_THRESHOLD` (API 617 Level II). The modes judged are Level II's
-(:func:`gearrotor.analyses.stability.criterion_class`, the one definition both use): forward
+(:func:`gearrotor.analyses.audit.stability.criterion_class`, the one definition both use): forward
 whirl, at least half of the kinetic energy in lateral motion, damped frequency up to 3× the
 fastest shaft speed. So a mode is
 
 * ``stable``: log dec at or above the threshold (pass);
 * ``low damping``: a judged mode below the threshold (FAIL);
 * ``UNSTABLE``: a growing mode, whatever it is (FAIL; damping ratio below −1e-7, modal's
-  round-off level: :func:`gearrotor.analyses.stability.is_unstable`);
+  round-off level: :func:`gearrotor.analyses.audit.stability.is_unstable`);
 * ``over-damped``: ζ ≥ 0.999, no oscillation (pass);
 
 and, below the threshold but not judged (:data:`NOT_JUDGED`), shown with the reason:
@@ -87,7 +87,7 @@ def _kinds(mode_type: str) -> set[str]:
 
 
 #: the status of a mode below the threshold that the criteria do not judge, by the reason
-#: :func:`gearrotor.analyses.stability.criterion_class` gives (``"not lateral"``: see
+#: :func:`gearrotor.analyses.audit.stability.criterion_class` gives (``"not lateral"``: see
 #: :func:`mode_status`)
 _NOT_JUDGED_STATUS = {
     "backward": "low damping, backward",
@@ -107,9 +107,9 @@ def mode_status(
     """The status of a mode (module docstring): ``mode_type`` as ``modal`` names it (``L``,
     ``L-T``, ``T``, ``P``, ...), ``log_dec`` its log decrement, ``undamped_kinds`` from
     :func:`model_undamped_kinds`, ``criterion`` its class for the stability criteria
-    (:func:`gearrotor.analyses.stability.criterion_class`: ``"judged"``, ``"backward"``,
+    (:func:`gearrotor.analyses.audit.stability.criterion_class`: ``"judged"``, ``"backward"``,
     ``"not lateral"``, ``"above window"``, ``"over-damped"``)."""
-    from ...analyses.stability import is_unstable
+    from ...analyses.audit.stability import is_unstable
 
     if overdamped or criterion == "over-damped":
         return "over-damped"

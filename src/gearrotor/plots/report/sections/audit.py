@@ -1,9 +1,9 @@
 """API audit section (API 617 / API RP 684 lateral audit): the undamped critical speed map
-(:func:`gearrotor.analyses.ucs.ucs_map`), the unbalance response's critical speeds with their
+(:func:`gearrotor.analyses.audit.ucs.ucs_map`), the unbalance response's critical speeds with their
 amplification factors and separation margins over the model's operating range, Level I
 stability (log dec against the applied cross-coupling, Q_0/Q_A, the screening chart, the
 verdict) and Level II (every forward lateral mode with the model's destabilisers at the
-operating range's ends and the MCS) (:func:`gearrotor.analyses.audit.stability_audit`).
+operating range's ends and the MCS) (:func:`gearrotor.analyses.stability_audit`).
 
 Needs the model's ``operating_speed_range`` and ``max_continuous_speed``, its ``[api_audit]``
 table (the Level I inputs), unbalance and probes; requested with ``--analyses ...,audit``.
@@ -39,7 +39,7 @@ class AuditSection(Section):
     default = False
 
     def check(self, ctx: Context) -> None:
-        from ....analyses.audit import level1_inputs
+        from ....analyses.audit.stability_audit import level1_inputs
 
         train = ctx.train
         if train.operating_speed_range is None or train.max_continuous_speed is None:
@@ -65,8 +65,8 @@ class AuditSection(Section):
 
     def run(self, ctx: Context) -> None:
         from ....analyses import unbalance_response
-        from ....analyses.audit import stability_audit
-        from ....analyses.ucs import ucs_map
+        from ....analyses.audit.stability_audit import stability_audit
+        from ....analyses.audit.ucs import ucs_map
 
         unb = ctx.results.get("unbalance")
         if unb is None:

@@ -1,7 +1,7 @@
 """Mesh-response section (``--analyses mesh_response``, not run by default): the periodic
 steady state over speed under the gear-mesh excitation and unbalance
-(:func:`gearrotor.analyses.mesh_response.mesh_response`): DTE and dynamic factor against speed
-with ISO 6336-1's K_v, probe amplitudes and bearing forces at 1x, 1x and 2x mesh frequency,
+(:func:`gearrotor.analyses.lateral.mesh_response.mesh_response`): DTE and dynamic factor against
+speed with ISO 6336-1's K_v, probe amplitudes and bearing forces at 1x, 1x and 2x mesh frequency,
 and the numbers at the operating speed; contact loss in the operating range is a FAIL (the
 teeth separate, the linear response does not hold)."""
 
@@ -33,7 +33,7 @@ class MeshResponseSection(Section):
             )
 
     def run(self, ctx: Context) -> None:
-        from ....analyses.mesh_response import mesh_response
+        from ....analyses.lateral.mesh_response import mesh_response
 
         speeds = ctx.sweep(0.05 * ctx.speed, 1.25 * ctx.speed, N_SPEEDS, "mesh response")
         ctx.results["mesh_response"] = mesh_response(ctx.assembly.train, speeds=speeds)
@@ -42,7 +42,7 @@ class MeshResponseSection(Section):
         res = ctx.results.get("mesh_response")
         if res is None:
             return []
-        from ....plots.mesh_response import plot_bearing_forces, plot_mesh_response
+        from ...mesh_response import plot_bearing_forces, plot_mesh_response
 
         ctx.save(plot_mesh_response(res, title=ctx.train.name), "mesh_response.png")
         ctx.save(plot_bearing_forces(res), "mesh_bearing_forces.png")

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ....analyses.modal import format_log_dec, format_zeta
+from ....analyses.lateral.modal import format_log_dec, format_zeta
 from ..base import Context, Part, Section
 from ..blocks import LOG_DEC_THRESHOLD, RPM, _color, _e, _figure_html, _go
 from ..verdicts import model_undamped_kinds, status_row_class
@@ -375,7 +375,7 @@ def _modes_table(res, status: list[str]) -> str:
         "are not judged, their status says why).</p>"
     )
     fd = res.frequency_dependence
-    if fd is not None:  # speed × whirl tables (gearrotor.analyses.whirl)
+    if fd is not None:  # speed × whirl tables (gearrotor.analyses.lateral.whirl)
         names = ", ".join(e["name"] for e in fd["elements"])
         misfit = max((e["max_misfit"] for e in fd["elements"]), default=0.0)
         extra += (

@@ -3,9 +3,9 @@
 and over the Campbell sweep (Campbell section); the first verdicts of the summary.
 
 The modes judged are API 617 Level II's, by the one definition the stability audit uses
-(:func:`gearrotor.analyses.stability.criterion_class`): forward whirl, at least half of the
+(:func:`gearrotor.analyses.audit.stability.criterion_class`): forward whirl, at least half of the
 kinetic energy in lateral motion, damped frequency up to 3× the fastest shaft speed at that
-speed; any growing mode fails (:func:`gearrotor.analyses.stability.is_unstable`). A Campbell
+speed; any growing mode fails (:func:`gearrotor.analyses.audit.stability.is_unstable`). A Campbell
 track is judged at each speed by its mode's class there: the diagram keeps every tracked
 mode's kinetic-energy fractions (``CampbellResult.energy_fractions``) and whirl per speed. The
 other modes below the threshold are shown with the reason they are not judged
@@ -39,7 +39,7 @@ __all__ = [
 ]
 
 #: the lateral kinetic-energy share from which a mode is judged: Level II's default
-#: (:func:`gearrotor.analyses.stability.level2`, the audit section's)
+#: (:func:`gearrotor.analyses.audit.stability.level2`, the audit section's)
 MIN_LATERAL = 0.5
 
 
@@ -77,16 +77,16 @@ def summary_mode_names(ctx: Context) -> set[int]:
 
 
 def _window(speed_ratio, speed: float) -> float:
-    from ....analyses.stability import stability_window
+    from ....analyses.audit.stability import stability_window
 
     return stability_window(speed_ratio, speed)
 
 
 def modal_criteria(res) -> np.ndarray:
     """Per mode of a modal result, its class for the stability criteria
-    (:func:`gearrotor.analyses.stability.criterion_class` with Level II's window at the
+    (:func:`gearrotor.analyses.audit.stability.criterion_class` with Level II's window at the
     result's speed)."""
-    from ....analyses.stability import criterion_class
+    from ....analyses.audit.stability import criterion_class
 
     return criterion_class(
         frequency=res.damped_frequency,
@@ -118,7 +118,7 @@ def campbell_statuses(camp, undamped_kinds: frozenset[str]) -> tuple[np.ndarray,
     """(criterion class, status) of every tracked mode at every speed of a Campbell diagram,
     arrays (n_speeds, n_modes): each speed judged as a modal result there (its whirl, lateral
     kinetic-energy share and Level II's window at that speed)."""
-    from ....analyses.stability import criterion_class
+    from ....analyses.audit.stability import criterion_class
 
     if camp.energy_fractions is None:
         raise ValueError("the Campbell result has no energy fractions (made before they were kept)")
@@ -167,12 +167,12 @@ def _rank(status: str) -> int:
 
 
 def _stability(res, camp, undamped_kinds: frozenset[str]) -> dict:
-    from ....analyses.stability import UNSTABLE_LOG_DEC, WINDOW_MULTIPLE, is_unstable
+    from ....analyses.audit.stability import UNSTABLE_LOG_DEC, WINDOW_MULTIPLE, is_unstable
 
     out: dict = {
         "threshold_log_dec": LOG_DEC_THRESHOLD,
         "undamped_dofs": sorted(undamped_kinds),
-        # the modes judged (analyses.stability.criterion_class): Level II's
+        # the modes judged (analyses.audit.stability.criterion_class): Level II's
         "criterion": {
             "min_lateral": MIN_LATERAL,
             "window_speed_multiple": WINDOW_MULTIPLE,

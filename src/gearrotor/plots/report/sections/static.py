@@ -39,7 +39,7 @@ class OperatingPointsSection(Section):
                 ) from None
 
     def run(self, ctx: Context) -> None:
-        from ....analyses.modal import modal
+        from ....analyses.lateral.modal import modal
         from ....analyses.static import static
 
         train = ctx.base_train or ctx.train
@@ -48,7 +48,7 @@ class OperatingPointsSection(Section):
             st = static(train, name)
             md = modal(train, operating_point=name, max_frequency=ctx.max_frequency)
             # the modes API 617 Level II judges, as the stability section (one definition:
-            # analyses.stability.criterion_class; undamped torsional modes of a model without
+            # analyses.audit.stability.criterion_class; undamped torsional modes of a model without
             # torsional damping would sit at log dec 0 at every point and hide the lateral
             # trend), and any growing mode, whatever it is
             rows.append((st, md, _least_stable(md)))
@@ -108,7 +108,7 @@ class OperatingPointsSection(Section):
 def _least_stable(md) -> int | None:
     """The mode of least log dec among those the stability criteria judge at this point and
     the growing ones (None: none)."""
-    from ....analyses.stability import is_unstable
+    from ....analyses.audit.stability import is_unstable
 
     crit = modal_criteria(md)
     el = [

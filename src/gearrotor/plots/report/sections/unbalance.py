@@ -2,11 +2,12 @@
 (:func:`gearrotor.analyses.unbalance_response`) with the model's unbalance or, ``api``, the API 617
 unbalance of the edition the report uses (:attr:`~..base.Context.api_edition`: ``--edition``,
 else the model's ``[api_audit] edition``, else the 8th): the 8th edition's 4 × 6350 W/N g·mm at
-the model's planes (:func:`gearrotor.analyses.api617.api617_unbalances`), the 9th edition's
-2 × 6350 W/N g·mm at the antinodes of the reference shaft's first forward mode
-(:func:`gearrotor.analyses.api617.mode_unbalances`) with its close-clearance check
-(:func:`gearrotor.analyses.api617.clearance_check`; the clearances of
-:func:`gearrotor.analyses.api617.close_clearances`). Bode plot and orbits (interactive and
+the model's planes (:func:`gearrotor.analyses.audit.api_unbalance.api617_unbalances`), the
+9th edition's 2 × 6350 W/N g·mm at the antinodes of the reference shaft's first forward mode
+(:func:`gearrotor.analyses.audit.api_unbalance.mode_unbalances`) with its close-clearance check
+(:func:`gearrotor.analyses.audit.api_unbalance.clearance_check`; the clearances of
+:func:`gearrotor.analyses.audit.api_unbalance.close_clearances`). Bode plot and orbits
+(interactive and
 PNG); then its checks, the API 684 separation margins, the API 617 vibration limit in the
 operating range and the close clearances, a page part of their own and their verdicts."""
 
@@ -96,11 +97,11 @@ def _api_unbalance(ctx: Context) -> dict:
     ``unbalances`` (the model's, or the API 617 unbalance of :attr:`~..base.Context.api_edition`
     at the maximum continuous speed, the operating speed when the model states none),
     ``edition`` and, for the 9th edition, ``placement`` (its
-    :class:`~gearrotor.analyses.api617.ModeUnbalance`)."""
+    :class:`~gearrotor.analyses.audit.api_unbalance.ModeUnbalance`)."""
     got = ctx.results.get("api617")
     if got is not None:
         return got
-    from ....analyses.api617 import api617_unbalances, mode_unbalances
+    from ....analyses.audit.api_unbalance import api617_unbalances, mode_unbalances
 
     ed, placed = ctx.api_edition, None
     if not ctx.api:
@@ -123,7 +124,7 @@ def _clearances(ctx: Context, speeds) -> None:
     """The 9th edition's close-clearance check with the ``--api`` unbalance (once, into
     ``ctx.results["clearance"]``), when the model has close clearances: its ``[api_audit]
     clearances``, else its fluid-film journal bearings'."""
-    from ....analyses.api617 import clearance_check, close_clearances
+    from ....analyses.audit.api_unbalance import clearance_check, close_clearances
 
     api = _api_unbalance(ctx)
     if "clearance" in ctx.results or api["placement"] is None:
@@ -373,7 +374,7 @@ def _api_checks(unb, ctx: Context | None = None) -> dict:
 
 def _unbalances_used(ctx: Context) -> dict:
     """Which unbalance the response uses: ``{"basis", "edition", "label", "planes": [...]}``."""
-    from ....analyses.api617 import api617_basis
+    from ....analyses.audit.api_unbalance import api617_basis
 
     api = _api_unbalance(ctx)
     ed, placed, unbalances = api["edition"], api["placement"], api["unbalances"]

@@ -84,12 +84,12 @@ import scipy.sparse.linalg as spla
 from numpy.typing import NDArray
 from scipy.optimize import brentq, linear_sum_assignment
 
-from ..assembly import Assembly, _Triplets, assemble
-from ..elements import RadialBearing
-from ..errors import ModelError, SolverError
-from ..model import Train
-from ..progress import Progress, part, report
-from ..threads import managed
+from ...assembly import Assembly, _Triplets, assemble
+from ...elements import RadialBearing
+from ...errors import ModelError, SolverError
+from ...model import Train
+from ...progress import Progress, part, report
+from ...threads import managed
 
 __all__ = [
     "UCSResult",
@@ -756,7 +756,7 @@ def _at_operating_point(model, operating_point) -> Train:
     critical at these loads", so the point's torque (and with it every static load) is held
     over the curve's speeds, whatever the point's ``hold`` says for sweeps of the running
     speed."""
-    from .static.operating import model_at_operating_point
+    from ..static.operating_point import model_at_operating_point
 
     train = model if isinstance(model, Train) else model.train
     op = train.operating_point(operating_point)

@@ -4,7 +4,8 @@ close-clearance check.
 
 API 617 (8th ed.) asks for the unbalance response to 4× the allowable residual unbalance,
 ``U = 4 × 6350 W/N`` g·mm per plane, W the journal static load (kg) of the plane and N the maximum
-continuous speed (rpm) of its shaft (:func:`~gearrotor.analyses.unbalance.api617_unbalance`).
+continuous speed (rpm) of its shaft
+(:func:`~gearrotor.analyses.lateral.unbalance.api617_unbalance`).
 Here W is the shaft's total translating mass (disks included) shared equally by the unbalance
 planes of that shaft, and N follows from the reference-shaft maximum continuous speed and the gear
 ratio; phases and nodes are the model's.
@@ -18,11 +19,11 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from ..assembly import Assembly, assemble
-from ..errors import ModelError
-from ..model import NodeRef, Train
-from .operating import model_max_continuous_speed
-from .unbalance import api617_unbalance, shaft_masses
+from ...assembly import Assembly, assemble
+from ...errors import ModelError
+from ...model import NodeRef, Train
+from ...model.speed_range import model_max_continuous_speed
+from ..lateral.unbalance import api617_unbalance, shaft_masses
 
 __all__ = [
     "api617_basis",
@@ -155,8 +156,8 @@ class ModeUnbalance:
 
     def unbalances(self) -> list:
         """As :class:`~gearrotor.model.Unbalance` entries for
-        :func:`~gearrotor.analyses.unbalance.unbalance_response`."""
-        from ..model import Unbalance
+        :func:`~gearrotor.analyses.lateral.unbalance.unbalance_response`."""
+        from ...model import Unbalance
 
         return [
             Unbalance(shaft=self.shaft, node=n, amount=a, phase=p)
@@ -219,7 +220,7 @@ def mode_unbalances(
     loads: the shaft's weight (nodal masses, :func:`nodal_masses`) shared by its two outermost
     radial bearings by the lever rule; the mass outboard of a bearing counts the bearing node's
     mass in proportion to the lengths of its two elements."""
-    from .modal import modal
+    from ..lateral.modal import modal
     from .stability import _default_speed
 
     asm = model if isinstance(model, Assembly) else assemble(model)
@@ -343,7 +344,7 @@ def bearing_clearances(model: Train | Assembly) -> list[CloseClearance]:
     by a bearing file (``fluid_film.file``), twice the file's assembled radial clearance (the
     minimum running clearance: a preloaded lobe's or tilting pad's clearance at its pivot,
     docs/bearings.md), named after the bearing."""
-    from ..bearings import load_bearing
+    from ...bearings import load_bearing
 
     train = model.train if isinstance(model, Assembly) else model
     out = []
@@ -467,8 +468,8 @@ def clearance_check(
     (:class:`CloseClearance` or ``(shaft, node, diametral[, name])``), against 75 % of its
     diametral clearance. ``operating_range``: (N_ma, N_mc) of the reference shaft, rad/s
     (default the model's); ``probes`` default to the model's."""
-    from .operating import model_operating_range
-    from .unbalance import api617_vibration_limit, unbalance_response
+    from ...model.speed_range import model_operating_range
+    from ..lateral.unbalance import api617_vibration_limit, unbalance_response
 
     asm = model if isinstance(model, Assembly) else assemble(model)
     train = asm.train

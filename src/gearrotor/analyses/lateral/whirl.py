@@ -53,9 +53,9 @@ import scipy.linalg as la
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
-from ..assembly import Assembly, _Triplets
-from ..errors import ModelError, SolverError
-from ..threads import limit
+from ...assembly import Assembly, _Triplets
+from ...errors import ModelError, SolverError
+from ...threads import limit
 
 __all__ = ["frequency_dependent", "WhirlSystem", "whirl_system", "solve", "residuals"]
 

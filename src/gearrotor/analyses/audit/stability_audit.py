@@ -1,5 +1,5 @@
 """The API 617 stability audit of a train as one call: Level I from the model's ``[api_audit]``
-table (:mod:`gearrotor.model.audit`) or from arguments that override it, and Level II with every
+table (:mod:`gearrotor.model.api_audit`) or from arguments that override it, and Level II with every
 destabiliser the model holds at the operating speeds, with one verdict.
 
 Level II runs whatever Level I says (the audit reports both); the audit passes when Level I
@@ -7,11 +7,11 @@ passes, or when Level I asks for Level II and Level II passes. Level II speeds: 
 maximum operating speeds and the maximum continuous speed of the model (distinct values), the
 MCS alone when the model states no operating range.
 
-The edition (API 617 8th or 9th, :func:`~gearrotor.analyses.stability.edition`) comes from the
+The edition (API 617 8th or 9th, :func:`~gearrotor.analyses.audit.stability.edition`) comes from the
 ``edition`` argument, else the model's ``[api_audit] edition``, else the 8th.
 
 One verdict line per check (:meth:`StabilityAudit.checks`), in one vocabulary
-(:data:`~gearrotor.analyses.stability.VERDICTS`): Level I says ``"pass"`` or
+(:data:`~gearrotor.analyses.audit.stability.VERDICTS`): Level I says ``"pass"`` or
 ``"level II required"`` (not a failure: the standard's next step), Level II ``"pass"`` or
 ``"fail"``, and the audit's conclusion is the Level II line's when Level I sent the machine
 there.
@@ -24,12 +24,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..assembly import Assembly
-from ..errors import ModelError
-from ..model import Train
-from ..progress import Progress, part, report
-from ..threads import managed
-from .operating import model_max_continuous_speed
+from ...assembly import Assembly
+from ...errors import ModelError
+from ...model import Train
+from ...model.speed_range import model_max_continuous_speed
+from ...progress import Progress, part, report
+from ...threads import managed
 from .stability import (
     RPM,
     Level1Result,
@@ -254,7 +254,7 @@ def stability_audit(
     mcs = model_max_continuous_speed(train, "the stability audit (Level I runs at the MCS)")
     ws = list(speeds) if speeds is not None else level2_speeds(train)
     if operating_point is not None:
-        from .static.operating import model_at_operating_point
+        from ..static.operating_point import model_at_operating_point
 
         at = sorted({float(abs(w)) for w in [mcs, *ws]})
         op = part(progress, 0.0, 0.6, "operating point")

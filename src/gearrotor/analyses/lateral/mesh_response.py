@@ -54,12 +54,12 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from numpy.typing import NDArray
 
-from ..errors import ModelError, SolverError
-from ..model import Train
-from ..threads import managed
+from ...errors import ModelError, SolverError
+from ...model import Train
+from ...threads import managed
+from ..transient.equations import TransientSystem, build_system
+from ..transient.mesh import stiffness as law_stiffness
 from .floquet import _common_period
-from .transient.equations import TransientSystem, build_system
-from .transient.mesh import stiffness as law_stiffness
 
 __all__ = ["MeshResponseResult", "mesh_response", "MESH_HARMONICS"]
 
@@ -114,6 +114,14 @@ class MeshResponseResult:
     floquet_growth: NDArray | None = None
     iso_kv: NDArray | None = None
     iso_resonance_speed: NDArray | None = None
+    #: nonlinear solution (``nonlinear=True``): (s, m) fractions of the mesh period with the
+    #: teeth apart and on the back flank, the linear DTE rms for comparison (m), and (s,)
+    #: whether Newton's method converged
+    nonlinear: bool = False
+    separation_fraction: NDArray | None = None
+    back_contact_fraction: NDArray | None = None
+    dte_rms_linear: NDArray | None = None
+    converged: NDArray | None = None
 
     @property
     def speed_rpm(self) -> NDArray:
@@ -149,6 +157,15 @@ class MeshResponseResult:
                     "min_force_N": lst(self.force_min[:, k]),
                     "dynamic_factor": lst(self.dynamic_factor[:, k]),
                     "contact_loss": [bool(x) for x in self.contact_loss[:, k]],
+                    **(
+                        {
+                            "separation_fraction": lst(self.separation_fraction[:, k]),
+                            "back_contact_fraction": lst(self.back_contact_fraction[:, k]),
+                            "dte_rms_linear_um": lst(self.dte_rms_linear[:, k], 1e6),
+                        }
+                        if self.nonlinear
+                        else {}
+                    ),
                     "iso6336_kv": None if self.iso_kv is None else lst(self.iso_kv[:, k]),
                     "iso6336_resonance_speed_rpm": None
                     if self.iso_resonance_speed is None
@@ -189,6 +206,12 @@ class MeshResponseResult:
             "floquet_growth_1_s": None if self.floquet_growth is None else lst(self.floquet_growth),
             "unstable": [bool(x) for x in self.unstable],
             "harmonics": self.harmonics,
+            "nonlinear": self.nonlinear,
+            **(
+                {"converged": [bool(x) for x in self.converged]}
+                if self.nonlinear and self.converged is not None
+                else {}
+            ),
             "meshes": meshes,
             "probes": probes,
             "bearings": bearings,
@@ -212,6 +235,12 @@ class MeshResponseResult:
                 + (
                     f"; contact loss at {int(self.contact_loss[:, k].sum())} speeds"
                     if self.contact_loss[:, k].any()
+                    else ""
+                )
+                + (
+                    f" (teeth apart up to {100 * np.max(self.separation_fraction[:, k]):.3g} % "
+                    "of the mesh period; nonlinear)"
+                    if self.nonlinear and self.contact_loss[:, k].any()
                     else ""
                 )
             )
@@ -245,8 +274,8 @@ class MeshResponseResult:
 def _iso_kv(train: Train, asm, m, speeds: NDArray) -> tuple[NDArray, float]:
     """ISO 6336-1 method B K_v of a geometry mesh over the reference speeds, and the reference
     speed (rad/s) at which the pinion reaches the resonance speed n_E1."""
-    from ..gears.iso6336 import dynamic_factor
-    from ..gears.model_mesh import model_mesh
+    from ...gears.iso6336 import dynamic_factor
+    from ...gears.model_mesh import model_mesh
 
     mm = model_mesh(train, m.spec_index)
     spec = train.meshes[m.spec_index]
@@ -313,9 +342,11 @@ class _Blocks:
     speed: float
 
 
-def _solve(hb: _Blocks, nu: float, F: NDArray, border: bool) -> NDArray:
-    """Q_n (2H+1, n) for the forcing F (2H+1, n) at frequencies ν + nΩ_p; with ``border`` the
-    n = 0 response is kept M-orthogonal to the rigid rotation (its acceleration an unknown)."""
+def _factor(hb: _Blocks, nu: float, border: bool):
+    """The harmonic-balance operator at ν factorised once: a function taking the forcing
+    F (2H+1, n[, r]) at frequencies ν + nΩ_p and returning Q_n (2H+1, n[, r]); with ``border``
+    the n = 0 response is kept M-orthogonal to the rigid rotation (its acceleration an
+    unknown)."""
     n = hb.K.shape[0]
     nh = 2 * hb.H + 1
     om = nu + hb.hidx * hb.Wp
@@ -325,21 +356,191 @@ def _solve(hb: _Blocks, nu: float, F: NDArray, border: bool) -> NDArray:
         + sp.kron(sp.diags(1j * om), hb.C)
         + hb.P
     )
-    rhs = F.ravel()
     if border:
         c = np.zeros(nh * n)
         c[hb.H * n : (hb.H + 1) * n] = hb.Mr
         A = sp.bmat([[A, sp.csr_array(c[:, None])], [sp.csr_array(c[None, :]), None]])
-        rhs = np.concatenate([rhs, [0.0]])
     try:
-        x = spla.splu(sp.csc_array(A)).solve(rhs.astype(complex))
+        lu = spla.splu(sp.csc_array(A))
     except RuntimeError as exc:
         raise SolverError(
             f"harmonic balance singular at {hb.speed * _RPM:.1f} rpm: {exc}"
         ) from None
-    if not np.all(np.isfinite(x)):
-        raise SolverError(f"harmonic balance failed at {hb.speed * _RPM:.1f} rpm")
-    return x[: nh * n].reshape(nh, n)
+
+    def solve(F: NDArray) -> NDArray:
+        extra = F.shape[2:]
+        rhs = F.reshape((nh * n,) + extra).astype(complex)
+        if border:
+            rhs = np.concatenate([rhs, np.zeros((1,) + extra, complex)])
+        x = lu.solve(rhs)
+        if not np.all(np.isfinite(x)):
+            raise SolverError(f"harmonic balance failed at {hb.speed * _RPM:.1f} rpm")
+        return x[: nh * n].reshape((nh, n) + extra)
+
+    return solve
+
+
+def _solve(hb: _Blocks, nu: float, F: NDArray, border: bool) -> NDArray:
+    """Q_n (2H+1, n) for the forcing F (2H+1, n) at frequencies ν + nΩ_p (see
+    :func:`_factor`)."""
+    return _factor(hb, nu, border)(F)
+
+
+@dataclass(frozen=True)
+class _Contact:
+    """The nonlinear periodic solution of one speed: the response harmonics Q (2H+1, n), the
+    mesh deflections δ(t) and forces F(t) (m, N; (meshes, samples)), the fraction of the period
+    each mesh spends with its teeth apart and in back-flank contact, Newton's iterations and
+    whether it converged, and δ̂ (meshes, 2H+1) to continue from."""
+
+    Q: NDArray
+    delta: NDArray
+    force: NDArray
+    separated: NDArray
+    back: NDArray
+    iterations: int
+    converged: bool
+    x: NDArray
+
+
+def _contact_law(de, dde, k, c, b):
+    """The transient's mesh law (:mod:`.transient.mesh`) against the drive-flank linear law
+    F_L = k (δ_e − b) + c δ̇_e: the difference D = F − F_L and its derivatives in δ_e and δ̇_e,
+    and the contact states (separated, back flank)."""
+    FL = k * (de - b) + c * dde
+    drive = de > b
+    back = de < -b
+    sep = ~(drive | back)
+    D = np.where(drive, 0.0, np.where(back, 2 * k * b, -FL))
+    return D, np.where(sep, -k, 0.0), np.where(sep, -c, 0.0), sep, back
+
+
+def _contact_balance(
+    solve0,
+    Qlin: NDArray,
+    W: NDArray,
+    kt: NDArray,
+    et: NDArray,
+    det: NDArray,
+    damping: NDArray,
+    backlash: NDArray,
+    E: NDArray,
+    om0: NDArray,
+    guesses: list[NDArray],
+    *,
+    tol: float = 1e-9,
+    max_iter: int = 30,
+) -> _Contact:
+    """Harmonic balance with the backlash law by alternating frequency and time, condensed on
+    the mesh deflections (the only nonlinear coordinates).
+
+    The linear operator A (every mesh in drive-flank contact, F_L = k(t)(δ_e − b) + c δ̇_e)
+    gives Q_lin; the law's departure D(t) = F(t) − F_L(t) (zero in drive contact, −F_L apart,
+    2 k b on the back flank) acts along each mesh's w, so δ̂ = δ̂_lin − R D̂(δ̂) with the
+    receptance R = (I ⊗ wᵀ) A⁻¹ (I ⊗ w) between the harmonics of the mesh deflections.
+    D̂ from δ̂: δ(t) at N samples, D(t) there, the discrete Fourier transform back. The law is
+    piecewise linear, so Newton's method on the real and imaginary parts of δ̂ with the exact
+    (semi-smooth) Jacobian converges in a few steps once the contact pattern settles; a
+    backtracking line search keeps it from wandering. ``guesses``: starting δ̂ tried in turn
+    (continuation along the sweep: the secant prediction from the last two speeds, the last
+    speed's solution), then the linear solution."""
+    nh, n = Qlin.shape
+    nm = len(W)
+    N = E.shape[0]
+    m = nm * nh
+    # receptance between the mesh deflections' harmonics
+    rhs = np.zeros((nh, n, m), complex)
+    for k in range(nm):
+        for j in range(nh):
+            rhs[j, :, k * nh + j] = W[k]
+    X = solve0(rhs)  # (nh, n, m)
+    R = np.einsum("jnc,kn->kjc", X, W).reshape(m, m)
+    Rr = np.block([[R.real, -R.imag], [R.imag, R.real]])
+    xlin = (Qlin @ W.T).T.reshape(m)  # (nm·nh,) δ̂ of the linear law
+    Ed = E * (1j * om0)
+    Tr = np.hstack([E.real, -E.imag])  # δ(t) from [Re δ̂, Im δ̂]
+    Td = np.hstack([Ed.real, -Ed.imag])
+    Fm = np.vstack([E.conj().T.real, E.conj().T.imag]) / N  # [Re, Im] of the DFT
+
+    def split(z):
+        return z[:m] + 1j * z[m:]
+
+    def residual(x, mu=1.0):
+        xs = x.reshape(nm, nh)
+        d = np.real(xs @ E.T)  # (nm, N)
+        dd = np.real(xs @ Ed.T)
+        D, gk, gc, sep, back = _contact_law(
+            d - et, dd - det, kt, damping[:, None], backlash[:, None]
+        )
+        Dh = (D @ E.conj()) / N  # (nm, nh)
+        r = x - xlin + mu * (R @ Dh.reshape(m))
+        return r, (D, gk, gc, sep, back, d, dd)
+
+    scale = max(float(np.linalg.norm(xlin)), float(np.max(backlash)) * np.sqrt(nh), 1e-12)
+    count = [0]
+
+    def newton(x, mu, iters):
+        """Newton's method at homotopy parameter μ from x: (x, residual, state, converged)."""
+        r, st = residual(x, mu)
+        for _ in range(iters):
+            nr = float(np.linalg.norm(r))
+            if nr <= tol * scale:
+                return x, r, st, True
+            count[0] += 1
+            _, gk, gc, *_ = st
+            Jd = np.zeros((2 * m, 2 * m))
+            for k in range(nm):
+                ik = np.r_[k * nh : (k + 1) * nh, m + k * nh : m + (k + 1) * nh]
+                Jd[np.ix_(ik, ik)] = Fm @ (gk[k][:, None] * Tr + gc[k][:, None] * Td)
+            try:
+                dz = np.linalg.solve(np.eye(2 * m) + mu * (Rr @ Jd), -np.r_[r.real, r.imag])
+            except np.linalg.LinAlgError:
+                break
+            dx = split(dz)
+            lam = 1.0
+            while lam >= 1 / 64:
+                xn = x + lam * dx
+                rn, stn = residual(xn, mu)
+                if np.linalg.norm(rn) < (1 - 1e-4 * lam) * nr:
+                    break
+                lam /= 2
+            else:
+                break  # no descent: a kink or a fold of the piecewise-linear residual
+            x, r, st = xn, rn, stn
+        return x, r, st, float(np.linalg.norm(r)) <= tol * scale
+
+    best = None
+
+    def keep(x, r, st):
+        nonlocal best
+        nr = float(np.linalg.norm(r))
+        if best is None or nr < best[0]:
+            best = (nr, x, r, st)
+
+    done = False
+    for start in [*guesses, xlin.reshape(nm, nh)]:
+        x, r, st, done = newton(np.array(start, complex).reshape(m), 1.0, max_iter)
+        keep(x, r, st)
+        if done:
+            break
+    nr, x, r, st = best
+    D, _, _, sep, back, d, dd = st
+    Dh = (D @ E.conj()) / N
+    F = np.zeros((nh, n), complex)
+    for k in range(nm):
+        F -= Dh[k][:, None] * W[k][None, :]
+    Q = Qlin + solve0(F)
+    force = kt * (d - et - backlash[:, None]) + damping[:, None] * (dd - det) + D
+    return _Contact(
+        Q=Q,
+        delta=d,
+        force=force,
+        separated=sep.mean(axis=1),
+        back=back.mean(axis=1),
+        iterations=count[0],
+        converged=nr <= tol * scale,
+        x=x.reshape(nm, nh),
+    )
 
 
 @managed
@@ -351,6 +552,8 @@ def mesh_response(
     unbalance: bool = True,
     samples: int | None = None,
     stability: bool = True,
+    nonlinear: bool = False,
+    sweep: str = "down",
 ) -> MeshResponseResult:
     """Periodic steady state at each reference-shaft speed of ``speeds`` (rad/s, > 0).
 
@@ -358,7 +561,10 @@ def mesh_response(
         frequency); unbalance : include the unbalance families; samples : time samples per
         period for the mesh force's extremes (default 16 per kept harmonic); stability : check
         the parametric stability at every speed (:func:`.floquet.floquet`, the same equations
-        and laws), reported as ``floquet_growth`` and ``unstable``.
+        and laws), reported as ``floquet_growth`` and ``unstable``; nonlinear : solve the mesh
+        excitation with the transient's backlash law (teeth separating and meeting the back
+        flank; :func:`_contact_balance`), continuing the solution from speed to speed in the
+        order of ``speeds``; the unbalance response stays linear and is added to the DTE.
     """
     system = model if isinstance(model, TransientSystem) else build_system(model)
     speeds = np.atleast_1d(np.asarray(speeds, float))
@@ -379,6 +585,19 @@ def mesh_response(
     train, asm = system.train, system.assembly
     n = system.n
     nm = len(laws)
+    backlash = np.array([law.backlash for law in laws])
+    damping = np.array([law.damping for law in laws])
+    if sweep not in ("up", "down"):
+        raise ModelError("unknown sweep direction", field="sweep", value=sweep,
+                         expected="'up' or 'down'")  # fmt: skip
+    if nonlinear and not np.any(backlash > 0):
+        raise ModelError(
+            "a nonlinear mesh response needs a mesh backlash (with none the back flank takes "
+            "the load at once and the mesh law is linear)",
+            field="meshes[0].backlash",
+            value=0.0,
+            expected="> 0 on at least one mesh",
+        )
 
     # ---- mesh laws as harmonics (speed independent) ----------------------------------------
     S = harmonics
@@ -402,7 +621,7 @@ def mesh_response(
     op_force = np.full(nm, np.nan)
     for k, m in enumerate(asm.meshes):
         if kinds[k] == "geometry":
-            from ..gears.model_mesh import model_mesh
+            from ...gears.model_mesh import model_mesh
 
             op_force[k] = model_mesh(train, m.spec_index).curves.force
 
@@ -463,10 +682,19 @@ def mesh_response(
             ns, len(brg)
         ),
         "bm": np.zeros((ns, len(brg), nm, 2)),
+        "sep": np.zeros((ns, nm)),
+        "back": np.zeros((ns, nm)),
+        "dte_lin": np.zeros((ns, nm)),
+        "conv": np.ones(ns, bool),
     }
+    solved: list[tuple[float, NDArray]] = []  # (speed, δ̂) converged along the sweep
     sys0 = system
     growth = np.full(len(speeds), np.nan)
-    for i_s, speed in enumerate(speeds):
+    order = np.argsort(speeds)
+    if sweep == "down":
+        order = order[::-1]
+    for i_s in order:
+        speed = speeds[i_s]
         sysw = sys0.at_speed(float(speed))
         rates = sysw.mesh_rates()
         if np.any(rates == 0):
@@ -508,6 +736,8 @@ def mesh_response(
         def solve(nu: float, F: NDArray, border: bool, hb: _Blocks = hb) -> NDArray:
             return _solve(hb, nu, F, border)
 
+        solve_mesh = _factor(hb, 0.0, rigid)
+
         # ---- mesh family --------------------------------------------------------------------
         om0 = hidx * Wp
         F = np.zeros((nh, n), complex)
@@ -522,14 +752,15 @@ def mesh_response(
                 if abs(s) <= S:
                     val = val + 1j * om0[j + H] * laws[k].damping * ehat[k][s + S]
                 F[j + H] += val * W[k]
-        Q = solve(0.0, F, rigid)
-        ns_t = samples or 16 * nh
+                if nonlinear and abs(s) <= S:
+                    # the drive-flank law k (δ − e − b): the backlash's offset
+                    F[j + H] += khat[k][s + S] * backlash[k] * W[k]
+        Q = solve_mesh(F)
+        ns_t = samples or (32 if nonlinear else 16) * nh
         t = np.arange(ns_t) * T / ns_t
         E = np.exp(1j * np.outer(t, om0))  # (nt, nh)
+        KT, ET, DET = np.zeros((nm, ns_t)), np.zeros((nm, ns_t)), np.zeros((nm, ns_t))
         for k in range(nm):
-            D = Q @ W[k]  # (nh,) harmonics of δ
-            delta = np.real(E @ D)
-            ddelta = np.real(E @ (1j * om0 * D))
             kk = np.zeros(nh, complex)
             ee = np.zeros(nh, complex)
             for s in range(-S, S + 1):
@@ -537,8 +768,36 @@ def mesh_response(
                 if abs(j) <= H:
                     kk[j + H] += khat[k][s + S]
                     ee[j + H] += ehat[k][s + S]
-            kt, et, det = np.real(E @ kk), np.real(E @ ee), np.real(E @ (1j * om0 * ee))
-            force = kt * (delta - et) + laws[k].damping * (ddelta - det)
+            KT[k], ET[k] = np.real(E @ kk), np.real(E @ ee)
+            DET[k] = np.real(E @ (1j * om0 * ee))
+        contact = None
+        if nonlinear:
+            for k in range(nm):
+                Dl = Q @ W[k]
+                Dl[H] = 0
+                out["dte_lin"][i_s, k] = np.sqrt(np.sum(np.abs(Dl) ** 2))
+            guesses = [x for _, x in solved[-1:]]
+            if len(solved) >= 2:
+                (w1, x1), (w2, x2) = solved[-2:]
+                guesses.insert(0, x2 + (x2 - x1) * (speed - w2) / (w2 - w1))
+            contact = _contact_balance(
+                solve_mesh, Q, W, KT, ET, DET, damping, backlash, E, om0, guesses
+            )
+            out["conv"][i_s] = contact.converged
+            out["sep"][i_s] = contact.separated
+            out["back"][i_s] = contact.back
+            if contact.converged:
+                solved.append((float(speed), contact.x))
+            Q = contact.Q
+        for k in range(nm):
+            D = Q @ W[k]  # (nh,) harmonics of δ
+            if contact is not None:
+                force = contact.force[k]
+            else:
+                delta = np.real(E @ D)
+                ddelta = np.real(E @ (1j * om0 * D))
+                kt, et, det = KT[k], ET[k], DET[k]
+                force = kt * (delta - et) + laws[k].damping * (ddelta - det)
             out["F0"][i_s, k] = force.mean()
             out["Fmax"][i_s, k] = force.max()
             out["Fmin"][i_s, k] = force.min()
@@ -625,15 +884,37 @@ def mesh_response(
 
     with np.errstate(divide="ignore", invalid="ignore"):
         dyn = np.where(out["F0"] > 0, out["Fmax"] / out["F0"], np.nan)
-    loss = out["Fmin"] < 0
+    loss = (out["sep"] > 0) | (out["back"] > 0) if nonlinear else out["Fmin"] < 0
     unstable = growth > 0
-    if unstable.any():
+    if unstable.any() and nonlinear:
+        notes.append(
+            f"the equations with the teeth in contact are parametrically unstable at "
+            f"{int(unstable.sum())} of {ns} speeds (Floquet growth up to "
+            f"{np.nanmax(growth):.4g} 1/s): the nonlinear solution there is bounded by the "
+            "separation; its own stability is not checked (the transient)"
+        )
+    elif unstable.any():
         notes.append(
             f"parametrically unstable at {int(unstable.sum())} of {ns} speeds (Floquet growth "
             f"up to {np.nanmax(growth):.4g} 1/s): there a free vibration grows and the periodic "
             "response is not what the train does (gearrotor floquet; the transient)"
         )
-    if loss.any():
+    if nonlinear and loss.any():
+        notes.append(
+            f"teeth separate at {int(loss.any(axis=1).sum())} of {ns} speeds (up to "
+            f"{100 * out['sep'].max():.3g} % of the mesh period apart"
+            + (f", {100 * out['back'].max():.3g} % on the back flank" if out["back"].any() else "")
+            + "): the nonlinear periodic solution with the backlash law (harmonic balance, "
+            "continued along the sweep: where two solutions coexist it follows one branch)"
+        )
+    if nonlinear and not out["conv"].all():
+        notes.append(
+            f"the nonlinear harmonic balance did not converge at {int((~out['conv']).sum())} "
+            "speeds (their numbers are Newton's best iterate; more harmonics, or the transient)"
+        )
+    if nonlinear and unbalance:
+        notes.append("nonlinear: the unbalance response is linear, added to the DTE (total)")
+    if not nonlinear and loss.any():
         notes.append(
             f"contact loss at {int(loss.any(axis=1).sum())} of {ns} speeds (the mesh force "
             "falls below zero): the teeth separate there and the linear periodic response does "
@@ -667,6 +948,11 @@ def mesh_response(
         bearing_mesh=out["bm"],
         operating_force=op_force,
         floquet_growth=growth,
+        nonlinear=nonlinear,
+        separation_fraction=out["sep"] if nonlinear else None,
+        back_contact_fraction=out["back"] if nonlinear else None,
+        dte_rms_linear=out["dte_lin"] if nonlinear else None,
+        converged=out["conv"] if nonlinear else None,
         iso_kv=iso_kv,
         iso_resonance_speed=iso_res,
         harmonics=S,

@@ -2,7 +2,7 @@
 (where the anticipated cross-coupling acts, Q_A directly or the stages of its formula, the gas
 densities, the edition), so that ``gearrotor stability`` and the report's "API audit" section
 can run the audit from the file alone. The analysis is
-:func:`gearrotor.analyses.stability.level1`; its module docstring gives the formula.
+:func:`gearrotor.analyses.audit.stability.level1`; its module docstring gives the formula.
 
 .. code-block:: toml
 

@@ -12,7 +12,8 @@ RP 684's published tutorial material), and no public source found shows the 9th 
 changing the Level I formula, its screening criteria or the Level II acceptance, so both
 editions apply the same stability criteria here; what the 9th edition changed for the lateral
 audit (the unbalance of the response analysis placed from the mode shape, 2× instead of 4× the
-residual unbalance, and the close-clearance check) is in :mod:`gearrotor.analyses.api617`.
+residual unbalance, and the close-clearance check) is in
+:mod:`gearrotor.analyses.audit.api_unbalance`.
 
 **Anticipated cross-coupling** (per stage, N/m with P in W, D and H in m, N in rpm):
 
@@ -113,13 +114,13 @@ import scipy.sparse as sp
 from numpy.typing import NDArray
 from scipy.optimize import brentq
 
-from ..assembly import Assembly, assemble
-from ..errors import ModelError
-from ..model import NodeRef, Train
-from ..threads import managed
-from ..units import to_si
-from .modal import ROUNDOFF, ModalResult, modal
-from .operating import model_max_continuous_speed
+from ...assembly import Assembly, assemble
+from ...errors import ModelError
+from ...model import NodeRef, Train
+from ...model.speed_range import model_max_continuous_speed
+from ...threads import managed
+from ...units import to_si
+from ..lateral.modal import ROUNDOFF, ModalResult, modal
 from .ucs import rigid_support_criticals
 
 __all__ = [

@@ -1,10 +1,11 @@
-"""The operating range a train's model states (``operating_speed_range``,
-``max_continuous_speed``), as the API 617 checks use it."""
+"""The operating speed range a model states (``operating_speed_range``,
+``max_continuous_speed``), as the API 617 checks and the Campbell diagram use it (not an
+operating point: :mod:`gearrotor.model.operating_point`)."""
 
 from __future__ import annotations
 
 from ..errors import ModelError
-from ..model import Train
+from .train import Train
 
 __all__ = ["model_operating_range", "model_max_continuous_speed"]
 

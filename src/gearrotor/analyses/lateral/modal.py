@@ -21,7 +21,7 @@ Eigensolver (``method="auto"``, measured by ``benchmarks/scaling.py``):
 
 A model with speed × whirl tables (bearings or seals whose coefficients depend on the whirl
 frequency) is solved with the tables' fitted states added to the first-order form,
-:mod:`gearrotor.analyses.whirl`, by the same dense/sparse rule on the augmented system.
+:mod:`gearrotor.analyses.lateral.whirl`, by the same dense/sparse rule on the augmented system.
 
 The sparse solver finds the eigenvalues within a circle about a small negative real shift,
 raising the number requested (:func:`_next_k`) until every eigenvalue with
@@ -82,10 +82,10 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from numpy.typing import NDArray
 
-from ..assembly import Assembly, assemble
-from ..errors import ModelError, SolverError
-from ..model import Train
-from ..threads import limit, managed
+from ...assembly import Assembly, assemble
+from ...errors import ModelError, SolverError
+from ...model import Train
+from ...threads import limit, managed
 from .whirl import frequency_dependent
 from .whirl import solve as solve_whirl
 
@@ -916,7 +916,7 @@ def modal(
         and the meshes on the loaded flank (:func:`~gearrotor.analyses.static.at_operating_point`)
     """
     if operating_point is not None:
-        from .static.operating import model_at_operating_point
+        from ..static.operating_point import model_at_operating_point
 
         at = None if speed is None else [float(speed)]
         model, w_op = model_at_operating_point(model, operating_point, at)

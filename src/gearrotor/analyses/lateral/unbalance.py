@@ -25,11 +25,11 @@ import numpy as np
 import scipy.sparse.linalg as spla
 from numpy.typing import NDArray
 
-from ..assembly import Assembly, assemble
-from ..errors import ModelError, SolverError
-from ..model import Train
-from ..threads import managed
-from .operating import model_operating_range
+from ...assembly import Assembly, assemble
+from ...errors import ModelError, SolverError
+from ...model import Train
+from ...model.speed_range import model_operating_range
+from ...threads import managed
 
 __all__ = [
     "UnbalanceResult",
@@ -231,7 +231,7 @@ def unbalance_response(
     ``unbalances``/``probes`` default to the model's. ``operating_range`` (rad/s, reference shaft):
     the bounds of the separation margins (minimum operating speed, maximum continuous speed; the
     upper one also sets the API 617 vibration limit); default: the model's
-    (:func:`~gearrotor.analyses.operating.model_operating_range`), else its nominal speed for
+    (:func:`~gearrotor.model.speed_range.model_operating_range`), else its nominal speed for
     both bounds.
 
     ``operating_point`` (name or :class:`~gearrotor.model.OperatingPoint`): fluid-film bearings
@@ -240,7 +240,7 @@ def unbalance_response(
     """
     if operating_point is not None:
         # fluid-film bearings at the point's static loads at every speed (issue 11)
-        from .static.operating import model_at_operating_point
+        from ..static.operating_point import model_at_operating_point
 
         model = model_at_operating_point(model, operating_point, np.asarray(speeds, float))[0]
     asm = model if isinstance(model, Assembly) else assemble(model)

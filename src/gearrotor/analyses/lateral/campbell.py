@@ -25,11 +25,11 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from numpy.typing import NDArray
 
-from ..assembly import Assembly, assemble
-from ..errors import ModelError
-from ..model import Train
-from ..progress import Progress, part, report
-from ..threads import managed
+from ...assembly import Assembly, assemble
+from ...errors import ModelError
+from ...model import Train
+from ...progress import Progress, part, report
+from ...threads import managed
 from .modal import (
     SPARSE_FRACTION,
     TYPE_THRESHOLD,
@@ -256,13 +256,13 @@ def campbell(
     modes) and O(n·m) work; subspaces beyond half the model's DOFs are not used (every speed
     is then solved on the full model).
 
-    With speed × whirl tables (:mod:`gearrotor.analyses.whirl`) every speed is one eigensolve
-    of the model with the tables' states and ``reduced`` does not apply; the residual is that
-    of the nonlinear problem with the fitted impedances.
+    With speed × whirl tables (:mod:`gearrotor.analyses.lateral.whirl`) every speed is one
+    eigensolve of the model with the tables' states and ``reduced`` does not apply; the
+    residual is that of the nonlinear problem with the fitted impedances.
 
     ``method`` is the full solver: ``"sparse"`` finds only the eigenvalues within the circle of
     radius 1.5×max_frequency about a small negative shift by shift-invert Arnoldi, ``"dense"``
-    computes the full spectrum (see :func:`~gearrotor.analyses.modal.modal`); ``"auto"``
+    computes the full spectrum (see :func:`~gearrotor.analyses.lateral.modal.modal`); ``"auto"``
     (default) solves sparsely from 200 DOFs (the measured crossover when only the circle's
     modes are wanted; the flagship's 252 DOFs: 0.05 s against 0.11 s dense), densely below,
     and switches to dense when a full solve finds more than ``SPARSE_FRACTION`` of the 2n
@@ -280,7 +280,7 @@ def campbell(
     sweep = progress
     if operating_point is not None:
         # fluid-film bearings at the point's static loads at every speed (issue 11)
-        from .static.operating import model_at_operating_point
+        from ..static.operating_point import model_at_operating_point
 
         at = part(progress, 0.0, 0.5, "operating point")
         model = model_at_operating_point(model, operating_point, np.asarray(speeds, float), at)[0]

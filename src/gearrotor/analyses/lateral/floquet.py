@@ -35,11 +35,11 @@ import scipy.linalg as la
 from numpy.typing import NDArray
 from scipy.optimize import linear_sum_assignment
 
-from ..errors import ModelError, SolverError
-from ..model import Train
-from ..threads import managed
-from .transient.equations import TransientSystem, build_system
-from .transient.mesh import fourier_coefficients, stiffness
+from ...errors import ModelError, SolverError
+from ...model import Train
+from ...threads import managed
+from ..transient.equations import TransientSystem, build_system
+from ..transient.mesh import fourier_coefficients, stiffness
 
 __all__ = ["check_ka_ratio", "FloquetResult", "floquet"]
 
@@ -218,7 +218,7 @@ def floquet(
     (:func:`~gearrotor.analyses.static.at_operating_point`).
     """
     if operating_point is not None:
-        from .static.operating import model_at_operating_point
+        from ..static.operating_point import model_at_operating_point
 
         if isinstance(model, TransientSystem):
             raise ModelError(
@@ -275,8 +275,8 @@ def floquet(
     # CrossCoupling make K non-symmetric); the whole K, skew part included, is projected
     # (tilting pads with pad dynamics: their indefinite symmetric film block is made
     # semidefinite for the basis, and every pad coordinate is added to it, as in ModalRK4)
-    from .transient.prepare import _pad_shapes
-    from .transient.reduction import basis_stiffness
+    from ..transient.prepare import _pad_shapes
+    from ..transient.reduction import basis_stiffness
 
     Ks = basis_stiffness(system, K)
     w2, V = la.eigh(Ks, M)
