@@ -12,7 +12,9 @@ For each train it times
   kernels compiled beforehand),
 
 prints time against DOF, the exponent p of a least-squares fit ``t ∝ DOF^p`` per analysis over
-the models it ran on, and the dense/sparse crossover (the DOF above which the sparse
+the models it ran on and per number of shafts (a fixed number of wanted modes: every shaft adds
+its modes below 80,000 cpm, so over all the models the wanted modes grow with the DOFs), and
+the dense/sparse crossover (the DOF above which the sparse
 eigensolver is faster, interpolated in log-log). Analyses whose cost would exceed a few minutes
 are skipped above a DOF cap (printed).
 
@@ -220,6 +222,23 @@ def _summary(rows, cap, args) -> None:
             f"  {task:<14} p = {fits[task]:.2f}  ({len(ok)} models, up to "
             f"{max((r['dof'] for r in ok), default=0)} DOF; cap {cap[task]} DOF)"
         )
+    # at a fixed number of shafts the modes below FMAX (the wanted ones, the transient's basis)
+    # stay the same while the elements multiply the DOFs: the cost of the solvers themselves
+    print(
+        "at a fixed number of wanted modes (each train refined: 20 -> "
+        f"{max(r['elements'] for r in rows)} elements per shaft), p per shaft count:"
+    )
+    along = {}
+    for task in TASKS:
+        parts = []
+        for ns in sorted({r["shafts"] for r in rows}):
+            ok = [r for r in rows if r["shafts"] == ns and np.isfinite(r[task])]
+            if len(ok) >= 2:
+                p = fit_exponent([r["dof"] for r in ok], [r[task] for r in ok])
+                along.setdefault(task, {})[ns] = p
+                parts.append(f"{ns} shafts {p:.2f}")
+        print(f"  {task:<14} " + (", ".join(parts) or "(too few models)"))
+    fits["at_fixed_modes"] = along
     x = crossover(
         [r["dof"] for r in rows],
         [r["modal dense"] for r in rows],

@@ -21,11 +21,17 @@ from .forces import _drive_laws, _force_dofs, _pack_forces
 from .kernels import etd_coefficients
 from .options import RK4, ModalRK4, excitation_frequency
 from .reduction import (
+    ModalBases,
+    _dense,
+    _gyroscopic,
     _harmonic_error,
     _harmonic_shapes,
-    _modal_basis,
     _static_shapes,
     basis_stiffness,
+    full_model,
+    linear_damping,
+    reduced_gyroscopic,
+    skew_block,
 )
 from .step_limits import _etd_unstable, _linearised, _rk4_step_limit, _unstable_step
 
@@ -222,9 +228,9 @@ def _prepare_modal(
     # as a force on its few DOFs (kernel: k_idx, k_skew)
     Ks = basis_stiffness(system, K)  # 0.5 (K + Kᵀ), pad blocks made semidefinite
     Ka = K - Ks
-    with thread_limit(len(M), "eigh"):
-        w2, V = la.eigh(Ks, M)
-    om_all = np.sqrt(np.clip(w2, 0.0, None))
+    # sparse on a large model (reduction.SPARSE_FROM), where the modes below the cut-off in use
+    # are solved by shift-invert Lanczos instead of all of them densely (reduction.Spectrum)
+    M, K, C, Ks, Ka = full_model(system, M, K, C, Ks, Ka)
     wcut = (
         2 * np.pi * integ.cutoff
         if integ.cutoff is not None
@@ -234,21 +240,7 @@ def _prepare_modal(
     separated = integ.separated_modes
     if separated is None:
         separated = "torsional" if backlash else False
-    if separated and system.meshes:
-        _, Kf, _ = system.linear_matrices(meshes=False)
-        with thread_limit(len(M), "eigh"):
-            w2s, Vs = la.eigh(0.5 * (Kf + Kf.T), M)
-        if separated == "torsional":
-            # the free shafts' torsional modes: what the speeds do while the teeth are apart
-            # (their lateral modes only add Ritz vectors far above the cut-off, issue 16)
-            tors = system.assembly.dof_kind()[system.active] == 2
-            ke = np.einsum("ij,ij->j", Vs, M @ Vs)
-            kt = np.einsum("ij,ij->j", Vs[tors], M[np.ix_(tors, tors)] @ Vs[tors])
-            keep = kt > 0.5 * ke
-            w2s, Vs = w2s[keep], Vs[:, keep]
-        separated = (w2s, Vs)
-    else:
-        separated = None
+    bases = ModalBases(system, M, Ks, separated)
     static = integ.static_correction
     l_dof = _drive_laws(system)[1]
     if static is None:
@@ -267,18 +259,18 @@ def _prepare_modal(
         # bearing), so that the pads' film coupling, much of it one-sided (K − Ks), is carried
         # whole and not through truncated modes
         shapes = np.hstack([shapes, pad_shapes])
-    Phi, w2r = _modal_basis(M, Ks, V, w2, wcut, separated, shapes)
+    Phi, w2r = bases.basis(wcut, shapes)
     check = _harmonic_error(system, M, K, C, Phi, w2r, out, Ka)
     if integ.cutoff is None and check > integ.tolerance:
         # the modes above the cut-off carry part of the 1x response (their quasi-static
         # compliance, heavily damped bearings): add the full model's 1x response shapes
         # before raising the cut-off (issue 16: 173 → 65 modes for the compressor example)
         shapes = np.hstack([shapes, _harmonic_shapes(system, M, K, C)])
-        Phi, w2r = _modal_basis(M, Ks, V, w2, wcut, separated, shapes)
+        Phi, w2r = bases.basis(wcut, shapes)
         check = _harmonic_error(system, M, K, C, Phi, w2r, out, Ka)
-    while integ.cutoff is None and check > integ.tolerance and wcut < om_all.max():
+    while integ.cutoff is None and check > integ.tolerance and wcut < bases.omega_max:
         wcut *= 1.25
-        Phi, w2r = _modal_basis(M, Ks, V, w2, wcut, separated, shapes)
+        Phi, w2r = bases.basis(wcut, shapes)
         check = _harmonic_error(system, M, K, C, Phi, w2r, out, Ka)
     if integ.cutoff is None and check > integ.tolerance:
         raise SolverError(
@@ -291,13 +283,14 @@ def _prepare_modal(
         # turn it into a growing mode the full model does not have; raise the cut-off until
         # the reduced linear model is as stable as the full one
         full = None
-        while (grow := _linear_growth(Phi, K, C + system.gyroscopic())) > 0.0:
+        CG = C + _gyroscopic(system, C)
+        while (grow := _linear_growth(Phi, K, CG)) > 0.0:
             if full is None:
-                full = _linear_growth(np.eye(system.n), K, C + system.gyroscopic(), M)
-            if full > 0.0 or integ.cutoff is not None or wcut >= om_all.max():
+                full = _linear_growth(np.eye(system.n), *map(_dense, (K, CG, M)))
+            if full > 0.0 or integ.cutoff is not None or wcut >= bases.omega_max:
                 break
             wcut *= 1.25
-            Phi, w2r = _modal_basis(M, Ks, V, w2, wcut, separated, shapes)
+            Phi, w2r = bases.basis(wcut, shapes)
         else:
             grow = 0.0
         check = _harmonic_error(system, M, K, C, Phi, w2r, out, Ka)
@@ -305,8 +298,9 @@ def _prepare_modal(
     om = np.sqrt(lam)
     lam[om < 1e-6 * max(om.max(), 1.0)] = 0.0  # rigid-body modes exactly
     m = Phi.shape[1]
+    C_lin = linear_damping(system, C)
     limit, lam_lim = _rk4_step_limit(
-        np.eye(m), np.diag(lam) + Phi.T @ Ka @ Phi, Phi.T @ _linearised(system)[2] @ Phi
+        np.eye(m), np.diag(lam) + Phi.T @ Ka @ Phi, Phi.T @ C_lin @ Phi
     )
     exact = integ.exact_linear if integ.exact_linear is not None else backlash
     dt = integ.dt
@@ -324,10 +318,10 @@ def _prepare_modal(
         dt = min(integ.accuracy / max(float(om.max()), w_drive, 1e-9), 0.95 * limit)
     if dt >= 0.995 * limit and not exact:
         raise _unstable_step("modal RK4", dt, limit, lam_lim, " or lower the cut-off")
-    k_dofs = np.flatnonzero(np.any(Ka != 0, axis=1))
+    k_dofs, Ka_k = skew_block(Ka)
     sel = np.union1d(_force_dofs(system), k_dofs).astype(np.int64)
     Cr = Phi.T @ C @ Phi
-    Gr = np.array([Phi.T @ g.toarray() @ Phi for g in system.G]).reshape(-1, m, m)
+    Gr = reduced_gyroscopic(system, Phi)
     alpha = np.array([Phi.T @ a for a in system.a_weights])  # Ω_s = a_sᵀ Φ η̇
     ns = len(system.a_weights)
     nu = len(system.unbalance_dofs)
@@ -342,7 +336,7 @@ def _prepare_modal(
         np.ascontiguousarray(Phi[sel].T),
         bool(system.reactions),
         np.searchsorted(sel, k_dofs).astype(np.int64),
-        np.ascontiguousarray(Ka[np.ix_(k_dofs, k_dofs)]),
+        np.ascontiguousarray(Ka_k),
         *forces,
     )
     W = (
@@ -361,7 +355,7 @@ def _prepare_modal(
     if exact:
         operators = _contact_operators(system, lam, Phi, sel, out, P, dt, forces[:3])
         Bk = -Phi.T @ Ka @ Phi
-        Bc = -Phi.T @ _linearised(system)[2] @ Phi
+        Bc = -Phi.T @ C_lin @ Phi
         while (
             grow := max(
                 _etd_unstable(om_j, C_j, Y.T @ Bk @ Y, Y.T @ Bc @ Y, dt)
