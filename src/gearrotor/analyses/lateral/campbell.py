@@ -588,6 +588,15 @@ class _Subspace:
             Kr = self.W.T @ KQ
         return CQ, KQ, Cr, Kr, K
 
+    def geev(self, n: int):
+        """LAPACK's real geev and its workspace size for order ``n`` (kept per order)."""
+        got = getattr(self, "_geev", None)
+        if got is None or got[0] != n:
+            geev, geev_lwork = la.get_lapack_funcs(("geev", "geev_lwork"), (np.zeros(1),))
+            lwork = la.lapack._compute_lwork(geev_lwork, n, compute_vl=0, compute_vr=1)
+            self._geev = got = (n, geev, lwork)
+        return got[1], got[2]
+
     def tracked_modes(self, speed, radius, n_track, include_overdamped, assign):
         """(result holding the tracked modes, their indices in it, their relative residuals on
         the full model) at ``speed``, or None when the projection offers fewer Ritz pairs than
@@ -601,14 +610,22 @@ class _Subspace:
         A[m:, m:] = -la.lu_solve(self.lu, Cr, check_finite=False)
         if not np.isfinite(A).all():
             return None
-        lam, Y = la.eig(A, overwrite_a=True, check_finite=False)
+        # LAPACK geev as la.eig calls it, the complex vectors made only for the chosen pairs
+        # (columns j, j+1 of a pair with Im λ_j > 0: x = v_j + i v_j+1, as la.eig makes them)
+        geev, lwork = self.geev(2 * m)
+        wr, wi, _, V, info = geev(A, lwork=lwork, compute_vl=0, compute_vr=1, overwrite_a=1)
+        if info != 0:
+            return None
+        lam = wr + 1j * wi
         sel = (lam.imag > 0) & (np.abs(lam) <= radius)
         if not include_overdamped:  # as _candidates: ζ < 0.999 (spurious near-real Ritz pairs)
             sel &= -lam.real < 0.999 * np.abs(lam)
         sel = np.flatnonzero(sel)
         if len(sel) < n_track:
             return None
-        lam, Y = lam[sel], Y[:m, sel]
+        lam = lam[sel]
+        Y = np.empty((m, len(sel)), complex)
+        Y.real, Y.imag = V[:m, sel], V[:m, sel + 1]
         pick = assign((Q @ Y).T, lam.imag)
         if np.any(pick < 0):  # a track ends here: the full solve decides
             return None
