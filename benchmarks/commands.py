@@ -49,6 +49,18 @@ def commands(out: Path) -> dict[str, list[str]]:
         "ucs steam turbine": ["ucs", st],
         "static --all steam turbine": ["static", st, "--all"],
         "report flagship": ["report", fl, "-o", str(out / "report")],
+        # docs/audit.md's audit report (API 617 audit, torsional, every operating point)
+        "report steam turbine audit": [
+            "report",
+            st,
+            "-o",
+            str(out / "audit"),
+            "--operating-point",
+            "LC10",
+            "--analyses",
+            "modal,campbell,unbalance,audit,torsional",
+            "--all-operating-points",
+        ],
     }
 
 

@@ -151,16 +151,15 @@ class Context:
             _draw(fn, args, kw, self.directory / name)
 
     def pngs(self, fn, names: list[str], *args, **kw) -> None:
-        """Several PNG files of one figure function ``fn(*args, paths, **kw)`` that draws
-        ``kw["pages"]`` into ``paths``: one job with a single process, two (halves of the
-        pages) with the helper."""
+        """Several PNG files of one figure function ``fn(*args, pages, paths, **kw)`` that
+        draws ``kw["pages"]`` into ``paths``: one job with a single process (pages of one size
+        drawn on one figure), one job per page with the helper."""
         pages = kw.pop("pages")
         paths = [self.directory / n for n in names]
-        cut = (len(pages) + 1) // 2 if self.helper.enabled and len(pages) > 1 else len(pages)
-        for lo, hi in ((0, cut), (cut, len(pages))):
-            if hi > lo:
-                job = partial(fn, *args, pages[lo:hi], paths[lo:hi], **kw)
-                self.helper.submit(("png", names[lo]), job)
+        step = 1 if self.helper.enabled else max(len(pages), 1)
+        for lo in range(0, len(pages), step):
+            job = partial(fn, *args, pages[lo : lo + step], paths[lo : lo + step], **kw)
+            self.helper.submit(("png", names[lo]), job)
         self.started.update(names)
         self.figures.extend(paths)
 
