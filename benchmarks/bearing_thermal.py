@@ -1,7 +1,9 @@
 """Benchmark: thermal bearings, cost per load point (isoviscous, effective temperature, THD).
 
 The 5-pad tilting-pad THD example (``examples/bearings/tilting_5pad_thd.toml``, the inputs of
-ROSS 3.1's adiabatic tilting-pad example) at three load points, and the other example bearings
+ROSS 3.1's adiabatic tilting-pad example) at three load points, the Fillon et al. (1992) 4-pad
+rig with heat to the pads and the journal (``tilting_4pad_thd.toml``; its effective-model row
+adiabatic) at 1000 and 4000 rpm, and the other example bearings
 with an ISO VG 32 oil supplied at 40 °C; equilibrium and the 8 coefficients per point, best of
 ``--repeat`` runs. Goal (issue 24): a THD tilting pad ≤ 2 s per load point on 2 cores (the
 solver is single-threaded).
@@ -66,6 +68,11 @@ def main(argv: list[str] | None = None) -> int:
         ("tilting 5-pad", tp, (884.05, -2670.4), 6000.0, tp.options.thermal),
         ("tilting 5-pad", tp, (0.0, -6000.0), 3000.0, tp.options.thermal),
     ]
+    rig = load_bearing(EXAMPLES / "tilting_4pad_thd.toml")  # heat to pads and journal
+    points += [
+        ("tilting 4-pad Fillon rig", rig, rig.loads[0], rpm, rig.options.thermal)
+        for rpm in (1000.0, 4000.0)
+    ]
     oil = ThermalModel("thd", iso_vg(32), CELSIUS + 40.0)
     for name in ("tilting_4pad.toml", "pinion_3lobe_dam.toml", "plain_ld1.toml"):
         case = load_bearing(EXAMPLES / name)
@@ -87,7 +94,11 @@ def main(argv: list[str] | None = None) -> int:
                     t, co = t_iso, None
                     co = coefficients(case.bearing, load, speed, options=base)
                 else:
-                    opts = replace(base, thermal=replace(thermal, model=model))
+                    walls = {}
+                    if model == "effective":  # no wall heat paths in the effective model
+                        walls = dict(pad_heat_transfer=0.0, journal_heat_transfer=0.0)
+                    th_model = replace(thermal, model=model, **walls)
+                    opts = replace(base, thermal=th_model)
                     t, co = _time(case, opts, load, speed, args.repeat)
                 eq = co.equilibrium
                 th = eq.thermal

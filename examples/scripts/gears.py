@@ -6,7 +6,10 @@ of ``docs/gears.md`` and of section 9 of ``docs/examples/compressor_gearbox.md``
 2. tip relief and the transmission error against load (Harris's map);
 3. the mesh response of the spur test rig (examples/gears/spur_rig.toml) over speed, with
    ISO 6336-1's K_v;
-4. the compressor gearbox (SPEC 6.3) with its mesh from the tooth geometry
+4. the single-mesh rig after Kahraman & Blankenship (examples/gears/kahraman_rig.toml) with
+   backlash: linear and nonlinear (run-up, run-down) harmonic balance over speed, and the
+   nonlinear transient at a few speeds;
+5. the compressor gearbox (SPEC 6.3) with its mesh from the tooth geometry
    (examples/gears/compressor_helix.toml): the helix's loaded mesh, the periodic response over
    the speed range, and Floquet at 5,700 rpm (shipped and located pinion, with and without
    mesh damping).
@@ -14,6 +17,7 @@ of ``docs/gears.md`` and of section 9 of ``docs/examples/compressor_gearbox.md``
 Run from the repository root (about 4 minutes on a loaded 2-core machine)::
 
     python examples/scripts/gears.py            # figures + out/gears.json
+    python examples/scripts/gears.py kahraman   # one step (its numbers in out/gears.json)
 
 Outputs: ``docs/figures/gears_*.png``, ``docs/examples/figures/compressor_geometry_*.png`` and
 ``out/gears.json``.
@@ -140,6 +144,78 @@ def rig(out: dict) -> None:
     }
 
 
+def kahraman(out: dict) -> None:
+    from gearrotor.analyses.transient import RK4, Save, transient
+    from gearrotor.analyses.transient.equations import build_system, mesh_damping_from_ratio
+    from gearrotor.analyses.transient.step_limits import rk4_max_step
+    from gearrotor.model import ExternalTorque
+
+    train = load_model(GEARS / "kahraman_rig.toml")
+    speeds = np.linspace(1000.0, 6000.0, 101) * RPM
+    kw = dict(speeds=speeds, harmonics=20, unbalance=False)
+    lin = mesh_response(train, **kw)
+    down = mesh_response(train, nonlinear=True, sweep="down", stability=False, **kw)
+    up = mesh_response(train, nonlinear=True, sweep="up", stability=False, **kw)
+    _, om = mesh_damping_from_ratio(build_system(train), 0, 0.02)
+    # the transient with backlash, from the static state, at a few speeds
+    tq = [ExternalTorque(shaft="pinion", node=2, value=300.0),
+          ExternalTorque(shaft="gear", node=2, value=300.0)]  # fmt: skip
+    rows = []
+    for rpm in (1300.0, 2000.0, 3000.0, 4000.0, 5000.0):
+        w = rpm * RPM
+        shafts = [s.model_copy(update={"speed": w * (1 if i == 0 else -1)})
+                  for i, s in enumerate(train.shafts)]  # fmt: skip
+        tr = train.model_copy(update={"speed": w, "shafts": shafts, "torques": tq})
+        system = build_system(tr)
+        Tm = 2 * np.pi / (50 * w)
+        res = transient(tr, t_end=0.1, integrator=RK4(dt=min(0.8 * rk4_max_step(system), Tm / 64)),
+                        initial="static", save=Save(dt=Tm / 64, full_state=True))  # fmt: skip
+        sel = res.time >= res.time[-1] - int(0.04 / Tm) * Tm + 1e-12
+        law, d = system.meshes[0], system.mesh_dofs[0]
+        delta = np.column_stack([res.channel(g) for g in system.active[d]])[sel] @ law.w
+        i = int(np.argmin(abs(speeds / RPM - rpm)))
+        rows.append({"rpm": rpm, "transient_dte_um": float(np.std(delta) * 1e6),
+                     "transient_separated": float(np.mean(res.mesh_force[sel, 0] == 0)),
+                     "hb_down_dte_um": float(down.dte_rms[i, 0] * 1e6),
+                     "hb_down_separated": float(down.separation_fraction[i, 0]),
+                     "hb_up_dte_um": float(up.dte_rms[i, 0] * 1e6),
+                     "hb_up_separated": float(up.separation_fraction[i, 0]),
+                     "linear_dte_um": float(lin.dte_rms[i, 0] * 1e6)})  # fmt: skip
+    fig = Figure(figsize=(8.6, 5.0), layout="constrained")
+    ax = fig.subplots()
+    x = speeds / RPM
+    ax.plot(x, np.where(lin.unstable, np.nan, lin.dte_rms[:, 0]) * 1e6, color="0.5", ls=":",
+            label="linear (teeth always in contact)")  # fmt: skip
+    ax.plot(x, down.dte_rms[:, 0] * 1e6, color="C3", label="backlash law, run-down")
+    ax.plot(x, up.dte_rms[:, 0] * 1e6, color="C0", ls="--", label="backlash law, run-up")
+    for r in rows:
+        ax.plot(r["rpm"], r["transient_dte_um"], "ko", ms=5,
+                label="transient from the static state" if r is rows[0] else None)  # fmt: skip
+    ax.axvline(om / 50 / RPM, color="0.3", lw=0.8)
+    ax.text(om / 50 / RPM, 0.9, " mesh mode", transform=ax.get_xaxis_transform(), fontsize=8)
+    ax.set_xlabel("speed (rpm)")
+    ax.set_ylabel("DTE rms (µm)")
+    ax.set_ylim(0, 1.3 * np.nanmax(down.dte_rms[:, 0]) * 1e6)
+    ax.set_title(train.name + "\nthe linear response runs off the scale at the resonance",
+                 fontsize=10)  # fmt: skip
+    ax.legend(fontsize=8)
+    _save(fig, FIG / "gears_kahraman_rig.png")
+    sep = down.separation_fraction[:, 0] > 0
+    out["kahraman"] = {
+        "mesh_mode_rpm": float(om / 50 / RPM),
+        "mesh_mode_Hz": float(om / 2 / np.pi),
+        "linear_peak_rpm": float(
+            x[int(np.nanargmax(np.where(lin.unstable, np.nan, lin.dte_rms[:, 0])))]
+        ),
+        "down_jump_rpm": float(x[sep & (x > 2200)].min()),
+        "up_jump_rpm": float(x[(up.separation_fraction[:, 0] > 0.2) & (x > 2200)].min()),
+        "down_converged": int(down.converged.sum()),
+        "up_converged": int(up.converged.sum()),
+        "n": len(x),
+        "transient": rows,
+    }
+
+
 def compressor(out: dict) -> None:
     pair = GearPair(file=str(GEARS / "compressor_helix.toml"))
     c = mesh_curves(load_gear_pair(GEARS / "compressor_helix.toml"))
@@ -210,7 +286,13 @@ def compressor(out: dict) -> None:
 
 def main() -> None:
     out: dict = {}
-    for step in (ross_pair, harris, rig, compressor):
+    import sys
+
+    steps = (ross_pair, harris, rig, kahraman, compressor)
+    only = set(sys.argv[1:])
+    for step in steps:
+        if only and step.__name__ not in only:
+            continue
         step(out)
         print(step.__name__, "done", flush=True)
     path = ROOT / "out" / "gears.json"

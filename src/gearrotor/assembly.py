@@ -17,6 +17,7 @@ material damping (per unit speed; empty without it).
 
 from __future__ import annotations
 
+import contextlib
 import functools
 from dataclasses import dataclass, field, replace
 from pathlib import Path
@@ -439,22 +440,19 @@ def _solve_pad_table(file: str, mtime_ns: int, loads: tuple, rpm: tuple, pads: t
     return pad_table_from_equilibria(case.bearing, eqs, options=case.options)
 
 
+def _seal_file_state(sl, shaft, train_speed: float) -> tuple[int, float]:
+    """A seal file's version (its mtime, for the caches) and the sense of its rotor surface:
+    the surface turns with its shaft, about −z when the shaft's nominal speed is negative."""
+    mtime = Path(sl.file).stat().st_mtime_ns if Path(sl.file).exists() else 0
+    spin = shaft.speed_ratio * (train_speed if train_speed else 1.0)
+    return mtime, 1.0 if spin >= 0 else -1.0
+
+
 def _seal_table(sl, field: str, shaft, train_speed: float) -> CoefficientTable:
     """Synchronous coefficients of a seal file (``gearrotor.seals``) at the seal's speeds."""
-    mtime = Path(sl.file).stat().st_mtime_ns if Path(sl.file).exists() else 0
-    # the rotor surface turns with its shaft: about −z when the shaft's nominal speed is negative
-    spin = shaft.speed_ratio * (train_speed if train_speed else 1.0)
-    sign = 1.0 if spin >= 0 else -1.0
-    try:
+    mtime, sign = _seal_file_state(sl, shaft, train_speed)
+    with _errors_under(f"{field}.file"):
         speed, vals = _solve_seal_table(sl.file, mtime, tuple(sl.speeds), sign)
-    except ModelError as exc:
-        raise ModelError(
-            exc.message,
-            field=f"{field}.file" + (f" ({exc.field})" if exc.field else ""),
-            value=exc.value,
-            expected=exc.expected,
-            file=exc.file,
-        ) from None
     return CoefficientTable(speed, vals, sl.extrapolate)
 
 
@@ -484,16 +482,8 @@ def _table_element(t, tolerance: float | None, field: str) -> RadialBearing | Wh
 
 def _whirl_file_element(b, field: str) -> RadialBearing | WhirlBearing:
     """The element of a speed × whirl ``table_file`` (a ``whirl_rpm`` column)."""
-    try:
+    with _errors_under(f"{field}.table_file"):
         rows = read_whirl_table(b.table_file)
-    except ModelError as exc:
-        raise ModelError(
-            exc.message,
-            field=f"{field}.table_file" + (f" ({exc.field})" if exc.field else ""),
-            value=exc.value,
-            expected=exc.expected,
-            file=exc.file,
-        ) from None
     return _whirl_element(
         rows, b.extrapolate, b.fit_tolerance, f"{field}.table_file", file=b.table_file
     )
@@ -501,19 +491,9 @@ def _whirl_file_element(b, field: str) -> RadialBearing | WhirlBearing:
 
 def _seal_whirl_element(sl, field: str, shaft, train_speed: float) -> WhirlBearing | RadialBearing:
     """A seal file solved over speed × whirl (``[[seals]] whirls``)."""
-    mtime = Path(sl.file).stat().st_mtime_ns if Path(sl.file).exists() else 0
-    spin = shaft.speed_ratio * (train_speed if train_speed else 1.0)
-    sign = 1.0 if spin >= 0 else -1.0
-    try:
+    mtime, sign = _seal_file_state(sl, shaft, train_speed)
+    with _errors_under(f"{field}.file"):
         rows = _solve_seal_whirl_table(sl.file, mtime, tuple(sl.speeds), tuple(sl.whirls), sign)
-    except ModelError as exc:
-        raise ModelError(
-            exc.message,
-            field=f"{field}.file" + (f" ({exc.field})" if exc.field else ""),
-            value=exc.value,
-            expected=exc.expected,
-            file=exc.file,
-        ) from None
     return _whirl_element(rows, sl.extrapolate, sl.fit_tolerance, f"{field}.whirls")
 
 
@@ -795,3 +775,19 @@ def _with_mesh_damping_ratios(asm: Assembly) -> Assembly:
         C.add(m.dofs, c * np.outer(m.w, m.w))
         meshes.append(replace(m, damping=float(c)))
     return replace(asm, C0=asm.C0 + C.csr(asm.n_dof), meshes=tuple(meshes))
+
+
+@contextlib.contextmanager
+def _errors_under(field: str):
+    """A referenced file's input error named under the model field that references it
+    (``bearings[0].table_file (kxx)``; its own field in brackets, its file kept)."""
+    try:
+        yield
+    except ModelError as exc:
+        raise ModelError(
+            exc.message,
+            field=field + (f" ({exc.field})" if exc.field else ""),
+            value=exc.value,
+            expected=exc.expected,
+            file=exc.file,
+        ) from None

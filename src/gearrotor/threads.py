@@ -48,6 +48,7 @@ __all__ = [
     "available_cores",
     "busy_cores",
     "current_threads",
+    "processes",
     "limit",
     "managed",
     "parse_setting",
@@ -180,6 +181,17 @@ def threads_for(size: int, kind: str = "eig") -> int:
         return min(int(value), cores)
     if size < CROSSOVER.get(kind, CROSSOVER["eig"]) or cores == 1:
         return 1
+    return max(1, min(cores, int(cores - busy_cores() + 0.5)))
+
+
+def processes() -> int:
+    """Processes a command may run at once (the report's second process for its independent
+    work): the fixed number of the setting (``--threads N``), or with ``"auto"`` the available
+    cores less the busy ones (at least one)."""
+    value = setting()
+    cores = available_cores()
+    if value != "auto":
+        return max(1, min(int(value), cores))
     return max(1, min(cores, int(cores - busy_cores() + 0.5)))
 
 

@@ -184,14 +184,15 @@ def _concentric_pad(n_theta, lub, **kw):
 
 
 def test_adiabatic_couette_pad_closed_form_and_first_order_convergence():
-    """No pressure: ρ c (U h/2) dT/dx = μ(T) U²/h, and with μ = μ₀ e^(−β(T − T₀))
+    """One layer across the film (the temperature uniform across it), no pressure:
+    ρ c (U h/2) dT/dx = μ(T) U²/h, and with μ = μ₀ e^(−β(T − T₀))
     T(x) = T₀ + ln(1 + 2βμ₀Ux/(ρ c h²))/β. The outlet temperature converges at first order (the
     upwind convection): errors −0.031, −0.016, −0.008 K of a 5.3 K rise for 12, 24, 48
     intervals; ratio 2 within 10 %, error at 48 below 0.01 K."""
     lub = Lubricant.exponential((T40, 0.03), (CELSIUS + 100, 0.005), specific_heat=2000.0)
     errors = []
     for n in (12, 24, 48):
-        th, u, h, x = _concentric_pad(n, lub)
+        th, u, h, x = _concentric_pad(n, lub, cross_film_layers=1)
         beta, mu0 = lub.coefficients[2], 0.03
         exact = T40 + math.log1p(2 * beta * mu0 * u * x / (th.rho_c * h * h)) / beta
         errors.append(th.pads[0].outlet_temperature - exact)
@@ -203,15 +204,16 @@ def test_adiabatic_couette_pad_closed_form_and_first_order_convergence():
 
 
 def test_couette_pad_with_heat_to_the_pad_matches_the_ode():
-    """With heat α(T − T_s) to the oil behind the pad (α the back's coefficient in series with the
-    film's own pad-side conductance 12k/(5h)): ρ c (U h/2) dT/dx = μU²/h − α(T − T_s),
-    integrated by solve_ivp (rtol 1e-12); 48 intervals within 0.02 K (the first-order upwind
-    error), energy conserved with the heat conducted (1e-9)."""
+    """One layer across the film, heat α(T − T_s) to the oil behind the pad (α the back's
+    coefficient in series with the film's half-layer conductance 2k/h):
+    ρ c (U h/2) dT/dx = μU²/h − α(T − T_s), integrated by solve_ivp (rtol 1e-12); 48
+    intervals within 0.02 K (the first-order upwind error), energy conserved with the heat
+    conducted (1e-9)."""
     lub = Lubricant.exponential((T40, 0.03), (CELSIUS + 100, 0.005), specific_heat=2000.0)
     alpha = 2000.0
-    th, u, h, x = _concentric_pad(48, lub, pad_heat_transfer=alpha)
-    # the pad back's coefficient in series with the film's own (pad-side) conductance 12k/(5h)
-    alpha_eff = 1 / (1 / alpha + 5 * h / (12 * lub.thermal_conductivity))
+    th, u, h, x = _concentric_pad(48, lub, pad_heat_transfer=alpha, cross_film_layers=1)
+    # the pad back's coefficient in series with the film's half-layer conductance 2k/h
+    alpha_eff = 1 / (1 / alpha + h / (2 * lub.thermal_conductivity))
 
     def rhs(_, t):
         q = lub.viscosity(t[0]) * u * u / h - alpha_eff * (t[0] - T40)
@@ -225,88 +227,169 @@ def test_couette_pad_with_heat_to_the_pad_matches_the_ode():
 
 def test_developed_couette_film_over_an_isothermal_journal_has_brinkmans_temperatures():
     """A uniform Couette film (constant μ) over a journal whose surface is held at T_j
-    (``journal_heat_transfer = inf``), adiabatic pad, fed at T_j + μU²/(4k): the developed
-    profile T_j + (μU²/(k h²)) (h y − y²/2) has that mixing-cup mean, so the bulk stays there,
-    and the pad surface is at T_j + μU²/(2k), the temperature of an adiabatic wall facing a
-    moving isothermal wall across a Couette film (Brinkman; Schlichting, Boundary-Layer
-    Theory, plane Couette flow with dissipation), to round-off. The adiabatic film's surface
-    is its bulk temperature."""
-    mu, k = 0.03, 0.13
+    (``journal_heat_transfer = inf``), adiabatic pad, fed at T_j: once developed, the profile
+    is T_j + (μU²/(k h²)) (h y − y²/2) and the pad surface is at T_j + μU²/(2k), the temperature
+    of an adiabatic wall facing a moving isothermal wall across a Couette film (Brinkman;
+    Schlichting, Boundary-Layer Theory, plane Couette flow with dissipation), every
+    dissipated watt going to the journal. The oil's conductivity is raised to 130 W/(m·K) so
+    that the film develops within the pad (thermal entrance length U h²/a ≈ 2 mm against a
+    105 mm pad). The finite-volume layers give the developed surface temperature exactly (the
+    half-layer errors at the two walls cancel), so: 1e-9 K at the trailing edge, for 1, 3 and
+    8 layers; the layers' own temperatures lie on the parabola shifted by the journal half
+    layer's error S h²/(8 k n²) (S = μU²/h² the dissipation)."""
+    mu, k = 0.03, 130.0
     d, length, c = 0.1, 0.05, 1e-4
     omega = 3000 * math.pi / 30
     u = omega * d / 2
     t_j = T40
-    t_eq = t_j + mu * u * u / (4 * k)
     lub = Lubricant.constant(mu, specific_heat=2000.0, thermal_conductivity=k)
     b = FixedBearing(d, length, c, mu, (Pad(math.radians(30), 2.0944),))
-    for alpha in (math.inf, 0.0):
+    for n in (1, 3, 8):
         th = ThermalModel(
             "thd",
             lub,
-            t_eq,
+            t_j,
             carry_over=0.0,
-            journal_heat_transfer=alpha,
+            journal_heat_transfer=math.inf,
             journal_temperature=t_j,
+            cross_film_layers=n,
             tol=1e-10,
         )
-        opts = SolverOptions(grid=Grid(12, 4), thermal=th)
+        opts = SolverOptions(grid=Grid(24, 2), thermal=th)
         res = equilibrium(b, (0.0, 0.0), omega, options=opts).thermal
         pt = res.pads[0]
-        if alpha:
-            np.testing.assert_allclose(pt.temperature, t_eq, rtol=0, atol=1e-9)
-            np.testing.assert_allclose(
-                pt.surface_temperature, t_j + mu * u * u / (2 * k), rtol=0, atol=1e-9
-            )
-            assert res.heat_conducted == pytest.approx(res.power_loss, rel=1e-9)
-        else:
-            np.testing.assert_array_equal(pt.surface_temperature, pt.temperature)
-            assert pt.max_temperature == pt.temperature.max()
+        np.testing.assert_allclose(
+            pt.surface_temperature[-1], t_j + mu * u * u / (2 * k), rtol=0, atol=1e-9
+        )
+        eta = (np.arange(n) + 0.5) / n
+        exact = t_j + mu * u * u / k * (eta - eta**2 / 2 + 1 / (8 * n * n))
+        np.testing.assert_allclose(pt.layer_temperature[-1, -1], exact, rtol=0, atol=1e-9)
+        assert abs(res.energy_residual) < 1e-9 * res.power_loss
 
 
-def test_wall_fluxes_and_surface_temperature_solve_the_cross_film_profile():
-    """Heat to the journal and to the pads (the 4-pad example, journal temperature free): at
-    sampled nodes the reported surface temperature is T(h) of the profile
-    T(y) = T₀ + (q_j/k) y − (q_j + q_p) y²/(2kh) whose mixing-cup mean over the Couette
-    velocity U (1 − y/h) — taken here by quadrature — is the node's bulk temperature, with
-    T₀ − T_j = q_j/α_j and T(h) − T_s = q_p/α_p (a 3×3 linear solve, independent of the
-    model's algebra): 1e-9 K. The journal's temperature makes its net heat zero (the heat
-    conducted then all goes to the pads' backs)."""
-    case = load_bearing(EXAMPLES / "tilting_4pad.toml")
-    a_p, a_j, k = 800.0, 6000.0, 0.13
-    lub = replace(iso_vg(32), thermal_conductivity=k)
-    opts = _with(
-        case,
-        model="thd",
-        lubricant=lub,
-        supply_temperature=T40,
-        pad_heat_transfer=a_p,
-        journal_heat_transfer=a_j,
-        tol=1e-6,
+def _couette_pad_across_the_film(n_theta, layers, lub, t_j, alpha_p):
+    d, c = 0.1, 1e-4
+    b = FixedBearing(d, 0.05, c, float(lub.viscosity(T40)), (Pad(math.radians(30), 2.0944),))
+    th = ThermalModel(
+        "thd",
+        lub,
+        T40,
+        carry_over=0.0,
+        journal_heat_transfer=math.inf,
+        journal_temperature=t_j,
+        pad_heat_transfer=alpha_p,
+        cross_film_layers=layers,
+        tol=1e-10,
     )
-    eq = equilibrium(case.bearing, case.loads[0], case.speed, options=opts)
-    th = eq.thermal
-    t_j = th.journal_temperature
-    for film, pt in zip(eq.film.pads, th.pads, strict=True):
-        for i, j in [(0, 0), (film.film.shape[0] // 2, -1), (-1, 2), (-1, -1)]:
-            h, t = film.film[i, j], pt.temperature[i, j]
+    omega = 3000 * math.pi / 30
+    opts = SolverOptions(grid=Grid(n_theta, 2), thermal=th)
+    return equilibrium(b, (0.0, 0.0), omega, options=opts).thermal, omega * d / 2, c, d / 2 * 2.0944
 
-            def mean(f, h=h):
-                return quad(lambda y: (1 - y / h) * f(y), 0, h)[0] / (h / 2)
 
-            # unknowns (T₀, q_j, q_p)
-            mat = np.array(
-                [
-                    [1.0, mean(lambda y: y / k), mean(lambda y, h=h: -y * y / (2 * k * h))],
-                    [1.0, -1 / a_j, 0.0],
-                    [1.0, h / k - h / (2 * k), -h / (2 * k) - 1 / a_p],
-                ]
+def _couette_film_by_lines(rho_c, mu, k, u, h, x_end, t_in, t_j, alpha_p, t_s, m=400):
+    """The oracle: ρc u(y) ∂T/∂x = k ∂²T/∂y² + μ(U/h)², u = U(1 − y/h), T(0, y) = t_in,
+    T(x, 0) = t_j, −k ∂T/∂y(x, h) = α_p (T(x, h) − t_s), by the method of lines (second-order
+    finite differences at m + 1 points across the film, one-sided at the pad wall) integrated in
+    x by BDF: the outlet's mixing-cup temperature and the pad surface's (m = 200 → 400 changes
+    them by 5e-5 and 1.6e-4 K)."""
+    dy = h / m
+    y = np.arange(m + 1) * dy
+    vel = u * (1 - y / h)
+    src = mu * (u / h) ** 2
+
+    def wall(ti):
+        return (k * (4 * ti[-1] - ti[-2]) / (2 * dy) + alpha_p * t_s) / (3 * k / (2 * dy) + alpha_p)
+
+    def rhs(_, ti):
+        t = np.concatenate([[t_j], ti, [wall(ti)]])
+        return (k * (t[2:] - 2 * t[1:-1] + t[:-2]) / dy**2 + src) / (rho_c * vel[1:-1])
+
+    sol = solve_ivp(rhs, (0, x_end), np.full(m - 1, t_in), method="BDF", rtol=1e-10, atol=1e-10)
+    ti = sol.y[:, -1]
+    t = np.concatenate([[t_j], ti, [wall(ti)]])
+    return np.trapezoid(vel * t, y) / np.trapezoid(vel, y), t[-1]
+
+
+def test_film_resolved_across_its_thickness_matches_the_method_of_lines():
+    """A Couette pad (constant μ, no pressure) fed at 40 °C between a journal held 10 K hotter
+    and a pad cooled through 2000 W/(m²·K) to the 40 °C oil behind it: the thermal entrance
+    problem (the pad is 1/20 of an entrance length U h²/a long), solved independently by the
+    method of lines (:func:`_couette_film_by_lines`). The outlet mixing-cup and trailing-edge
+    pad surface temperatures converge at second order in the layers (measured errors, 96
+    intervals: −1.04, −0.25, −0.057 K (outlet) and −0.82, −0.18, −0.057 K (surface) for 2, 4,
+    8 layers of an 8.7 K rise; each doubling at least 3 times smaller) and are within 0.1 K on
+    8 layers (the rest is the first-order upwind error along the pad). No temperature below the
+    40 °C of the inlet and the pad's back: the developed-profile model this replaced put this
+    pad's surface 6.5 K below it near the leading edge (and 3 K too cool at the trailing
+    edge)."""
+    mu, k = 0.03, 0.13
+    lub = Lubricant.constant(mu, specific_heat=2000.0, thermal_conductivity=k)
+    t_j, alpha_p = T40 + 10.0, 2000.0
+    err_out, err_surf = [], []
+    mixed = surface = math.nan
+    for n in (2, 4, 8):
+        th, u, h, x = _couette_pad_across_the_film(96, n, lub, t_j, alpha_p)
+        if n == 2:
+            mixed, surface = _couette_film_by_lines(
+                th.rho_c, mu, k, u, h, x, T40, t_j, alpha_p, T40
             )
-            mat[0, 1] += mean(lambda y, h=h: -y * y / (2 * k * h))
-            t0, q_j, q_p = np.linalg.solve(mat, [t, t_j, T40])
-            t_h = t0 + q_j * h / k - (q_j + q_p) * h / (2 * k)
-            assert pt.surface_temperature[i, j] == pytest.approx(t_h, abs=1e-9)
-    assert th.max_temperature == max(p.surface_temperature.max() for p in th.pads)
-    assert th.max_temperature > max(p.temperature.max() for p in th.pads)  # the journal cools
+        pt = th.pads[0]
+        err_out.append(pt.outlet_temperature - mixed)
+        err_surf.append(pt.surface_temperature[-1, -1] - surface)
+        assert pt.layer_temperature.min() > T40 and pt.surface_temperature.min() > T40
+        assert pt.layer_temperature.max() < t_j + 5.0
+        assert abs(th.energy_residual) < 1e-9 * th.power_loss
+    for e in (err_out, err_surf):
+        assert abs(e[0]) > 3 * abs(e[1]) > 9 * abs(e[2])
+        assert abs(e[2]) < 0.1
+    assert mixed - T40 == pytest.approx(8.73, abs=0.01)  # the oracle's rise
+
+
+MAXIMUM_PRINCIPLE_CASES = [
+    ("tilting_4pad_thd.toml", 1000, {}),
+    ("tilting_4pad_thd.toml", 2500, {}),
+    ("tilting_4pad_thd.toml", 4000, {}),
+    ("tilting_5pad_thd.toml", 3000, {}),
+    ("tilting_5pad_thd.toml", 6000, {}),
+    ("tilting_5pad_thd.toml", 6000, {"pad_heat_transfer": 568.5, "journal_heat_transfer": 1e9}),
+    ("plain_ld1.toml", 3000, {"pad_heat_transfer": 1000.0, "journal_heat_transfer": 1e9}),
+]
+
+
+@pytest.mark.parametrize(
+    "name, rpm, walls",
+    MAXIMUM_PRINCIPLE_CASES,
+    ids=[f"{n.split('.')[0]}-{r}rpm{'-walls' if w else ''}" for n, r, w in MAXIMUM_PRINCIPLE_CASES],
+)
+def test_no_temperature_below_the_coldest_oil_fed_in(name, rpm, walls):
+    """Maximum principle of the energy equation: with heat only generated in the film
+    (dissipation ≥ 0) and the journal and pads taking heat only from it, no temperature in
+    the film (every layer) or on a pad surface lies below the coldest temperature fed in (the
+    supply: fresh oil, make-up and the oil behind the pads; the pads' inlets mix hot oil into
+    it; the free journal takes the film's heat), on the 4-pad Fillon rig with heat to its pads
+    and journal, the 5-pad example (adiabatic, and with heat to pads and a nearly isothermal
+    journal) and a plain bearing, at several speeds. The developed-profile model this
+    replaced put the Fillon rig's unloaded pads' surfaces at 35.4–36.3 °C against the 40 °C
+    supply at every speed. Every control volume's energy balances: the scheme is monotone
+    (upwind, an M-matrix), so the bound holds to round-off, not to a tolerance."""
+    case = load_bearing(EXAMPLES / name)
+    th_model = case.options.thermal
+    if th_model is None:
+        th_model = ThermalModel("thd", iso_vg(32), T40)
+    th_model = replace(th_model, **walls)
+    opts = replace(case.options, thermal=th_model)
+    th = equilibrium(case.bearing, case.loads[0], rpm * math.pi / 30, options=opts).thermal
+    t_s = th.supply_temperature
+    floor = t_s - 1e-9 * (th.max_temperature - t_s)
+    for pt in th.pads:
+        assert pt.layer_temperature.min() >= floor
+        assert pt.surface_temperature.min() >= floor
+        assert pt.inlet_temperature >= floor
+        # and no temperature above the hottest layer (no heat source outside the film)
+        assert pt.surface_temperature.max() <= th.max_temperature
+    if th_model.journal_heat_transfer > 0:
+        hottest = max(p.layer_temperature.max() for p in th.pads)
+        assert t_s < th.journal_temperature < hottest
     assert abs(th.energy_residual) < 1e-9 * th.power_loss
 
 
@@ -373,13 +456,13 @@ def test_energy_is_conserved(name, extra):
     assert th.power_loss > 0 and th.supply_flow > 0
     assert abs(th.energy_residual) < 1e-9 * th.power_loss
     assert th.max_temperature > T40
-    hottest_oil = max(p.temperature.max() for p in th.pads)  # bulk; the surface may differ
+    hottest_oil = max(p.layer_temperature.max() for p in th.pads)
     for pt in th.pads:  # a 360° film: its inlet where the cavity ends, mixed with the make-up
         assert T40 <= pt.inlet_temperature <= hottest_oil
         assert T40 <= pt.outlet_temperature <= hottest_oil
-        if not extra:  # adiabatic: the oil only heats up, and the surface is the oil's
+        if not extra:  # adiabatic: the oil only heats up; the surface is the pad-side layer's
             assert pt.inlet_temperature <= pt.outlet_temperature
-            assert hottest_oil == th.max_temperature
+            assert np.array_equal(pt.surface_temperature, pt.layer_temperature[..., -1])
     if extra:
         assert th.heat_conducted > 0
         assert T40 < th.journal_temperature < th.max_temperature
@@ -469,6 +552,27 @@ def _doc(**over):
     return {"bearing": d}
 
 
+def test_bearing_file_wall_coefficients_and_conductivity():
+    """``"inf"`` (or TOML's inf) holds a wall at its sink's temperature; the oil's thermal
+    conductivity takes units."""
+    for inf in ("inf", math.inf):
+        case = parse_bearing(
+            _doc(
+                lubricant={"grade": "ISO VG 32", "thermal_conductivity": "0.149 W/(m*K)"},
+                thermal={
+                    "model": "thd",
+                    "supply_temperature": "40 degC",
+                    "journal_heat_transfer": inf,
+                    "pad_heat_transfer": "568.5 W/(m^2*K)",
+                },
+                viscosity=None,
+            )
+        )
+        th = case.options.thermal
+        assert th.journal_heat_transfer == math.inf and th.pad_heat_transfer == 568.5
+        assert th.lubricant.thermal_conductivity == pytest.approx(0.149)
+
+
 def test_bearing_file_thermal_tables():
     case = parse_bearing(
         _doc(
@@ -555,6 +659,43 @@ def test_bearing_file_thermal_tables():
             ),
             "bearing.thermal",
             "did you mean 'carry_over'",
+        ),
+        (
+            dict(lubricant={"grade": "ISO VG 32", "thermal_conductivity": "0 W/(m*K)"}),
+            "bearing.lubricant.thermal_conductivity",
+            "greater than 0",
+        ),
+        (
+            dict(
+                lubricant={"grade": "ISO VG 32"},
+                thermal={
+                    "model": "thd",
+                    "supply_temperature": "40 degC",
+                    "journal_heat_transfer": "-5 W/(m^2*K)",
+                },
+            ),
+            "bearing.thermal.journal_heat_transfer",
+            "greater than or equal to 0",
+        ),
+        (
+            dict(
+                lubricant={"grade": "ISO VG 32"},
+                thermal={"model": "thd", "supply_temperature": "40 degC", "cross_film_layers": 0},
+            ),
+            "bearing.thermal.cross_film_layers",
+            "greater than or equal to 1",
+        ),
+        (
+            dict(
+                lubricant={"grade": "ISO VG 32"},
+                thermal={
+                    "model": "effective",
+                    "supply_temperature": "40 degC",
+                    "cross_film_layers": 4,
+                },
+            ),
+            "bearing.thermal.cross_film_layers",
+            "THD model only",
         ),
         (dict(viscosity=None), "bearing.viscosity", "missing required field"),
     ],

@@ -387,8 +387,8 @@ class Lubricant:
         J/(kg·K), constant; None = Cragoe's correlation of temperature.
     thermal_conductivity
         W/(m·K), constant; default 0.13 (mineral turbine oils near 40–80 °C: 0.13–0.14,
-        falling slowly with temperature). Used only for the cross-film temperature profile
-        of a THD film that conducts heat to the journal or the pads.
+        falling slowly with temperature). Used by the THD film's conduction across its
+        layers.
     pour_point
         Lowest temperature the laws are used at (K).
     max_temperature

@@ -121,7 +121,7 @@ def plot_temperature(eq: Equilibrium, bearing: Bearing, path: str | Path | None 
         if k == 0:
             ax.set_ylabel("z (mm)")
     if im is not None:
-        fig.colorbar(im, ax=fig.axes, label="film temperature (°C)", shrink=0.9)
+        fig.colorbar(im, ax=fig.axes, label="film temperature, mean across it (°C)", shrink=0.9)
     ax = fig.add_subplot(gs[1, :])
     surface = any(
         p.surface_temperature is not None
@@ -157,7 +157,8 @@ def plot_temperature(eq: Equilibrium, bearing: Bearing, path: str | Path | None 
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8, loc="upper left", ncols=min(n + 2, 7))
     hottest = (
-        f"hottest oil {t_hi:.1f} °C, pad surface {th.max_temperature - 273.15:.1f} °C"
+        f"hottest film (mean across) {t_hi:.1f} °C, "
+        f"pad surface {th.max_temperature - 273.15:.1f} °C"
         if surface
         else f"hottest {t_hi:.1f} °C"
     )

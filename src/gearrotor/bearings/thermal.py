@@ -39,34 +39,39 @@ only the make-up is fresh.
     (``f = effective_factor``, 0.5 the mean film temperature of Raimondi & Boyd), one viscosity per
     pad.
 
-``"thd"`` (2-D energy equation in the film, fixed-geometry and tilting-pad journals)
-    Steady energy balance of every control volume, circumferential and axial convection by the
-    flow field above (first-order upwind, conservative), dissipation, conduction across the film
-    neglected in its plane (Péclet numbers of 10⁴–10⁶), and optionally heat to the pads and
-    to the journal. The energy balance carries the film's bulk (mixing-cup) temperature T,
-    which also sets the viscosity (a nodal field on every pad). Across the film the
-    temperature is taken parabolic under Couette flow (journal moving at U, pad at rest),
-    with the wall fluxes q_j into the journal and q_p into the pad:
-    ``T(y) = T₀ + (q_j/k) y − (q_j + q_p) y²/(2kh)`` (y from the journal, h the film
-    thickness, k the oil's thermal conductivity), whose mixing-cup mean is T. Its walls
-    conduct on: the journal surface T(0) to the journal body at T_j through
-    ``journal_heat_transfer`` α_j (inf: the surface at T_j), the pad surface T(h) through the
-    pad to the oil behind it, at the supply temperature T_s, through ``pad_heat_transfer`` α_p
-    (the pad's conduction and the back's convection in series). Per node this gives
-
-        T − T_j = q_j/α_j + h (3 q_j − q_p)/(12 k),
-        T − T_s = q_p/α_p − h (3 q_j − 5 q_p)/(12 k),
-
-    linear in T, solved for (q_j, q_p) (:func:`_film_conductances`): the film's own
-    conductance (4k/h towards a journal when the pad is adiabatic) in series with the walls'.
-    The pad surface (babbitt) temperature is ``T(h) = T + h (3 q_j − 5 q_p)/(12 k)``: the bulk
-    temperature in an adiabatic film; above it where a cooler journal draws heat through
-    the film (a developed film over a journal at T_j: T_j + μU²/(2k), Brinkman's
-    adiabatic-wall temperature, against a bulk at T_j + μU²/(4k)). The journal is at
+``"thd"`` (energy equation in the film resolved across it, fixed-geometry and tilting-pad
+journals)
+    The steady energy equation ρc u·∇T = ∂/∂y(k ∂T/∂y) + μ|∂u/∂y|² of the film, as the 3-D THD
+    models solve it (Ettles; Knight & Barrett): every control volume of the flow field above
+    split into ``cross_film_layers`` equal layers across the film (y from the journal, η = y/h).
+    Each in-plane flow is shared between the layers by its velocity profile, Couette
+    U(1 − η) (share ∫2(1 − η)dη) plus Poiseuille ∝ η(1 − η) (share ∫6η(1 − η)dη), from the
+    Couette part the flow field records for every transfer (axial flows are Poiseuille,
+    cavity streamers Couette); a layer whose share is negative (back-flow near the pad)
+    flows the other way; the oil entering or leaving the film at a pad's edges takes the
+    one-way part of its profile. The flow between layers that closes every layer's mass
+    balance is the cross-film convection. All convection is first-order upwind and
+    conservative; conduction is across the film only (between layer centres h/n apart, and
+    through the half layers to the walls; in its plane it is negligible, Péclet numbers
+    10⁴–10⁶); each layer's dissipation is (μ/h)∫(∂u/∂η)² + (∂w/∂η)² dη over it, which sums
+    to μU²/h + h³|∇p|²/(12μ). The journal surface conducts to the journal body at T_j through
+    ``journal_heat_transfer`` α_j (inf: the surface at T_j), the pad surface through the pad
+    to the oil behind it, at the supply temperature T_s, through ``pad_heat_transfer`` α_p
+    (the pad's conduction and the back's convection in series; the film's own conduction is
+    the layers'). The matrix is an M-matrix
+    (upwind convection, conduction, sources ≥ 0): no temperature in the film or on a wall
+    falls below the coldest oil fed in, or the journal if it is colder (maximum principle),
+    and the film develops its profile along the pad (the thermal entrance length U h²/a is
+    metres against a pad's centimetres) instead of being given a developed one. One layer is
+    the 2-D bulk model (the temperature uniform across the film, the walls through the half
+    film h/(2k)), ROSS 3.1's ``"adiabatic"`` film class. The film's viscosity (a nodal field on
+    every pad) is taken at the mean temperature across the film (the Reynolds equation is
+    2-D; the velocity profiles are those of a film of uniform viscosity). The pad surface
+    (babbitt) temperature is the pad-side layer's less its half layer's drop, and the
+    hottest temperature reported is the hottest pad surface. The journal is at
     ``journal_temperature``, or, when not given, at the temperature that makes its net heat
-    flow zero, solved within every energy balance (the fields are affine in it at a given
-    film: two balances give it, a third is taken at it). The hottest temperature reported is
-    the pad surface's.
+    flow zero, solved exactly within every energy balance (every field is affine in the
+    inlet and journal temperatures: one sparse LU per pad, three right-hand sides).
 
 Energy is conserved exactly (to round-off) in both models: the power loss equals the heat the
 flows carry out (enthalpy out − in, fresh oil at the supply temperature) plus the heat
@@ -112,7 +117,7 @@ class ThermalModel:
     ----------
     model
         ``"effective"`` (adiabatic bulk energy balance, one temperature per pad) or ``"thd"``
-        (2-D energy equation in the film).
+        (the energy equation in the film, resolved across it).
     lubricant
         The oil.
     supply_temperature
@@ -126,15 +131,19 @@ class ThermalModel:
     pad_heat_transfer
         ``"thd"``: heat transfer coefficient from the pad surface to the oil behind the pads
         (at the supply temperature): the pad's conduction and the back's convection in series
-        (W/(m²·K)); 0 = adiabatic (default); the film's own cross-film conductance is added in
-        series (module docstring).
+        (W/(m²·K)); 0 = adiabatic (default); the film conducts across its layers to the
+        surface (module docstring).
     journal_heat_transfer
         ``"thd"``: heat transfer coefficient from the journal surface to the journal body
         (W/(m²·K)); inf = the surface at the journal temperature (a steel journal); default 0
-        (adiabatic); the film's conductance is added in series.
+        (adiabatic); the film conducts across its layers to the surface.
     journal_temperature
         ``"thd"``: journal temperature (K); None = the temperature at which the journal takes no
         net heat (it only carries heat from the hot to the cold part of the film).
+    cross_film_layers
+        ``"thd"``: equal layers across the film (default 8: the hottest pad surface within
+        0.1 K of 32 layers on the tilting-pad examples); 1 = the temperature uniform across
+        the film (the 2-D bulk model).
     tol
         Convergence (K): the largest change, from one iteration to the next, of a pad's mean
         film temperature and (THD) of a node's temperature weighted by its share of the peak
@@ -156,6 +165,7 @@ class ThermalModel:
     pad_heat_transfer: float = 0.0
     journal_heat_transfer: float = 0.0
     journal_temperature: float | None = None
+    cross_film_layers: int = 8
     tol: float = 0.1
     max_iter: int = 100
     relaxation: float = 0.7
@@ -196,6 +206,15 @@ class ThermalModel:
                     value=v,
                     expected="model = 'thd', or no heat transfer",
                 )
+        if not (
+            isinstance(self.cross_film_layers, int | np.integer) and 1 <= self.cross_film_layers
+        ):
+            raise ModelError(
+                "cross_film_layers must be a whole number ≥ 1",
+                field="thermal.cross_film_layers",
+                value=self.cross_film_layers,
+                expected="an integer ≥ 1 (1: the temperature uniform across the film)",
+            )
         if not (0.0 < self.relaxation <= 1.0):
             raise ModelError(
                 "relaxation out of range",
@@ -252,6 +271,9 @@ class PadThermal:
         ``"effective"``.
     viscosity
         The viscosity the film was solved with: Pa·s, or the nodal field.
+    layer_temperature
+        ``"thd"``: the temperature of every layer across the film at the same nodes (K), shape
+        (m+1, n+1, layers), layer 0 at the journal; None for ``"effective"``.
     """
 
     inlet_temperature: float
@@ -269,6 +291,7 @@ class PadThermal:
     temperature: NDArray | None = field(default=None, repr=False)
     viscosity: float | NDArray = field(default=0.0, repr=False)
     surface_temperature: NDArray | None = field(default=None, repr=False)
+    layer_temperature: NDArray | None = field(default=None, repr=False)
 
 
 @dataclass(frozen=True)
@@ -382,6 +405,13 @@ class PadFlow:
         A 360° film.
     shape
         (M, n+1).
+    couette
+        The Couette part of every internal transfer (m³/s, in the transfer's direction; the
+        rest is its Poiseuille part): how the transfer is shared between the levels across the
+        film (``"thd"``, module docstring). Axial transfers are pure Poiseuille, cavity
+        streamers pure Couette.
+    inlet_couette, outlet_couette
+        The Couette part of each cell's ``inlet`` and ``outlet`` flow (m³/s).
     """
 
     up: NDArray
@@ -398,6 +428,9 @@ class PadFlow:
     area: NDArray
     periodic: bool
     shape: tuple[int, int]
+    couette: NDArray | None = field(default=None, repr=False)
+    inlet_couette: NDArray | None = field(default=None, repr=False)
+    outlet_couette: NDArray | None = field(default=None, repr=False)
 
     def imbalance(self) -> NDArray:
         """Net outflow of every cell (m³/s): zero to round-off."""
@@ -418,8 +451,9 @@ def _to_flow_coords(a: NDArray, reverse: bool, periodic: bool, axis_faces: bool 
 
 def pad_flow(mesh: Any, film: PadFilm, q: NDArray, omega: float, viscosity, radius, clearance):
     """The :class:`PadFlow` of a steady film (module docstring) and the nodal inputs of the
-    energy balance in flow coordinates: (flow, film thickness h (m), pressure gradient squared
-    |∇p|² (Pa²/m²), viscosity μ (Pa·s)), each (M, n+1)."""
+    energy balance in flow coordinates: (flow, film thickness h (m), pressure gradient
+    (∂p/∂x, ∂p/∂z) (Pa/m; x in the direction of rotation, z from the bearing edge), viscosity
+    μ (Pa·s)), each (M, n+1)."""
     ft, fz = pad_fluxes(
         mesh, film, q, omega, viscosity=viscosity, radius=radius, clearance=clearance
     )
@@ -440,7 +474,6 @@ def pad_flow(mesh: Any, film: PadFilm, q: NDArray, omega: float, viscosity, radi
         dpx = np.gradient(p, dx, axis=0)
     dpz = np.gradient(p, dz, axis=1)
     dpz[:, -1] = 0.0  # symmetry at the mid-plane
-    grad2 = dpx**2 + dpz**2
 
     # Couette part of every θ-face flow (the capacity of a carried face)
     k = clearance * radius**2 / 12.0
@@ -463,7 +496,10 @@ def pad_flow(mesh: Any, film: PadFilm, q: NDArray, omega: float, viscosity, radi
     fz = _to_flow_coords(fz, reverse, periodic)
     pf = _to_flow_coords(p, reverse, periodic)
     hf = _to_flow_coords(h, reverse, periodic)
-    g2 = _to_flow_coords(grad2, reverse, periodic)
+    dpxf = _to_flow_coords(dpx, reverse, periodic)
+    if reverse:
+        dpxf = -dpxf
+    dpzf = _to_flow_coords(dpz, reverse, periodic)
     muf = _to_flow_coords(np.array(mu), reverse, periodic)
     big_m = pf.shape[0]
     shape = (big_m, n1)
@@ -495,19 +531,23 @@ def pad_flow(mesh: Any, film: PadFilm, q: NDArray, omega: float, viscosity, radi
     recirc = np.zeros(size)
     recirc_from = np.zeros(size)
     outlet = np.zeros(size)
+    inlet_c = np.zeros(size)
+    outlet_c = np.zeros(size)
     side = np.zeros(size)
     spill = np.zeros(size)
     arrive = np.zeros(size)  # carried arrivals of non-pressure cells (for the fill fraction)
-    ups, downs, flows = [], [], []
+    ups, downs, flows, couettes = [], [], [], []
 
     def cell(i, j):
         return i * n1 + j
 
-    def transfer(a, b, f):
+    def transfer(a, b, f, fc):
+        """f > 0 from cell a to cell b, of which fc is the Couette part."""
         if f > 0:
             ups.append(a)
             downs.append(b)
             flows.append(f)
+            couettes.append(fc)
 
     # axial faces: Reynolds flows (none between two cells without pressure)
     fz = np.where((cls[:, :-1] == 0) | (cls[:, 1:] == 0), fz, 0.0)
@@ -515,9 +555,9 @@ def pad_flow(mesh: Any, film: PadFilm, q: NDArray, omega: float, viscosity, radi
         for j in range(n1 - 1):
             f = fz[i, j]
             if f > 0:
-                transfer(cell(i, j), cell(i, j + 1), f)
+                transfer(cell(i, j), cell(i, j + 1), f, 0.0)
             elif f < 0:
-                transfer(cell(i, j + 1), cell(i, j), -f)
+                transfer(cell(i, j + 1), cell(i, j), -f, 0.0)
 
     carried = np.full((n_faces, n1), np.nan)  # east outflow of non-pressure cells
     for j in range(n1):
@@ -564,35 +604,38 @@ def pad_flow(mesh: Any, film: PadFilm, q: NDArray, omega: float, viscosity, radi
                 if cb == 0:  # reformation: the pressure cell draws its Reynolds flow
                     fss = ft[i, j]
                     take = min(fc, max(fss, 0.0))
-                    transfer(a, b, take)
+                    transfer(a, b, take, take)
                     recirc[b] += take
                     recirc_from[a] += take
                     makeup[b] += max(fss, 0.0) - take
                     spill[a] += fc - take
                     if fss < 0:
-                        transfer(b, a, -fss)
+                        transfer(b, a, -fss, -fss)
                         spill[a] += -fss
                 else:
-                    transfer(a, b, fc)
+                    transfer(a, b, fc, fc)
             else:
                 f = ft[i, j]
                 if f >= 0:
-                    transfer(a, b, f)
+                    transfer(a, b, f, cap[i, j])
                 else:
-                    transfer(b, a, -f)
+                    transfer(b, a, -f, -cap[i, j])
         if not periodic:
             # leading column: closure with the groove; trailing column: outlet
             a = cell(0, j)
             f0 = ft[0, j]
             if f0 >= 0:
                 inlet[a] += f0
+                inlet_c[a] += cap[0, j]
             else:
                 spill[a] += -f0
             b = cell(big_m - 1, j)
             w = big_m - 2
-            fl = carried[w, j] if cls[w, j] in (1, 2) else ft[w, j]
+            cavity = cls[w, j] in (1, 2)
+            fl = carried[w, j] if cavity else ft[w, j]
             if fl >= 0:
                 outlet[b] += fl
+                outlet_c[b] += fl if cavity else cap[w, j]
             else:
                 makeup[b] += -fl
 
@@ -624,8 +667,11 @@ def pad_flow(mesh: Any, film: PadFilm, q: NDArray, omega: float, viscosity, radi
         area,
         periodic,
         shape,
+        np.array(couettes, dtype=float),
+        inlet_c,
+        outlet_c,
     )
-    return pf_flow, hf, g2, muf
+    return pf_flow, hf, (dpxf, dpzf), muf
 
 
 def _zero_pressure(film: PadFilm) -> PadFilm:
@@ -654,6 +700,9 @@ class _PadState:
     dissipation: NDArray  # W per cell (half bearing)
     reverse: bool
     film: NDArray  # film thickness per cell (m)
+    speed: float = 0.0  # surface speed of the journal U (m/s)
+    viscosity: NDArray | None = None  # per cell (Pa·s)
+    poiseuille: tuple[NDArray, NDArray] | None = None  # mean Poiseuille velocities (m/s)
     # bulk quantities (whole bearing length)
     q_in: float = 0.0
     q_out: float = 0.0
@@ -667,10 +716,22 @@ def _pad_state(ev: Any, k: int, film: PadFilm, u: NDArray) -> _PadState:
     b = ev.bearing
     q = ev.local_q(k, u)
     mesh = ev.meshes[k]
-    flow, h, grad2, mu = pad_flow(mesh, film, q, ev.speed, ev.viscosity[k], b.radius, b.clearance)
+    flow, h, (dpx, dpz), mu = pad_flow(
+        mesh, film, q, ev.speed, ev.viscosity[k], b.radius, b.clearance
+    )
     u_s = abs(ev.speed) * b.radius
-    phi = flow.fill * (mu * u_s**2 / h + h**3 * grad2 / (12.0 * mu)).ravel()
-    st = _PadState(flow, phi * flow.area, ev.speed < 0, h.ravel())
+    phi = flow.fill * (mu * u_s**2 / h + h**3 * (dpx**2 + dpz**2) / (12.0 * mu)).ravel()
+    # mean Poiseuille velocities −h² ∇p/(12μ) (x in the direction of rotation)
+    vel = (-(h**2) * dpx / (12.0 * mu), -(h**2) * dpz / (12.0 * mu))
+    st = _PadState(
+        flow,
+        phi * flow.area,
+        ev.speed < 0,
+        h.ravel(),
+        u_s,
+        np.asarray(mu, dtype=float).ravel(),
+        (vel[0].ravel(), vel[1].ravel()),
+    )
     st.q_side = 2.0 * float(flow.side.sum())
     st.q_make = 2.0 * float(flow.makeup.sum())
     st.power = 2.0 * float(st.dissipation.sum())
@@ -779,24 +840,154 @@ def _effective_step(
     return t_eff, out
 
 
-def _film_conductances(
-    film: NDArray, conductivity: float, a_j: float, a_p: float
-) -> tuple[NDArray, NDArray, NDArray, NDArray]:
-    """Per node, (g_jj, g_js, g_pj, g_ps) (W/(m²·K)) with q_j = g_jj (T − T_j) + g_js (T − T_s)
-    and q_p = g_pj (T − T_j) + g_ps (T − T_s): the wall fluxes of the film's parabolic
-    cross-film profile (module docstring) in series with the walls' coefficients α_j, α_p
-    (0: an adiabatic wall; inf: the wall at the sink temperature)."""
-    a = film / (12.0 * conductivity)
-    zero = np.zeros_like(a)
-    if a_j > 0 and a_p > 0:
-        r_j, r_p = 1.0 / a_j, 1.0 / a_p
-        det = (r_j + 3.0 * a) * (r_p + 5.0 * a) - 3.0 * a * a
-        return (r_p + 5.0 * a) / det, a / det, 3.0 * a / det, (r_j + 3.0 * a) / det
-    if a_j > 0:
-        return 1.0 / (1.0 / a_j + 3.0 * a), zero, zero, zero
-    if a_p > 0:
-        return zero, zero, zero, 1.0 / (1.0 / a_p + 5.0 * a)
-    return zero, zero, zero, zero
+def _layers(n: int) -> tuple[NDArray, NDArray, NDArray, NDArray, NDArray]:
+    """The film's n levels (equal layers in η = y/h, y from the journal): per layer the share of
+    a unit Couette flow (velocity ∝ 1 − η) and of a unit Poiseuille flow (∝ η(1 − η)) it
+    carries, and the integrals ∫dη, ∫(1 − 2η)dη, ∫(1 − 2η)²dη of the dissipation."""
+    e = np.linspace(0.0, 1.0, n + 1)
+    a, b = e[:-1], e[1:]
+    couette = 2.0 * (b - a) - (b**2 - a**2)
+    poiseuille = 3.0 * (b**2 - a**2) - 2.0 * (b**3 - a**3)
+    i1 = (b - a) - (b**2 - a**2)
+    i2 = ((1.0 - 2.0 * a) ** 3 - (1.0 - 2.0 * b) ** 3) / 6.0
+    return couette, poiseuille, b - a, i1, i2
+
+
+def _shares(total: NDArray, couette: NDArray, c_l: NDArray, p_l: NDArray, clip: bool) -> NDArray:
+    """Flows (…) with Couette part ``couette`` split over the layers: (…, n). ``clip``: a flow
+    into or out of the film is taken one-way, its reversed layers (a Poiseuille back-flow at a
+    pad's edge) set to zero and the rest scaled to the total."""
+    out = couette[:, None] * c_l[None, :] + (total - couette)[:, None] * p_l[None, :]
+    if clip:
+        out = np.clip(out, 0.0, None)
+        s = out.sum(axis=1)
+        ok = s > 0
+        out[ok] *= (total[ok] / s[ok])[:, None]
+        out[~ok] = total[~ok, None] * c_l[None, :]
+    return out
+
+
+@dataclass
+class _PadSolve:
+    """One pad's energy balance across the film (flow coordinates; (cells, layers) arrays):
+    its temperatures are ``t0 + T_in t1 + T_j t2``."""
+
+    t0: NDArray
+    t1: NDArray
+    t2: NDArray
+    drain: NDArray  # outflow at the trailing edge and out of cavities, per (cell, layer)
+    side: NDArray
+    inlet: NDArray  # inflow at T_in per (cell, layer) (inlet, and a pad's make-up)
+    makeup_s: NDArray  # inflow at the supply temperature (a 360° film's make-up)
+    leave: NDArray  # what leaves a 360° film's pressure zone, or the drain
+    g_j: NDArray  # conductance to the journal body (W/K per cell)
+    g_p: NDArray  # conductance to the oil behind the pad (W/K per cell)
+    r_p: NDArray  # the pad-side half layer's resistance × the wetted area (m²K/W)
+
+    def field(self, t_in: float, t_j: float) -> NDArray:
+        return self.t0 + t_in * self.t1 + t_j * self.t2
+
+
+def _pad_energy(model: ThermalModel, st: _PadState, rho_c: float, layers: tuple) -> _PadSolve:
+    """The steady energy equation of one pad resolved across the film (module docstring): the
+    pad's control volumes split into ``n`` layers; in-plane convection by each layer's share of
+    the flows (upwind), the flow between layers that closes every layer's mass balance
+    (upwind), conduction between layers and through the half layers to the walls, the
+    dissipation of each layer's shear. An M-matrix: no temperature below the lowest of the
+    inlet, supply and journal temperatures (maximum principle). One sparse LU, three
+    right-hand sides (sources; unit inlet temperature; unit journal temperature)."""
+    f = st.flow
+    c_l, p_l, w_l, i1, i2 = layers
+    n = len(c_l)
+    size = f.fill.size
+    t_s = model.supply_temperature
+    k = model.lubricant.thermal_conductivity
+    a_p, a_j = model.pad_heat_transfer, model.journal_heat_transfer
+    idx = np.arange(size * n).reshape(size, n)
+    # in-plane transfers, layer by layer (a reversed layer flows the other way)
+    lt = _shares(f.flow, f.couette, c_l, p_l, clip=False)
+    fwd = lt > 0
+    src_u = np.where(fwd, idx[f.up], idx[f.down])
+    dst_u = np.where(fwd, idx[f.down], idx[f.up])
+    mag = np.abs(lt)
+    src_u, dst_u, mag = src_u.ravel(), dst_u.ravel(), mag.ravel()
+    # flows into and out of the film
+    inlet = _shares(f.inlet, f.inlet_couette, c_l, p_l, clip=True)
+    makeup = f.makeup[:, None] * c_l[None, :]
+    drain = _shares(f.outlet, f.outlet_couette, c_l, p_l, clip=True) + f.spill[:, None] * c_l
+    side = f.side[:, None] * p_l[None, :]
+    ext_in = inlet + makeup
+    ext_out = drain + side
+    # the flow between layers that balances every layer: w[:, l] from layer l to l + 1
+    net_out = (
+        np.bincount(src_u, mag, size * n).reshape(size, n)
+        - np.bincount(dst_u, mag, size * n).reshape(size, n)
+        + ext_out
+        - ext_in
+    )
+    w = -np.cumsum(net_out, axis=1)[:, :-1]
+    up_v = np.where(w > 0, idx[:, :-1], idx[:, 1:]).ravel()
+    dn_v = np.where(w > 0, idx[:, 1:], idx[:, :-1]).ravel()
+    w_mag = np.abs(w).ravel()
+    # conduction: between layers (h/n apart) and through the half layers to the walls
+    wet = f.fill * f.area
+    dy = st.film / n
+    g_layer = np.repeat(k * wet / dy, n - 1)
+    lo, hi = idx[:, :-1].ravel(), idx[:, 1:].ravel()
+    r_half = dy / (2.0 * k)
+    g_j = wet / (r_half + 1.0 / a_j) if a_j > 0 else np.zeros(size)
+    g_p = wet / (r_half + 1.0 / a_p) if a_p > 0 else np.zeros(size)
+    # outflow of every unknown (convective, W/K) and the conductances on the diagonal
+    out_u = np.bincount(src_u, mag, size * n) + np.bincount(up_v, w_mag, size * n) + ext_out.ravel()
+    diag = rho_c * out_u
+    diag += np.bincount(lo, g_layer, size * n) + np.bincount(hi, g_layer, size * n)
+    diag[idx[:, 0]] += g_j
+    diag[idx[:, -1]] += g_p
+    if not np.all(diag > 0):
+        raise _no_flow(0)
+    rows = np.concatenate([np.arange(size * n), dst_u, dn_v, lo, hi])
+    cols = np.concatenate([np.arange(size * n), src_u, up_v, hi, lo])
+    vals = np.concatenate([diag, -rho_c * mag, -rho_c * w_mag, -g_layer, -g_layer])
+    mat = sp.csc_matrix((vals, (rows, cols)), shape=(size * n, size * n))
+    try:
+        lu = splu(mat)
+    except RuntimeError:
+        raise _no_flow(0) from None
+    # dissipation of each layer: (μ/h) ∫ (∂u/∂η)² + (∂w/∂η)² dη, u = U(1 − η) + 6ū η(1 − η)
+    ub, wb = st.poiseuille
+    mu_h = f.fill * st.viscosity / st.film * f.area
+    phi = mu_h[:, None] * (
+        st.speed**2 * w_l[None, :]
+        - 12.0 * (st.speed * ub)[:, None] * i1[None, :]
+        + 36.0 * (ub**2 + wb**2)[:, None] * i2[None, :]
+    )
+    src = phi.copy()
+    src[:, -1] += g_p * t_s
+    rhs_s = np.zeros((size, n))
+    rhs_in = rho_c * inlet
+    if f.periodic:
+        src += rho_c * makeup * t_s
+        rhs_s = rho_c * makeup
+    else:
+        rhs_in = rhs_in + rho_c * makeup
+    rhs_j = np.zeros((size, n))
+    rhs_j[:, 0] = g_j
+    sol = lu.solve(np.column_stack([src.ravel(), rhs_in.ravel(), rhs_j.ravel()]))
+    t0, t1, t2 = (sol[:, i].reshape(size, n) for i in range(3))
+    leave = drain + f.recirculated_from[:, None] * c_l[None, :] if f.periodic else drain
+    return _PadSolve(
+        t0,
+        t1,
+        t2,
+        drain,
+        side,
+        inlet if f.periodic else inlet + makeup,
+        rhs_s / rho_c,
+        leave,
+        g_j,
+        g_p,
+        r_half / np.where(wet > 0, wet, 1.0),
+    )
 
 
 def _thd_step(
@@ -804,100 +995,86 @@ def _thd_step(
     states: list[_PadState],
     up: list[int],
     rho_c: float,
-    t_journal: float,
+    t_journal: float | None,
 ) -> tuple[list[NDArray], list[dict], float]:
-    """2-D energy equation of every pad; returns the temperature fields (flow coordinates,
-    flattened), the pad outputs, and the journal temperature at which the journal takes no
-    net heat from these fields (NaN without heat to the journal)."""
+    """The energy equation of every pad across the film (:func:`_pad_energy`) with the inlet
+    mixing and the journal: returns the film temperature fields (the mean across the film,
+    flow coordinates, flattened), the pad outputs, and the journal temperature (given, or the
+    one at which the journal takes no net heat, solved exactly: every field is affine in the
+    inlet and journal temperatures; NaN without heat to the journal)."""
     t_s = model.supply_temperature
-    a_p, a_j = model.pad_heat_transfer, model.journal_heat_transfer
-    conductivity = model.lubricant.thermal_conductivity
+    layers = _layers(model.cross_film_layers)
     n = len(states)
     sols = []
-    gs = []
-    a = np.zeros(n)
-    b = np.zeros(n)
     for k, st in enumerate(states):
-        f = st.flow
-        size = f.fill.size
-        g_jj, g_js, g_pj, g_ps = g = _film_conductances(st.film, conductivity, a_j, a_p)
-        gs.append(g)
-        # heat out of a cell: (g_j + g_s) T − g_j T_j − g_s T_s on its wetted area
-        g_j, g_s = g_jj + g_pj, g_js + g_ps
-        cond = (g_j + g_s) * f.fill * f.area
-        out = np.bincount(f.up, f.flow, size) + f.outlet + f.side + f.spill
-        mat = sp.csc_matrix(
-            (
-                np.concatenate([rho_c * out + cond, -rho_c * f.flow]),
-                (
-                    np.concatenate([np.arange(size), f.down]),
-                    np.concatenate([np.arange(size), f.up]),
-                ),
-            ),
-            shape=(size, size),
-        )
-        if not np.all(out + cond > 0):
-            raise _no_flow(k)
         try:
-            lu = splu(mat)
-        except RuntimeError:
+            sols.append(_pad_energy(model, st, rho_c, layers))
+        except SolverError:
             raise _no_flow(k) from None
-        src = st.dissipation + f.fill * f.area * (g_s * t_s + g_j * t_journal)
-        if f.periodic:
-            t0 = lu.solve(src + rho_c * f.makeup * t_s)
-            t1 = np.zeros(size)
-        else:
-            t0 = lu.solve(src)
-            t1 = lu.solve(rho_c * (f.inlet + f.makeup))
-        drain = f.outlet + f.spill
-        q_d = float(drain.sum())
-        if not q_d > 0 and not f.periodic:
-            raise _no_flow(k)
-        if q_d > 0:
-            a[k] = float(drain @ t0) / q_d
-            b[k] = float(drain @ t1) / q_d
-        sols.append((t0, t1))
-    c, carried = _mixing(states, up, model.carry_over)
     periodic = [st.flow.periodic for st in states]
-    t_in = _inlet_temperatures(c, up, a, b, t_s, periodic)
+    c, carried = _mixing(states, up, model.carry_over)
+
+    def inlets(t_j: float) -> NDArray:
+        # T_out,k = a_k + b_k T_in,k (at this journal temperature)
+        a = np.zeros(n)
+        b = np.zeros(n)
+        for k, s in enumerate(sols):
+            q_d = float(s.drain.sum())
+            if not q_d > 0 and not periodic[k]:
+                raise _no_flow(k)
+            if q_d > 0:
+                a[k] = float((s.drain * (s.t0 + t_j * s.t2)).sum()) / q_d
+                b[k] = float((s.drain * s.t1).sum()) / q_d
+        return _inlet_temperatures(c, up, a, b, t_s, periodic)
+
+    has_journal = model.journal_heat_transfer > 0
+    if t_journal is None and has_journal:
+        # zero net heat into the journal: Σ g_j (T_0 − T_j) = 0, affine in T_j
+        def journal_heat(t_j: float) -> float:
+            t_in = inlets(t_j)
+            return sum(
+                float(s.g_j @ (s.field(t_in[k], t_j)[:, 0] - t_j)) for k, s in enumerate(sols)
+            )
+
+        h0, h1 = journal_heat(t_s), journal_heat(t_s + 1.0)
+        t_j = t_s - h0 / (h1 - h0)
+    else:
+        t_j = t_s if t_journal is None else t_journal
+    t_in = inlets(t_j)
     fields, outs = [], []
-    for k, st in enumerate(states):
+    for k, (st, s) in enumerate(zip(states, sols, strict=True)):
         f = st.flow
-        t0, t1 = sols[k]
-        temp = t0 + t_in[k] * t1
-        t_make = t_s if f.periodic else t_in[k]
-        drain = f.outlet + f.spill
-        # a 360° film's outlet: what leaves its pressure zone (recirculated, or spilled)
-        leave = drain + f.recirculated_from if f.periodic else drain
-        q_l = float(leave.sum())
-        t_out = float(leave @ temp) / q_l if q_l > 0 else float("nan")
+        temp3 = s.field(t_in[k], t_j)
+        q_l = float(s.leave.sum())
+        t_out = float((s.leave * temp3).sum()) / q_l if q_l > 0 else float("nan")
         heat = (
             2.0
             * rho_c
-            * float((drain + f.side) @ temp - f.inlet.sum() * t_in[k] - f.makeup.sum() * t_make)
+            * float(
+                ((s.drain + s.side) * temp3).sum()
+                - s.inlet.sum() * t_in[k]
+                - s.makeup_s.sum() * t_s
+            )
         )
-        g_jj, g_js, g_pj, g_ps = gs[k]
-        d_j, d_s = temp - t_journal, temp - t_s
-        q_j = g_jj * d_j + g_js * d_s
-        q_p = g_pj * d_j + g_ps * d_s
-        cond = 2.0 * float(f.fill * f.area @ (q_j + q_p))
+        q_j = s.g_j * (temp3[:, 0] - t_j)
+        q_p = s.g_p * (temp3[:, -1] - t_s)
+        cond = 2.0 * float(q_j.sum() + q_p.sum())
         if f.periodic:
             t_inlet = (st.q_rec * t_out + st.q_make * t_s) / st.q_in if st.q_in > 0 else t_s
         else:
             t_inlet = float(t_in[k])
-        # the pad surface: the pad-side value of the film's cross-film profile (module
-        # docstring); the bulk temperature itself in an adiabatic film
-        surface = temp
-        if a_p > 0 or a_j > 0:
-            surface = temp + st.film * (3.0 * q_j - 5.0 * q_p) / (12.0 * conductivity)
-        fields.append(temp)
+        # the pad surface: past the pad-side half layer (its centre's in an adiabatic pad)
+        surface = temp3[:, -1] - q_p * s.r_p
+        mean = temp3.mean(axis=1)
+        fields.append(mean)
         outs.append(
             dict(
                 surface=surface,
+                layers=temp3,
                 inlet_temperature=float(t_inlet),
                 outlet_temperature=t_out,
                 max_temperature=float(surface.max()),
-                film_temperature=float(f.area @ temp / f.area.sum()),
+                film_temperature=float(f.area @ mean / f.area.sum()),
                 power_loss=st.power,
                 inlet_flow=st.q_in,
                 outlet_flow=st.q_out,
@@ -908,16 +1085,7 @@ def _thd_step(
                 heat_carried=heat,
             )
         )
-    # the journal's temperature for zero net heat: Σ w q_j = 0, q_j linear in T_j
-    t_j_next = float("nan")
-    if a_j > 0:
-        num = den = 0.0
-        for st, temp, (g_jj, g_js, _, _) in zip(states, fields, gs, strict=True):
-            w = st.flow.fill * st.flow.area
-            num += float(w @ (g_jj * temp + g_js * (temp - t_s)))
-            den += float(w @ g_jj)
-        t_j_next = num / den
-    return fields, outs, t_j_next
+    return fields, outs, (t_j if has_journal or t_journal is not None else float("nan"))
 
 
 # ---------------------------------------------------------------------------------------------
@@ -975,10 +1143,8 @@ def solve_thermal(
         temps = None
     if temps is None:
         temps = [np.full(s, t_s) for s in shapes] if thd else [t_s] * n_pads
-    t_journal = model.journal_temperature
-    auto_journal = t_journal is None
-    if t_journal is None:
-        t_journal = t_s
+    auto_journal = model.journal_temperature is None and model.journal_heat_transfer > 0
+    t_j_prev = math.nan
     u = None
     newton = 0
     status = "converged"
@@ -997,28 +1163,16 @@ def solve_thermal(
         t_mean = float(np.mean([np.mean(t) for t in temps]))
         rho_c = float(lub.density_at(t_mean) * lub.specific_heat_at(t_mean))
         if thd:
-            flat, outs, t_j_next = _thd_step(model, states, up, rho_c, t_journal)
-            if auto_journal and model.journal_heat_transfer > 0:
-                # the fields are affine in the journal temperature at this film, and so is
-                # the zero-net-heat journal temperature they give: its fixed point exactly
-                # (a second balance 1 K away), then the balance there
-                f1 = _thd_step(model, states, up, rho_c, t_journal + 1.0)[2]
-                slope = f1 - t_j_next
-                if slope < 1.0:
-                    t_fix = t_journal + (t_j_next - t_journal) / (1.0 - slope)
-                    flat, outs, t_j_next = _thd_step(model, states, up, rho_c, t_fix)
-                    t_journal = t_fix
+            flat, outs, t_j = _thd_step(model, states, up, rho_c, model.journal_temperature)
             new = [
                 _from_flow_coords(f.reshape(st.flow.shape), st.reverse, st.flow.periodic)
                 for f, st in zip(flat, states, strict=True)
             ]
             change = _field_change(new, temps, [f.pressure for f in film.pads])
-            if auto_journal and model.journal_heat_transfer > 0:
-                # the journal settles with the film (the result reports the temperature the
-                # last energy balance used)
-                change = max(change, abs(t_j_next - t_journal))
-                if change > model.tol:
-                    t_journal = t_j_next
+            if auto_journal:
+                # the journal (solved within every balance) settles with the film
+                change = max(change, abs(t_j - t_j_prev)) if math.isfinite(t_j_prev) else math.inf
+                t_j_prev = t_j
         else:
             t_eff, outs = _effective_step(model, states, up, rho_c)
             new = [float(t) for t in t_eff]
@@ -1049,12 +1203,19 @@ def solve_thermal(
         else None
         for o, st in zip(outs, states, strict=True)
     ]
+    layered = [
+        _from_flow_coords(o.pop("layers").reshape(*st.flow.shape, -1), st.reverse, st.flow.periodic)
+        if thd
+        else None
+        for o, st in zip(outs, states, strict=True)
+    ]
     pads = tuple(
         PadThermal(
             **o,
             temperature=new[k] if thd else None,
             viscosity=ev.viscosity[k],
             surface_temperature=surfaces[k],
+            layer_temperature=layered[k],
         )
         for k, o in enumerate(outs)
     )
@@ -1062,9 +1223,7 @@ def solve_thermal(
         model=model.model,
         supply_temperature=t_s,
         pads=pads,
-        journal_temperature=float(t_journal)
-        if thd and (model.journal_heat_transfer > 0 or not auto_journal)
-        else float("nan"),
+        journal_temperature=float(t_j) if thd else float("nan"),
         iterations=iterations,
         rho_c=rho_c,
     )

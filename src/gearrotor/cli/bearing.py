@@ -212,8 +212,8 @@ def _thermal_table(rows: list[dict]) -> list[str]:
         )
     lines.append(
         "T_in: oil entering the pad (carry-over mixed with fresh oil); T_out: leaving it; "
-        "T_max: hottest pad surface (the film's; with heat to the journal or pads, from the "
-        "cross-film profile); T_film: effective (or mean) film temperature; "
+        "T_max: hottest pad surface (THD: from the temperatures across the film); "
+        "T_film: effective (or mean) film temperature; "
         "Q_fresh: supply oil drawn"
     )
     return lines

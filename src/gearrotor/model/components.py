@@ -475,13 +475,10 @@ class FluidFilm(Spec):
         return self
 
 
-class Bearing(NodeRef):
-    """Radial bearing or seal with 8 coefficients: constant (``k``/``c`` isotropic shortcuts or
-    kxx..cyy), a ``table`` against speed, a saved table file ``table_file`` (CSV/TOML written by
-    ``gearrotor.bearings.save_table``) or ``fluid_film`` (solved at assembly); optionally on a
-    ``support`` pedestal. Relative file paths are relative to the model file. Outside the
-    speeds of a ``table_file``/``fluid_film`` table, ``extrapolate = "hold"`` holds the end
-    values; the default is an error."""
+class _Coefficients(NodeRef):
+    """What a bearing and a seal share: a node, a name and 8 coefficients given as constants
+    (``k``/``c`` isotropic shortcuts or kxx..cyy), a ``table`` against speed or a saved
+    ``table_file``."""
 
     name: str | None = None
     k: Stiffness | None = None
@@ -496,6 +493,38 @@ class Bearing(NodeRef):
     cyy: Damping = 0.0
     table: BearingTable | None = None
     table_file: str | None = None
+
+    def constant(self) -> bool:
+        """Whether any constant coefficient is given."""
+        return any(
+            getattr(self, n)
+            for n in ("k", "c", "kxx", "kxy", "kyx", "kyy", "cxx", "cxy", "cyx", "cyy")
+        )
+
+    def coefficients(self) -> tuple[float, ...]:
+        """The constant coefficients kxx kxy kyx kyy cxx cxy cyx cyy (isotropic shortcuts added)."""
+        k = self.k or 0.0
+        c = self.c or 0.0
+        return (
+            self.kxx + k,
+            self.kxy,
+            self.kyx,
+            self.kyy + k,
+            self.cxx + c,
+            self.cxy,
+            self.cyx,
+            self.cyy + c,
+        )
+
+
+class Bearing(_Coefficients):
+    """Radial bearing or seal with 8 coefficients: constant (``k``/``c`` isotropic shortcuts or
+    kxx..cyy), a ``table`` against speed, a saved table file ``table_file`` (CSV/TOML written by
+    ``gearrotor.bearings.save_table``) or ``fluid_film`` (solved at assembly); optionally on a
+    ``support`` pedestal. Relative file paths are relative to the model file. Outside the
+    speeds of a ``table_file``/``fluid_film`` table, ``extrapolate = "hold"`` holds the end
+    values; the default is an error."""
+
     fluid_film: FluidFilm | None = None
     extrapolate: Literal["error", "hold"] = "error"
     support: Support | None = None
@@ -510,10 +539,7 @@ class Bearing(NodeRef):
     @model_validator(mode="after")
     def _one_source(self) -> Bearing:
         sources = [self.table is not None, self.table_file is not None, self.fluid_film is not None]
-        constant = any(
-            getattr(self, n)
-            for n in ("k", "c", "kxx", "kxy", "kyx", "kyy", "cxx", "cxy", "cyx", "cyy")
-        )
+        constant = self.constant()
         if sum(sources) + constant > 1:
             raise ValueError(
                 "give one coefficient source: constants, 'table', 'table_file' or 'fluid_film'"
@@ -539,18 +565,8 @@ class Bearing(NodeRef):
             )
         return v
 
-    def coefficients(self) -> tuple[float, ...]:
-        """The constant coefficients kxx kxy kyx kyy cxx cxy cyx cyy (isotropic shortcuts added)."""
-        return _eight(self)
 
-
-def _eight(b) -> tuple[float, ...]:
-    k = b.k or 0.0
-    c = b.c or 0.0
-    return (b.kxx + k, b.kxy, b.kyx, b.kyy + k, b.cxx + c, b.cxy, b.cyx, b.cyy + c)
-
-
-class Seal(NodeRef):
+class Seal(_Coefficients):
     """An annular seal (labyrinth, damper, hole-pattern) between a shaft node and ground: 8
     coefficients, constant (``k``/``c`` isotropic shortcuts or kxx..cyy) or a ``table`` against
     speed, or a saved ``table_file``, or a seal ``file`` (``docs/seals.md``: the seal computed
@@ -560,19 +576,6 @@ class Seal(NodeRef):
     I analyses and undamped critical speed maps leave seals out, as they leave out the
     cross-coupling destabilisers."""
 
-    name: str | None = None
-    k: Stiffness | None = None
-    c: Damping | None = None
-    kxx: Stiffness = 0.0
-    kxy: Stiffness = 0.0
-    kyx: Stiffness = 0.0
-    kyy: Stiffness = 0.0
-    cxx: Damping = 0.0
-    cxy: Damping = 0.0
-    cyx: Damping = 0.0
-    cyy: Damping = 0.0
-    table: BearingTable | None = None
-    table_file: str | None = None
     file: str | None = None
     speeds: list[AngularSpeed] | None = Field(default=None, min_length=1)
     #: a seal ``file`` solved at these whirl frequencies too (and at each speed's own): a
@@ -589,10 +592,7 @@ class Seal(NodeRef):
 
     @model_validator(mode="after")
     def _one_source(self) -> Seal:
-        constant = any(
-            getattr(self, n)
-            for n in ("k", "c", "kxx", "kxy", "kyx", "kyy", "cxx", "cxy", "cyx", "cyy")
-        )
+        constant = self.constant()
         sources = (self.table is not None) + (self.table_file is not None)
         if sources + (self.file is not None) + constant > 1:
             raise ValueError(
@@ -619,10 +619,6 @@ class Seal(NodeRef):
                     "'table_file' with a whirl_rpm column, or a seal 'file' with 'whirls')"
                 )
         return self
-
-    def coefficients(self) -> tuple[float, ...]:
-        """The constant coefficients kxx kxy kyx kyy cxx cxy cyx cyy (isotropic shortcuts added)."""
-        return _eight(self)
 
 
 class TorsionalSupport(NodeRef):

@@ -611,6 +611,7 @@ class _KindData:
     indicator: NDArray  # (3, n) float: row k is 1 on the DOFs of kind k (pads in none)
     pads: NDArray  # (n,) float: 1 on the pad DOFs
     M_bd: sp.csr_array  # M with the entries between DOFs of different kinds removed
+    K0_bd: sp.csr_array  # the same of the speed-independent stiffness K0 (the strain energies)
     meshes: tuple[tuple[float, tuple[tuple[NDArray, NDArray], ...]], ...]  # (k, per kind (dofs, w))
     scale: NDArray  # _scale_vector
     # (shaft DOF x offsets, y offsets) per shaft, for the whirl
@@ -641,6 +642,7 @@ def _kind_data(asm: Assembly) -> _KindData:
         indicator=indicator,
         pads=(kind == 3).astype(float),
         M_bd=_kind_diagonal(asm.M, kind),
+        K0_bd=_kind_diagonal(asm.K0, kind),
         meshes=tuple(meshes),
         scale=_scale_vector(asm),
         xy=tuple((offs, offs + 1) for offs in asm.node_offset),
@@ -717,7 +719,9 @@ def _energy_shares(phi: NDArray, asm: Assembly, K, kin: NDArray | None = None) -
         kin = _by_kind(data, data.M_bd, X)
     kin = np.maximum(kin, 0.0)
     n_m = len(phi)
-    strain = _by_kind(data, _kind_diagonal(K, data.kind), X)
+    # (K0's blocks kept: a Campbell classifies every speed with the same K0, issue 28)
+    K_bd = data.K0_bd if K is asm.K0 else _kind_diagonal(K, data.kind)
+    strain = _by_kind(data, K_bd, X)
     parts = np.zeros((len(data.meshes), n_m, 3), complex)
     for j, (_, groups) in enumerate(data.meshes):
         for k, (dofs, w) in enumerate(groups):

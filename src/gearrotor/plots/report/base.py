@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from functools import partial
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -19,6 +20,7 @@ import numpy as np
 
 from ...errors import ModelError
 from .blocks import RPM, _savefig
+from .helper import Helper
 
 if TYPE_CHECKING:
     from ...assembly import Assembly
@@ -73,6 +75,10 @@ class Context:
     base_train: Train | None = None
     # the API 617 edition asked for (``--edition``); None: the model's [api_audit] edition
     edition: str | None = None
+    # the second process for independent work (.helper; disabled: everything runs here)
+    helper: Helper = field(default_factory=lambda: Helper(False))
+    # the names of the PNG files submitted so far (one job per file)
+    started: set[str] = field(default_factory=set)
 
     @property
     def train(self) -> Train:
@@ -127,17 +133,64 @@ class Context:
 
     def png(self, fn, name: str, *args, **kw) -> None:
         """Write ``fn(*args, path=<directory>/name, **kw)``, a figure function of
-        :mod:`gearrotor.plots` (pyplot), and close its figure."""
-        import matplotlib.pyplot as plt
+        :mod:`gearrotor.plots` (pyplot), and close its figure: a job of :attr:`helper` (done
+        by the time the page is written), once per name (:meth:`png_early` may have written
+        it)."""
+        path = self.directory / name
+        if name not in self.started:
+            self.started.add(name)
+            self.helper.submit(("png", name), partial(_draw, fn, args, kw, path))
+        self.figures.append(path)
 
-        fig = fn(*args, path=self.directory / name, **kw)
-        plt.close(fig)
-        self.figures.append(self.directory / name)
+    def png_early(self, fn, name: str, *args, **kw) -> None:
+        """:meth:`png`'s file, written here and now (the report's own process, while the
+        helper runs an analysis) without adding it to :attr:`figures`: the section's
+        :meth:`png` of the same name then only lists it."""
+        if name not in self.started:
+            self.started.add(name)
+            _draw(fn, args, kw, self.directory / name)
+
+    def pngs(self, fn, names: list[str], *args, **kw) -> None:
+        """Several PNG files of one figure function ``fn(*args, paths, **kw)`` that draws
+        ``kw["pages"]`` into ``paths``: one job with a single process, two (halves of the
+        pages) with the helper."""
+        pages = kw.pop("pages")
+        paths = [self.directory / n for n in names]
+        cut = (len(pages) + 1) // 2 if self.helper.enabled and len(pages) > 1 else len(pages)
+        for lo, hi in ((0, cut), (cut, len(pages))):
+            if hi > lo:
+                job = partial(fn, *args, pages[lo:hi], paths[lo:hi], **kw)
+                self.helper.submit(("png", names[lo]), job)
+        self.started.update(names)
+        self.figures.extend(paths)
+
+    def later(self, key: str, fn) -> None:
+        """``results[key] = fn()``, computed by :attr:`helper` (a :class:`Later` until all
+        sections have run; :func:`~.build.make_report` then puts the value in its place)."""
+        self.results[key] = Later(key)
+        self.helper.submit(key, fn)
+        if not self.helper.enabled:
+            self.results[key] = self.helper.result(key)
 
     def save(self, fig, name: str) -> None:
-        """Write a matplotlib Figure as ``<directory>/name`` (PNG)."""
-        _savefig(fig, self.directory / name)
-        self.figures.append(self.directory / name)
+        """Write a matplotlib Figure as ``<directory>/name`` (PNG): a job of :attr:`helper`."""
+        path = self.directory / name
+        self.started.add(name)
+        self.helper.submit(("png", name), partial(_savefig, fig, path))
+        self.figures.append(path)
+
+
+def _draw(fn, args, kw, path: Path) -> None:
+    import matplotlib.pyplot as plt
+
+    plt.close(fn(*args, path=path, **kw))
+
+
+@dataclass(frozen=True)
+class Later:
+    """A result the helper computes (:meth:`Context.later`)."""
+
+    key: str
 
 
 class Section:
@@ -159,6 +212,10 @@ class Section:
 
     def run(self, ctx: Context) -> None:
         """Run the analysis, into ``ctx.results[self.analysis]`` (requested sections only)."""
+
+    def early(self, ctx: Context) -> None:
+        """Write, before the results are all in, PNG files that need no analysis
+        (:meth:`Context.png_early`; called with the helper only, while it runs an analysis)."""
 
     def write(self, ctx: Context) -> list[Part]:
         """Write the section's PNG files (:meth:`Context.png`, :meth:`Context.save`), add its

@@ -20,9 +20,10 @@ from ...files import (
     write_text,
 )
 from ...progress import Progress, part, report
-from ...threads import managed
-from .base import Context
+from ...threads import managed, processes
+from .base import Context, Later
 from .blocks import RPM
+from .helper import Helper
 from .page import _page
 from .sections import SECTIONS
 
@@ -273,14 +274,23 @@ def make_report(
     requested = [s for s in SECTIONS if s.analysis in analyses]
     for section in requested:
         section.check(ctx)
-    for i, section in enumerate(requested):
-        report(progress, 0.1 + 0.6 * i / len(requested), f"running {section.analysis}")
-        section.run(ctx)
 
     output.parent.mkdir(parents=True, exist_ok=True)
     tmp = make_temporary_directory(output, field="--output")  # .NAME.tmp-PID-TOKEN
+    # a second process for the independent work when a second core is free (.helper)
+    ctx.helper = Helper(processes() > 1)
     try:
         ctx.directory = tmp
+        for i, section in enumerate(requested):
+            report(progress, 0.1 + 0.6 * i / len(requested), f"running {section.analysis}")
+            section.run(ctx)
+        if ctx.helper.enabled:
+            # while the helper runs an analysis: the figures that need none
+            for section in SECTIONS:
+                section.early(ctx)
+        for key, value in list(ctx.results.items()):
+            if isinstance(value, Later):
+                ctx.results[key] = ctx.helper.result(value.key)
         summary = ctx.summary
         summary.update({"train": train.name, "gearrotor_report": 1})
         parts = []
@@ -302,12 +312,14 @@ def make_report(
             "api617_edition": ctx.api_edition.name if api or "audit" in analyses else None,
             "operating_point": operating_point,
         }
+        ctx.helper.finish()  # the PNG files
         write_json(tmp / "report.json", _clean(summary))
         page = _page(train, parts, summary, ctx.figures, ctx.notes, source=source, command=command)
         write_text(tmp / "report.html", page)
         replace_directory(tmp, output)
         report(progress, 1.0)
     except BaseException as exc:
+        ctx.helper.close()
         shutil.rmtree(tmp, ignore_errors=True)
         if isinstance(exc, ModelError) and str(tmp) in str(exc):  # a write error: name the
             raise ModelError(str(exc).replace(str(tmp), str(output))) from None  # report's file

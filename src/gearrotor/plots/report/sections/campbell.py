@@ -4,6 +4,8 @@ speeds."""
 
 from __future__ import annotations
 
+from functools import partial
+
 import numpy as np
 
 from ....errors import ModelError
@@ -19,34 +21,12 @@ class CampbellSection(Section):
     default = True
 
     def run(self, ctx: Context) -> None:
-        from ....analyses import campbell
-
         speeds = ctx.sweep(0.0, 1.25 * ctx.speed, ctx.n_campbell, "Campbell sweep")
         if speeds[0] <= ctx.speed <= speeds[-1]:
             # the operating speed is a sweep point: the stability checks name a Campbell track
             # by its row of the modal table there (one numbering)
             speeds = np.union1d(speeds, [ctx.speed])
-        try:
-            ctx.results["campbell"] = campbell(
-                ctx.assembly, speeds=speeds, max_frequency=ctx.max_frequency
-            )
-        except ModelError as exc:
-            if exc.field != "max_frequency":
-                raise
-            # the analysis' argument is the report's --max-frequency
-            raise ModelError(
-                f"the Campbell diagram cannot be made: {exc.message}",
-                field="--max-frequency",
-                value=f"{ctx.max_frequency * RPM:.6g} cpm",
-                expected="a maximum frequency above the lowest modes of the train",
-            ) from None
-        except ValueError as exc:  # e.g. no mode below max_frequency: an input problem
-            raise ModelError(
-                f"the Campbell diagram cannot be made: {exc}",
-                field="--max-frequency",
-                value=f"{ctx.max_frequency * RPM:.6g} cpm",
-                expected="a maximum frequency above the lowest modes of the train",
-            ) from None
+        ctx.later("campbell", partial(_campbell, ctx, speeds))
 
     def write(self, ctx: Context) -> list[Part]:
         from ...figures import plot_campbell
@@ -75,6 +55,31 @@ class CampbellSection(Section):
         body = _figure_html(fig, "fig-campbell")
         body += _crossings_table(camp, rows)
         return [("campbell", "Campbell diagram", body)]
+
+
+def _campbell(ctx: Context, speeds):
+    """The section's Campbell diagram (a job of the report's helper process)."""
+    from ....analyses import campbell
+
+    try:
+        return campbell(ctx.assembly, speeds=speeds, max_frequency=ctx.max_frequency)
+    except ModelError as exc:
+        if exc.field != "max_frequency":
+            raise
+        # the analysis' argument is the report's --max-frequency
+        raise ModelError(
+            f"the Campbell diagram cannot be made: {exc.message}",
+            field="--max-frequency",
+            value=f"{ctx.max_frequency * RPM:.6g} cpm",
+            expected="a maximum frequency above the lowest modes of the train",
+        ) from None
+    except ValueError as exc:  # e.g. no mode below max_frequency: an input problem
+        raise ModelError(
+            f"the Campbell diagram cannot be made: {exc}",
+            field="--max-frequency",
+            value=f"{ctx.max_frequency * RPM:.6g} cpm",
+            expected="a maximum frequency above the lowest modes of the train",
+        ) from None
 
 
 def _marks(ctx: Context) -> dict:

@@ -13,6 +13,11 @@ _COARSE = ' <span class="fail">coarse</span>'
 
 
 class ModelSection(Section):
+    def early(self, ctx: Context) -> None:
+        from ...model_view import plot_model
+
+        ctx.png_early(plot_model, "model.png", ctx.train, speed=ctx.sign * ctx.speed)
+
     def write(self, ctx: Context) -> list[Part]:
         from ....analyses.model_summary import summarize
         from ...model_view import model_figure_3d, plot_model

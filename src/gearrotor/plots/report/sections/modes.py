@@ -45,9 +45,8 @@ class ModesSection(Section):
         ctx.summary["modal"] = d
         el = shown_modes(res, status, named=summary_mode_names(ctx))
         pages = [el[k : k + 8] for k in range(0, len(el), 8)]
-        paths = [ctx.directory / f"modes_{i + 1}.png" for i in range(len(pages))]
-        plot_mode_shape_pages(res, pages, paths, statuses=status)
-        ctx.figures.extend(paths)
+        names = [f"modes_{i + 1}.png" for i in range(len(pages))]
+        ctx.pngs(plot_mode_shape_pages, names, res, pages=pages, statuses=status)
         body = _modes_table(res, status)
         if el:
             body += _figure_html(mode_shape_figure(res, el, statuses=status), "fig-modes")
