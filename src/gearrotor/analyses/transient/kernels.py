@@ -10,9 +10,10 @@ Cost of a pack: numba counts a reference (an atomic increment, and a decrement l
 every array read out of a named tuple, also out of a nested one when the inner tuple is bound
 to a name, while arrays passed as arguments are borrowed. So a function reads each array it
 needs once, at its top; a function called per mesh or per law in a loop takes the arrays
-(:func:`~..torsional.drive_laws.drive_torques` unpacks the laws once for all of them). The
-per-call reads still cost the small flagship's modal step some 15 % against the former flat
-argument lists (``benchmarks/kernels.py``).
+(:func:`~..torsional.drive_laws.drive_torques` unpacks the laws once for all of them). Against
+the former flat argument lists the reads still cost the small flagship's classical modal RK4
+run some 13 % (the others 0-6 %), and compiling the kernels some 25 % more CPU
+(``benchmarks/kernels.py``, ``--cold``).
 
 The packs (built in Python by :mod:`.forces` and :mod:`.prepare`), one per law, each evaluated
 by one function here:
