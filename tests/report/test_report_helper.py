@@ -132,3 +132,53 @@ def test_an_error_stops_the_helper_and_leaves_no_folder(examples, tmp_path, monk
     for pid in started:  # and has been reaped: no such child any more
         with pytest.raises(ChildProcessError):
             os.waitpid(pid, os.WNOHANG)
+
+
+def test_a_killed_report_leaves_no_helper_behind(tmp_path):
+    """A report killed by SIGKILL (it cannot clean up) leaves no orphan: the helper dies with
+    its parent (PR_SET_PDEATHSIG), rather than finishing its job alone."""
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    if not sys.platform.startswith("linux"):
+        pytest.skip("the parent-death signal is Linux's")
+    pidfile = tmp_path / "helper.pid"
+    script = f"""
+import os, time
+from gearrotor.plots.report.helper import Helper
+
+def job():
+    with open({str(pidfile)!r}, "w") as f:
+        f.write(str(os.getpid()))
+    time.sleep(60)
+
+h = Helper(True)
+h.submit("slow", job)
+time.sleep(60)
+"""
+    proc = subprocess.Popen([sys.executable, "-c", script])
+    try:
+        deadline = time.monotonic() + 60
+        while not (pidfile.exists() and pidfile.read_text()) and time.monotonic() < deadline:
+            time.sleep(0.05)
+        helper = int(pidfile.read_text())
+    finally:
+        proc.send_signal(signal.SIGKILL)
+        proc.wait()
+    deadline = time.monotonic() + 10
+    while time.monotonic() < deadline:
+        try:
+            os.kill(helper, 0)
+        except ProcessLookupError:
+            return
+        # a zombie is gone as a process (reaped by init): check its state
+        try:
+            with open(f"/proc/{helper}/stat") as f:
+                if f.read().split(")")[-1].split()[0] == "Z":
+                    return
+        except FileNotFoundError:
+            return
+        time.sleep(0.05)
+    pytest.fail(f"helper {helper} still runs after its parent was killed")

@@ -134,14 +134,14 @@ def test_netcdf_round_trip_atomic(short_result, tmp_path):
 
 def test_checkpoint_resume_equals_uninterrupted(make_gearbox, tmp_path, monkeypatch):
     """A run interrupted after its first checkpoint resumes from it and ends bit-identical."""
-    from gearrotor.analyses.transient import driver as integrators
+    from gearrotor.analyses.transient import driver
 
     train = make_gearbox(elements=4)
     kw = dict(t_end=0.2, integrator=RK4(dt=2e-5), save=Save(dt=2e-4))
     ref = transient(train, **kw)
     ck = Checkpoint(tmp_path / "run.ck.npz", every=0.0)
     calls = {"n": 0}
-    real = integrators.kn.rk4_physical
+    real = driver.kn.rk4_physical
 
     def interrupted(*args):
         calls["n"] += 1
@@ -149,11 +149,11 @@ def test_checkpoint_resume_equals_uninterrupted(make_gearbox, tmp_path, monkeypa
             raise KeyboardInterrupt
         return real(*args)
 
-    monkeypatch.setattr(integrators.kn, "rk4_physical", interrupted)
+    monkeypatch.setattr(driver.kn, "rk4_physical", interrupted)
     with pytest.raises(KeyboardInterrupt):
         transient(train, checkpoint=ck, **kw)
     assert ck.path.exists()
-    monkeypatch.setattr(integrators.kn, "rk4_physical", real)
+    monkeypatch.setattr(driver.kn, "rk4_physical", real)
     res = transient(train, checkpoint=ck, **kw)
     assert not ck.path.exists()
     np.testing.assert_array_equal(res.final_q, ref.final_q)

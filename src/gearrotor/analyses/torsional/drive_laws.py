@@ -8,10 +8,11 @@ caller applies ``sign`` and the shaft's sense ``σ``: generalised torque about +
 ``σ · sign · T``). :func:`advance_states` updates the event state once per accepted step
 (synchronous motors pulling into step).
 
-This is the interface phase 2 of issue 12 hooks into the coupled 6-DOF transient: it needs
-per law the θz of the law's node (absolute angle, ``(shaft, node)`` in :attr:`TorqueLaws.nodes`)
-and its speed, and adds ``σ · sign · law_torque(...)`` to that DOF's force, calling
-:func:`advance_states` after each accepted step. Nothing here depends on the torsional model.
+Both transients act through :class:`Drives` (the laws, the coordinate of each law's node in the
+integrator's state and its gain, the event state) and :func:`drive_torques` (numba), which adds
+``gain · sign · T`` to the generalised forces: the coupled 6-DOF transient on the θz of the
+law's node (gain σ), the torsional transient on its reduced coordinate (gain σ times the
+node's factor on its master). Nothing here depends on either model.
 
 Parameter columns of ``par`` (one row per law) are named by the ``P_*`` constants.
 """
@@ -19,6 +20,7 @@ Parameter columns of ``par`` (one row per law) are named by the ``P_*`` constant
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
@@ -32,8 +34,11 @@ configure_cache()  # before the first @njit(cache=True): numba's cache outside t
 
 __all__ = [
     "TorqueLaws",
+    "LawArrays",
+    "Drives",
     "pack_laws",
     "law_torque",
+    "drive_torques",
     "advance_state",
     "advance_states",
     "evaluate",
@@ -73,20 +78,12 @@ N_PAR = 25
 N_STATE = 2  # synced flag, δ at pull-in
 
 
-@dataclass(frozen=True)
-class TorqueLaws:
-    """Packed drives (first) and loads (after them) of a train.
-
-    nodes : (nl, 2) (shaft, node); names : labels; is_drive : (nl,) bool; par : (nl, N_PAR);
+class LawArrays(NamedTuple):
+    """The arrays :func:`law_torque` reads (one compiled argument): ``par`` (nl, N_PAR);
     tables ``t_ptr`` (nl + 1) into ``t_x`` (speed or slip), ``t_y`` (torque or average p.u.),
     ``t_z`` (pulsating p.u.); voltage ``v_ptr`` into ``v_t``, ``v_f``; load steps ``s_ptr``
-    into ``s_t``, ``s_f``.
-    """
+    into ``s_t``, ``s_f``."""
 
-    names: tuple[str, ...]
-    nodes: NDArray
-    is_drive: NDArray
-    rated_torque: NDArray
     par: NDArray
     t_ptr: NDArray
     t_x: NDArray
@@ -99,27 +96,63 @@ class TorqueLaws:
     s_t: NDArray
     s_f: NDArray
 
+
+class Drives(NamedTuple):
+    """The drives and loads as an integrator applies them (one compiled argument of
+    :func:`drive_torques`).
+
+    dof : (nl,) int64, the coordinate of each law's node in the integrator's state vector;
+    gain : (nl,) the node's angle along its shaft's rotation per unit of that coordinate
+    (σ, times the node's factor on its master in the torsional model); sign : (nl,) +1 drive,
+    −1 load; state : (nl, N_STATE) the event state (synchronous motors' pull-in; mutable,
+    saved with checkpoints); torque : (nl,) the torques of the last evaluation (output);
+    laws : :class:`LawArrays`."""
+
+    dof: NDArray
+    gain: NDArray
+    sign: NDArray
+    state: NDArray
+    torque: NDArray
+    laws: LawArrays
+
+
+@dataclass(frozen=True)
+class TorqueLaws:
+    """Packed drives (first) and loads (after them) of a train.
+
+    names : labels; nodes : (nl, 2) (shaft, node); is_drive : (nl,) bool; rated_torque :
+    (nl,) N·m; arrays : the :class:`LawArrays` :func:`law_torque` reads (``par`` (nl, N_PAR)
+    and the tables).
+    """
+
+    names: tuple[str, ...]
+    nodes: NDArray
+    is_drive: NDArray
+    rated_torque: NDArray
+    arrays: LawArrays
+
     def __len__(self) -> int:
         return len(self.names)
 
-    def arrays(self) -> tuple:
-        """The arrays :func:`law_torque` takes after (j, t, θ, Ω), in order."""
-        return (
-            self.par,
-            self.t_ptr,
-            self.t_x,
-            self.t_y,
-            self.t_z,
-            self.v_ptr,
-            self.v_t,
-            self.v_f,
-            self.s_ptr,
-            self.s_t,
-            self.s_f,
-        )
+    @property
+    def par(self) -> NDArray:
+        """(nl, N_PAR) the laws' parameters, columns named by the ``P_*`` constants."""
+        return self.arrays.par
 
     def new_state(self) -> NDArray:
         return np.zeros((len(self), N_STATE))
+
+    def drives(self, dof: NDArray, gain: NDArray) -> Drives:
+        """The :class:`Drives` pack of these laws acting on state coordinates ``dof`` with
+        gains ``gain`` (a fresh event state)."""
+        return Drives(
+            np.asarray(dof, np.int64),
+            np.asarray(gain, float),
+            self.par[:, P_SIGN].copy(),
+            self.new_state(),
+            np.zeros(len(self)),
+            self.arrays,
+        )
 
 
 def pack_laws(train: Train) -> TorqueLaws:
@@ -254,24 +287,25 @@ def pack_laws(train: Train) -> TorqueLaws:
         nodes=np.array(nodes, np.int64).reshape(nl, 2),
         is_drive=np.arange(nl) < len(drives),
         rated_torque=par_arr[:, P_RATED].copy(),
-        par=par_arr,
-        t_ptr=t_ptr,
-        t_x=t_x,
-        t_y=t_y,
-        t_z=t_z,
-        v_ptr=v_ptr,
-        v_t=v_t,
-        v_f=v_f,
-        s_ptr=s_ptr,
-        s_t=s_t,
-        s_f=s_f,
+        arrays=LawArrays(par_arr, t_ptr, t_x, t_y, t_z, v_ptr, v_t, v_f, s_ptr, s_t, s_f),
     )
 
 
 @njit(cache=True)
-def law_torque(j, t, th, om, state, par, t_ptr, t_x, t_y, t_z, v_ptr, v_t, v_f, s_ptr, s_t, s_f):
+def law_torque(j, t, th, om, state, laws):
     """Torque (N·m) of law j along its shaft's rotation: motoring for drives, braking for
-    loads. th, om: node angle (rad) and speed (rad/s) along the rotation; state: (nl, 2)."""
+    loads. th, om: node angle (rad) and speed (rad/s) along the rotation; state: (nl, 2);
+    laws: :class:`LawArrays`."""
+    par, t_ptr, t_x, t_y, t_z, v_ptr, v_t, v_f, s_ptr, s_t, s_f = laws
+    return _law_torque(
+        j, t, th, om, state, par, t_ptr, t_x, t_y, t_z, v_ptr, v_t, v_f, s_ptr, s_t, s_f
+    )
+
+
+@njit(cache=True)
+def _law_torque(j, t, th, om, state, par, t_ptr, t_x, t_y, t_z, v_ptr, v_t, v_f, s_ptr, s_t, s_f):
+    """:func:`law_torque` on the arrays of :class:`LawArrays` (called in the integrators'
+    loops: arrays passed are borrowed, while each array read from a pack counts a reference)."""
     if t >= par[j, P_TRIP]:
         return 0.0
     sc = par[j, P_SC]
@@ -320,6 +354,37 @@ def law_torque(j, t, th, om, state, par, t_ptr, t_x, t_y, t_z, v_ptr, v_t, v_f, 
 
 
 @njit(cache=True)
+def drive_torques(t, q, v, drives, advance, force):
+    """Every law's torque at time t from the state (q, v) into ``drives.torque``, and
+    ``gain · sign · T`` added to ``force`` at its coordinate. ``advance``: a synchronous motor
+    whose slip has reached its pull-in slip pulls into step here, before its torque
+    (:func:`advance_state`: the coupled 6-DOF transient, an event located within the step
+    being taken); otherwise the caller advances the states after each accepted step
+    (:func:`advance_states`: the torsional transient)."""
+    # the arrays read once here, the laws' pack passed on (NOTES in ..transient.kernels)
+    dof, gain, sign, state, torque = (
+        drives.dof,
+        drives.gain,
+        drives.sign,
+        drives.state,
+        drives.torque,
+    )
+    par, t_ptr, t_x, t_y, t_z, v_ptr, v_t, v_f, s_ptr, s_t, s_f = drives.laws
+    for j in range(dof.shape[0]):
+        d = dof[j]
+        g = gain[j]
+        th = g * q[d]
+        om = g * v[d]
+        if advance:
+            advance_state(j, t, th, om, state, par)
+        T = _law_torque(
+            j, t, th, om, state, par, t_ptr, t_x, t_y, t_z, v_ptr, v_t, v_f, s_ptr, s_t, s_f
+        )
+        torque[j] = T
+        force[d] += g * sign[j] * T
+
+
+@njit(cache=True)
 def advance_state(j, t, th, om, state, par):
     """Law j at time t (node angle th, speed om along the rotation): a synchronous motor whose
     slip has fallen to its pull-in slip pulls into step (state[j] = 1, δ_p). Returns whether
@@ -351,9 +416,8 @@ def evaluate(laws: TorqueLaws, j: int, t, theta, omega, state: NDArray | None = 
     t, theta, omega = np.broadcast_arrays(*(np.asarray(x, float) for x in (t, theta, omega)))
     st = laws.new_state() if state is None else state
     out = np.empty(t.shape)
-    arrs = laws.arrays()
     for k in np.ndindex(t.shape):
-        out[k] = law_torque(j, t[k], theta[k], omega[k], st, *arrs)
+        out[k] = law_torque(j, t[k], theta[k], omega[k], st, laws.arrays)
     return out
 
 

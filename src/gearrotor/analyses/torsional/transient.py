@@ -48,6 +48,7 @@ import json
 import time as _time
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 import scipy.linalg as la
@@ -60,13 +61,17 @@ from ...assembly import Assembly
 from ...errors import ModelError, SolverError
 from ...model import Train
 from ...threads import managed
+from ..csr import Csr, csr, row_dot
 from ..jit import configure_cache
 from ..limits import MAX_STEPS, check_run_size
 from .drive_laws import (
+    P_RATED,
+    Drives,
     TorqueLaws,
     advance_states,
     check_load_paths,
     check_transient_supports,
+    drive_torques,
     law_torque,
     pack_laws,
 )
@@ -353,66 +358,106 @@ class TorsionalTransient:
 
 
 # ------------------------------------------------------------------------------------------
-# kernel
+# kernel: the packs it reads, then the trapezoidal steps
 # ------------------------------------------------------------------------------------------
+class Linear(NamedTuple):
+    """The linear part of the reduced model: M, and K, C without the flexible meshes (each
+    :class:`~..csr.Csr`); ``Kinv`` (2^nb, n, n) the inverse of the effective matrix
+    ``K_s + 2 C_s / h + 4 M / h²`` of every contact state s of the nb backlash meshes."""
+
+    M: Csr
+    K: Csr
+    C: Csr
+    Kinv: NDArray
+
+
+class Meshes(NamedTuple):
+    """Flexible meshes on their line of action, δ = wi θ_i + wj θ_j (reduced coordinates
+    i, j): stiffness k, damping c, backlash b (F = k (δ − s b) + c δ̇ on flank s); ``bit``
+    the mesh's bit in the contact-state combination (−1: no backlash, always engaged);
+    ``state`` (mutable) its contact state +1 drive flank, 0 separated, −1 back flank."""
+
+    i: NDArray
+    j: NDArray
+    wi: NDArray
+    wj: NDArray
+    k: NDArray
+    c: NDArray
+    b: NDArray
+    bit: NDArray
+    state: NDArray
+
+
+class Elements(NamedTuple):
+    """Shaft elements: torque ``k (fj θ_j − fi θ_i)`` between reduced coordinates i and j
+    (fi, fj: the nodes' factors on their masters)."""
+
+    i: NDArray
+    j: NDArray
+    fi: NDArray
+    fj: NDArray
+    k: NDArray
+
+
+class Couplings(NamedTuple):
+    """Couplings: torque ``k (fj θ_j − fi θ_i) + c (fj θ̇_j − fi θ̇_i)``."""
+
+    i: NDArray
+    j: NDArray
+    fi: NDArray
+    fj: NDArray
+    k: NDArray
+    c: NDArray
+
+
+class Samples(NamedTuple):
+    """The saved samples (filled by the kernel): time, reduced angles p and speeds v, the
+    laws' torques, the meshes' contact state and force."""
+
+    time: NDArray
+    p: NDArray
+    v: NDArray
+    torque: NDArray
+    mesh_state: NDArray
+    mesh_force: NDArray
+
+
+class Extremes(NamedTuple):
+    """Extremes over every step (updated by the kernel): element and coupling torques, mesh
+    forces."""
+
+    element_max: NDArray
+    element_min: NDArray
+    coupling_max: NDArray
+    coupling_min: NDArray
+    mesh_max: NDArray
+    mesh_min: NDArray
+
+
+class Tally(NamedTuple):
+    """Accumulated by the kernel: each law's work, the dissipated energy (1,), each law's
+    pull-in time (NaN: none) and the statistics (iterations, unsettled steps, diverged)."""
+
+    work: NDArray
+    dissipated: NDArray
+    pull_in: NDArray
+    stats: NDArray
+
+
 @njit(cache=True)
-def _mv(indptr, indices, data, x, out):
+def _mv(A, x, out):
+    """out = A x (``A`` a :class:`~..csr.Csr`)."""
+    indptr, indices, data = A
     for i in range(indptr.shape[0] - 1):
-        s = 0.0
-        for p in range(indptr[i], indptr[i + 1]):
-            s += data[p] * x[indices[p]]
-        out[i] = s
+        out[i] = row_dot(indptr, indices, data, i, x)
 
 
 @njit(cache=True)
-def _laws(
-    t,
-    p,
-    v,
-    l_dof,
-    l_fac,
-    l_sense,
-    state,
-    la_par,
-    la_tp,
-    la_tx,
-    la_ty,
-    la_tz,
-    la_vp,
-    la_vt,
-    la_vf,
-    la_sp,
-    la_st,
-    la_sf,
-    g,
-    tq,
-):
-    """Generalised law forces g (overwritten) and law torques tq (along the rotation)."""
+def _law_forces(t, p, v, drives, g):
+    """Generalised law forces g (overwritten); the laws' torques into ``drives.torque``."""
     for i in range(g.shape[0]):
         g[i] = 0.0
-    for j in range(l_dof.shape[0]):
-        d = l_dof[j]
-        f = l_fac[j] * l_sense[j]
-        T = law_torque(
-            j,
-            t,
-            f * p[d],
-            f * v[d],
-            state,
-            la_par,
-            la_tp,
-            la_tx,
-            la_ty,
-            la_tz,
-            la_vp,
-            la_vt,
-            la_vf,
-            la_sp,
-            la_st,
-            la_sf,
-        )
-        tq[j] = T
-        g[d] += f * la_par[j, 1] * T
+    drive_torques(t, p, v, drives, False, g)
 
 
 @njit(cache=True)
@@ -425,157 +470,83 @@ def _state_of(delta, b):
 
 
 @njit(cache=True)
+def _deflection(k, x, mi, mj, wi, wj):
+    """δ (or δ̇) of mesh k for the angles (or speeds) x (the :class:`Meshes` arrays)."""
+    return wi[k] * x[mi[k]] + wj[k] * x[mj[k]]
+
+
+@njit(cache=True)
 def _run(
-    h,
-    n_steps,
-    save_every,
-    t0,
-    p,
-    v,
-    a,
-    Mp,
-    Mi,
-    Md,
-    Kp,
-    Ki,
-    Kd,
-    Cp,
-    Ci,
-    Cd,
-    Kinv,
-    m_i,
-    m_j,
-    m_wi,
-    m_wj,
-    m_k,
-    m_c,
-    m_b,
-    m_bit,
-    mstate,
-    l_dof,
-    l_fac,
-    l_sense,
-    state,
-    la_par,
-    la_tp,
-    la_tx,
-    la_ty,
-    la_tz,
-    la_vp,
-    la_vt,
-    la_vf,
-    la_sp,
-    la_st,
-    la_sf,
-    e_i,
-    e_j,
-    e_fi,
-    e_fj,
-    e_k,
-    c_i,
-    c_j,
-    c_fi,
-    c_fj,
-    c_k,
-    c_c,
-    o_t,
-    o_p,
-    o_v,
-    o_tq,
-    o_ms,
-    o_mf,
-    e_max,
-    e_min,
-    c_max,
-    c_min,
-    f_max,
-    f_min,
-    work,
-    diss,
-    pull_in,
-    stats,
-    tol,
-    max_iter,
-):
+    h, n_steps, save_every, t0, p, v, a, lin, meshes, drives, elements, couplings, samples, ext,
+    tally, tol, max_iter,
+):  # fmt: skip
+    """The trapezoidal steps from (p, v, a) at t0 (module docstring): per step the contact
+    state of the backlash meshes by an active-set iteration and the law torques at the end of
+    the step by fixed-point iteration; the law events after each accepted step. Returns the
+    number of samples saved."""
     n = p.shape[0]
-    nm = m_i.shape[0]
-    nl = l_dof.shape[0]
-    g0 = np.zeros(n)
-    g1 = np.zeros(n)
-    tq0 = np.zeros(nl)
-    tq1 = np.zeros(nl)
-    tq_old = np.zeros(nl)
-    Mterm = np.zeros(n)
-    Kp_n = np.zeros(n)
-    Cv_n = np.zeros(n)
-    tmp = np.zeros(n)
-    rhs = np.zeros(n)
-    dp = np.zeros(n)
-    p1 = np.zeros(n)
-    v1 = np.zeros(n)
-    a1 = np.zeros(n)
-    vb = np.zeros(n)
-    th = np.zeros(nl)
-    om = np.zeros(nl)
+    mi, mj, wi, wj, mk, mc, mb, bit, mstate = meshes
+    dof, gain, sign, state, _, laws = drives
+    ei, ej, efi, efj, ek = elements
+    ci, cj, cfi, cfj, ck, cc = couplings
+    e_max, e_min, c_max, c_min, f_max, f_min = ext
+    o_t, o_p, o_v, o_tq, o_ms, o_mf = samples
+    M, K, C, Kinv = lin
+    work, diss, pull_in, stats = tally
+    nm = mi.shape[0]
+    nl = dof.shape[0]
+    par = laws.par
+    # work vectors of the state's length: law forces at both ends, M, K, C terms, ...
+    wn = np.zeros((12, n))
+    g0, g1, Mterm, Kp_n, Cv_n, tmp, rhs, dp, p1, v1, a1, vb = (
+        wn[0], wn[1], wn[2], wn[3], wn[4], wn[5], wn[6], wn[7], wn[8], wn[9], wn[10], wn[11]
+    )  # fmt: skip
+    # per law: torques at the step start, the previous iterate; angle and speed
+    wl = np.zeros((4, nl))
+    tq0, tq_old, th, om = wl[0], wl[1], wl[2], wl[3]
+    tq1 = drives.torque  # the torques of the last evaluation: the end of the step
     s_try = np.zeros(nm, np.int64)
     s_new = np.zeros(nm, np.int64)
     t = t0
-    _laws(
-        t,
-        p,
-        v,
-        l_dof,
-        l_fac,
-        l_sense,
-        state,
-        la_par,
-        la_tp,
-        la_tx,
-        la_ty,
-        la_tz,
-        la_vp,
-        la_vt,
-        la_vf,
-        la_sp,
-        la_st,
-        la_sf,
-        g0,
-        tq0,
-    )
+    _law_forces(t, p, v, drives, g0)
+    for j in range(nl):
+        tq0[j] = tq1[j]
     isave = 0
     iters = 0
     unsettled = 0
     for step in range(n_steps + 1):
-        # ---- record the current state -----------------------------------------------------
-        for e in range(e_i.shape[0]):
-            T = e_k[e] * (e_fj[e] * p[e_j[e]] - e_fi[e] * p[e_i[e]])
+        save = step % save_every == 0 or step == n_steps
+        # ---- the extremes of the current state, and (save) its sample --------------------
+        # (inline: a call with the packs would count a reference to each of their arrays)
+        for e in range(ei.shape[0]):
+            T = ek[e] * (efj[e] * p[ej[e]] - efi[e] * p[ei[e]])
             if T > e_max[e]:
                 e_max[e] = T
             if T < e_min[e]:
                 e_min[e] = T
-        for c in range(c_i.shape[0]):
-            T = c_k[c] * (c_fj[c] * p[c_j[c]] - c_fi[c] * p[c_i[c]]) + c_c[c] * (
-                c_fj[c] * v[c_j[c]] - c_fi[c] * v[c_i[c]]
+        for c in range(ci.shape[0]):
+            T = ck[c] * (cfj[c] * p[cj[c]] - cfi[c] * p[ci[c]]) + cc[c] * (
+                cfj[c] * v[cj[c]] - cfi[c] * v[ci[c]]
             )
             if T > c_max[c]:
                 c_max[c] = T
             if T < c_min[c]:
                 c_min[c] = T
         for k in range(nm):
-            dl = m_wi[k] * p[m_i[k]] + m_wj[k] * p[m_j[k]]
-            dv = m_wi[k] * v[m_i[k]] + m_wj[k] * v[m_j[k]]
+            dl = _deflection(k, p, mi, mj, wi, wj)
+            dv = _deflection(k, v, mi, mj, wi, wj)
             s = mstate[k]
             F = 0.0
-            if s != 0 or m_bit[k] < 0:
-                F = m_k[k] * (dl - s * m_b[k]) + m_c[k] * dv
+            if s != 0 or bit[k] < 0:
+                F = mk[k] * (dl - s * mb[k]) + mc[k] * dv
             if F > f_max[k]:
                 f_max[k] = F
             if F < f_min[k]:
                 f_min[k] = F
-            if step % save_every == 0 or step == n_steps:
+            if save:
                 o_mf[isave, k] = F
-                o_ms[isave, k] = s if m_bit[k] >= 0 else (1 if dl >= 0 else -1)
-        if step % save_every == 0 or step == n_steps:
+                o_ms[isave, k] = s if bit[k] >= 0 else (1 if dl >= 0 else -1)
+        if save:
             o_t[isave] = t
             for i in range(n):
                 o_p[isave, i] = p[i]
@@ -587,37 +558,16 @@ def _run(
             break
         # ---- one trapezoidal step -----------------------------------------------------------
         t1 = t + h
-        _mv(Kp, Ki, Kd, p, Kp_n)
-        _mv(Cp, Ci, Cd, v, Cv_n)
+        _mv(K, p, Kp_n)
+        _mv(C, v, Cv_n)
         for i in range(n):
             tmp[i] = 4.0 / h * v[i] + a[i]
-        _mv(Mp, Mi, Md, tmp, Mterm)
+        _mv(M, tmp, Mterm)
         # predictor for the law torques, contact state from the last step
         for i in range(n):
             p1[i] = p[i] + h * v[i] + 0.5 * h * h * a[i]
             v1[i] = v[i] + h * a[i]
-        _laws(
-            t1,
-            p1,
-            v1,
-            l_dof,
-            l_fac,
-            l_sense,
-            state,
-            la_par,
-            la_tp,
-            la_tx,
-            la_ty,
-            la_tz,
-            la_vp,
-            la_vt,
-            la_vf,
-            la_sp,
-            la_st,
-            la_sf,
-            g1,
-            tq1,
-        )
+        _law_forces(t1, p1, v1, drives, g1)
         for k in range(nm):
             s_try[k] = mstate[k]
         settled = False
@@ -627,17 +577,17 @@ def _run(
             for i in range(n):
                 rhs[i] = g1[i] + Mterm[i] - Kp_n[i] + Cv_n[i]
             for k in range(nm):
-                if m_bit[k] >= 0 and s_try[k] == 0:
+                if bit[k] >= 0 and s_try[k] == 0:
                     continue
-                if m_bit[k] >= 0:
-                    comb += 1 << m_bit[k]
-                dl = m_wi[k] * p[m_i[k]] + m_wj[k] * p[m_j[k]]
-                dv = m_wi[k] * v[m_i[k]] + m_wj[k] * v[m_j[k]]
-                f = -m_k[k] * (dl - s_try[k] * m_b[k]) + m_c[k] * dv
-                if m_bit[k] < 0:
-                    f = -m_k[k] * dl + m_c[k] * dv
-                rhs[m_i[k]] += f * m_wi[k]
-                rhs[m_j[k]] += f * m_wj[k]
+                if bit[k] >= 0:
+                    comb += 1 << bit[k]
+                dl = _deflection(k, p, mi, mj, wi, wj)
+                dv = _deflection(k, v, mi, mj, wi, wj)
+                f = -mk[k] * (dl - s_try[k] * mb[k]) + mc[k] * dv
+                if bit[k] < 0:
+                    f = -mk[k] * dl + mc[k] * dv
+                rhs[mi[k]] += f * wi[k]
+                rhs[mj[k]] += f * wj[k]
             for i in range(n):
                 acc = 0.0
                 for j in range(n):
@@ -648,39 +598,18 @@ def _run(
                 v1[i] = 2.0 / h * dp[i] - v[i]
             change = False
             for k in range(nm):
-                if m_bit[k] >= 0:
-                    s_new[k] = _state_of(m_wi[k] * p1[m_i[k]] + m_wj[k] * p1[m_j[k]], m_b[k])
+                if bit[k] >= 0:
+                    s_new[k] = _state_of(_deflection(k, p1, mi, mj, wi, wj), mb[k])
                     if s_new[k] != s_try[k]:
                         change = True
             err = 0.0
             scale = 0.0
             for j in range(nl):
                 tq_old[j] = tq1[j]
-            _laws(
-                t1,
-                p1,
-                v1,
-                l_dof,
-                l_fac,
-                l_sense,
-                state,
-                la_par,
-                la_tp,
-                la_tx,
-                la_ty,
-                la_tz,
-                la_vp,
-                la_vt,
-                la_vf,
-                la_sp,
-                la_st,
-                la_sf,
-                g1,
-                tq1,
-            )
+            _law_forces(t1, p1, v1, drives, g1)
             for j in range(nl):
                 err = max(err, abs(tq1[j] - tq_old[j]))
-                scale = max(scale, abs(la_par[j, 2]))
+                scale = max(scale, abs(par[j, P_RATED]))
             if not change and err <= tol * max(scale, 1.0):
                 settled = True
                 break
@@ -699,18 +628,18 @@ def _run(
         for i in range(n):
             a1[i] = 4.0 / (h * h) * dp[i] - 4.0 / h * v[i] - a[i]
             vb[i] = v[i] + v1[i]
-        _mv(Cp, Ci, Cd, vb, tmp)
+        _mv(C, vb, tmp)
         dd = 0.0
         for i in range(n):
             dd += vb[i] * tmp[i]
         for k in range(nm):
-            if m_bit[k] < 0 or mstate[k] != 0:
-                dvb = m_wi[k] * vb[m_i[k]] + m_wj[k] * vb[m_j[k]]
-                dd += m_c[k] * dvb * dvb
+            if bit[k] < 0 or mstate[k] != 0:
+                dvb = _deflection(k, vb, mi, mj, wi, wj)
+                dd += mc[k] * dvb * dvb
         diss[0] += 0.25 * h * dd
         for j in range(nl):
-            d = l_dof[j]
-            fj = l_fac[j] * l_sense[j] * la_par[j, 1]
+            d = dof[j]
+            fj = gain[j] * sign[j]
             work[j] += 0.5 * (tq0[j] + tq1[j]) * fj * (p1[d] - p[d])
         for i in range(n):
             p[i] = p1[i]
@@ -720,10 +649,10 @@ def _run(
             tq0[j] = tq1[j]
         t = t1
         for j in range(nl):
-            f = l_fac[j] * l_sense[j]
-            th[j] = f * p[l_dof[j]]
-            om[j] = f * v[l_dof[j]]
-        if advance_states(t, th, om, state, la_par):
+            f = gain[j]
+            th[j] = f * p[dof[j]]
+            om[j] = f * v[dof[j]]
+        if advance_states(t, th, om, state, par):
             for j in range(nl):
                 if state[j, 0] != 0.0 and np.isnan(pull_in[j]):
                     pull_in[j] = t
@@ -738,13 +667,6 @@ def _run(
     stats[1] = unsettled
     stats[2] = 0
     return isave
-
-
-def _csr(A: NDArray):
-    A = sp.csr_array(A)
-    A.eliminate_zeros()
-    A.sort_indices()
-    return A.indptr.astype(np.int64), A.indices.astype(np.int64), A.data.astype(float)
 
 
 def _default_dt(tm: TorsionalModel, max_frequency: float, contact: NDArray) -> float:
@@ -969,25 +891,33 @@ def torsional_transient(
     # ---- laws: nodes to reduced DOFs ---------------------------------------------------------
     nl = len(laws)
     full = np.array([tm.dof(s, nd) for s, nd in laws.nodes], np.int64)
-    l_dof = tm.master[full].astype(np.int64)
-    l_fac = tm.factor[full].astype(float)
     l_sense = tm.rotation[tm.node_shaft[full]].astype(float)
-    state = laws.new_state()
+    # a law's node angle along the rotation: σ · factor · (its master's reduced coordinate)
+    drives = laws.drives(tm.master[full], tm.factor[full].astype(float) * l_sense)
+    meshes = Meshes(
+        m_idx[:, 0].copy(),
+        m_idx[:, 1].copy(),
+        m_w[:, 0].copy(),
+        m_w[:, 1].copy(),
+        kin_k,
+        kin_c,
+        kin_b,
+        m_bit,
+        np.zeros(nm if tm.mesh == "flexible" else 0, np.int64),
+    )
 
     # ---- initial state ------------------------------------------------------------------------
     v = tm.speed_ratio[tm.node_shaft[tm.roots]] * initial_speed  # every node at its shaft's speed
     p = np.zeros(n)
     if static_initial is None:
         static_initial = initial_speed != 0.0
-    arrs = laws.arrays()
     g = np.zeros(n)
-    tq = np.zeros(nl)
     if initial_speed != 0.0:
-        _synchronise_at_start(laws, state, l_dof, l_fac, l_sense, p, v)
+        _synchronise_at_start(laws, drives, p, v)
     if static_initial:
-        _laws(0.0, p, v, l_dof, l_fac, l_sense, state, *arrs, g, tq)
+        _law_forces(0.0, p, v, drives, g)
         f0 = np.zeros(tm.n_full)
-        np.add.at(f0, full, tq * laws.par[:, 1] * l_sense)
+        np.add.at(f0, full, drives.torque * laws.par[:, 1] * l_sense)
         p, _ = tm.static_reduced(f0, balanced=False)
         if np.any(kin_b > 0):
             # the loaded flank of each backlash mesh is in contact: F = k (δ − s b), so the
@@ -996,9 +926,9 @@ def torsional_transient(
                 s_k = np.sign(kin_k[k] * (W[k] @ p))
                 f0[tm.mesh_dofs[k]] += kin_k[k] * kin_b[k] * s_k * tm.mesh_w[k]
             p, _ = tm.static_reduced(f0, balanced=False)
-        _synchronise_at_start(laws, state, l_dof, l_fac, l_sense, p, v)
-    _laws(0.0, p, v, l_dof, l_fac, l_sense, state, *arrs, g, tq)
-    mstate = np.zeros(nm if tm.mesh == "flexible" else 0, np.int64)
+        _synchronise_at_start(laws, drives, p, v)
+    _law_forces(0.0, p, v, drives, g)
+    mstate = meshes.state
     for k in range(len(mstate)):
         dl = m_w[k, 0] * p[m_idx[k, 0]] + m_w[k, 1] * p[m_idx[k, 1]]
         mstate[k] = _state_of(dl, kin_b[k]) if m_bit[k] >= 0 else 1
@@ -1013,9 +943,9 @@ def torsional_transient(
             ) * W[k]
     a = la.solve(tm.M, force)
     ke0 = 0.5 * v @ tm.M @ v
-    pe0 = _potential(tm, p, m_idx, m_w, kin_k, kin_b, m_bit, mstate)
+    pe0 = _potential(tm, p, meshes)
 
-    # ---- element maps ---------------------------------------------------------------------------
+    # ---- element maps, records ----------------------------------------------------------------
     def mapped(d):
         d = np.asarray(d, np.int64).reshape(-1, 2)
         return (
@@ -1025,90 +955,48 @@ def torsional_transient(
             tm.factor[d[:, 1]].astype(float),
         )
 
-    e_i, e_j, e_fi, e_fj = mapped(tm.el_dofs)
-    c_i, c_j, c_fi, c_fj = mapped(tm.cp_dofs)
-    ne, nc = len(e_i), len(c_i)
-    o_t = np.zeros(n_save)
-    o_p = np.zeros((n_save, n))
-    o_v = np.zeros((n_save, n))
-    o_tq = np.zeros((n_save, nl))
-    o_ms = np.zeros((n_save, len(mstate)), np.int64)
-    o_mf = np.zeros((n_save, len(mstate)))
-    e_max, e_min = np.full(ne, -np.inf), np.full(ne, np.inf)
-    c_max, c_min = np.full(nc, -np.inf), np.full(nc, np.inf)
-    f_max, f_min = np.full(len(mstate), -np.inf), np.full(len(mstate), np.inf)
-    work = np.zeros(nl)
-    diss = np.zeros(1)
-    pull_in = np.full(nl, np.nan)
-    pull_in[state[:, 0] != 0] = 0.0
-    stats = np.zeros(3, np.int64)
-    Mc, Kc, Cc = _csr(tm.M), _csr(K0), _csr(C0)
-    n_saved = _run(
-        h,
-        n_steps,
-        save_every,
-        0.0,
-        p,
-        v,
-        a,
-        *Mc,
-        *Kc,
-        *Cc,
-        Kinv,
-        m_idx[:, 0].copy(),
-        m_idx[:, 1].copy(),
-        m_w[:, 0].copy(),
-        m_w[:, 1].copy(),
-        kin_k,
-        kin_c,
-        kin_b,
-        m_bit,
-        mstate,
-        l_dof,
-        l_fac,
-        l_sense,
-        state,
-        *arrs,
-        e_i,
-        e_j,
-        e_fi,
-        e_fj,
-        tm.el_stiffness.astype(float),
-        c_i,
-        c_j,
-        c_fi,
-        c_fj,
-        tm.cp_stiffness.astype(float),
-        tm.cp_damping.astype(float),
-        o_t,
-        o_p,
-        o_v,
-        o_tq,
-        o_ms,
-        o_mf,
-        e_max,
-        e_min,
-        c_max,
-        c_min,
-        f_max,
-        f_min,
-        work,
-        diss,
-        pull_in,
-        stats,
-        tol,
-        max_iter,
+    elements = Elements(*mapped(tm.el_dofs), tm.el_stiffness.astype(float))
+    couplings = Couplings(
+        *mapped(tm.cp_dofs), tm.cp_stiffness.astype(float), tm.cp_damping.astype(float)
     )
+    ne, nc, nk = len(elements.i), len(couplings.i), len(mstate)
+    samples = Samples(
+        np.zeros(n_save),
+        np.zeros((n_save, n)),
+        np.zeros((n_save, n)),
+        np.zeros((n_save, nl)),
+        np.zeros((n_save, nk), np.int64),
+        np.zeros((n_save, nk)),
+    )
+    ext = Extremes(
+        *(np.full(ne, -np.inf), np.full(ne, np.inf)),
+        *(np.full(nc, -np.inf), np.full(nc, np.inf)),
+        *(np.full(nk, -np.inf), np.full(nk, np.inf)),
+    )
+    tally = Tally(np.zeros(nl), np.zeros(1), np.full(nl, np.nan), np.zeros(3, np.int64))
+    tally.pull_in[drives.state[:, 0] != 0] = 0.0
+    lin = Linear(
+        csr(tm.M, drop_zeros=True), csr(K0, drop_zeros=True), csr(C0, drop_zeros=True), Kinv
+    )
+    n_saved = _run(
+        h, n_steps, save_every, 0.0, p, v, a, lin, meshes, drives, elements, couplings, samples,
+        ext, tally, tol, max_iter,
+    )  # fmt: skip
+    stats = tally.stats
     if stats[2]:
         raise SolverError(
-            f"the torsional transient diverged (non-finite state) near t = {o_t[n_saved - 1]:.4g} "
-            "s: the trapezoidal rule is stable at any step for the linear part, so check what "
-            "drives it (negative or absurd damping, stiffness or torques); a smaller dt (now "
-            f"{h:.3g} s) helps only when the drive torques did not settle ({int(stats[1])} "
-            "unsettled steps)"
+            "the torsional transient diverged (non-finite state) near "
+            f"t = {samples.time[n_saved - 1]:.4g} s: the trapezoidal rule is stable at any step "
+            "for the linear part, so check what drives it (negative or absurd damping, stiffness "
+            f"or torques); a smaller dt (now {h:.3g} s) helps only when the drive torques did not "
+            f"settle ({int(stats[1])} unsettled steps)"
         )
-    o_t, o_p, o_v, o_tq = o_t[:n_saved], o_p[:n_saved], o_v[:n_saved], o_tq[:n_saved]
-    o_ms, o_mf = o_ms[:n_saved], o_mf[:n_saved]
+    o_t, o_p, o_v = samples.time[:n_saved], samples.p[:n_saved], samples.v[:n_saved]
+    o_tq, o_ms, o_mf = (
+        samples.torque[:n_saved],
+        samples.mesh_state[:n_saved],
+        samples.mesh_force[:n_saved],
+    )
 
     # ---- outputs ------------------------------------------------------------------------------
     theta = tm.expand(o_p)
@@ -1125,7 +1013,7 @@ def torsional_transient(
         fmx, fmn = mf.max(axis=0), mf.min(axis=0)
         notes.append("rigid meshes: mesh force extremes over the saved samples")
     else:
-        mf, ms, fmx, fmn = o_mf, o_ms, f_max, f_min
+        mf, ms, fmx, fmn = o_mf, o_ms, ext.mesh_max, ext.mesh_min
     row = np.abs(tm.M_full).sum(axis=1)
     speed = np.zeros((n_saved, len(tm.shaft_names)))
     for s in range(len(tm.shaft_names)):
@@ -1137,7 +1025,7 @@ def torsional_transient(
         th_r, _ = tm.static_twist(tm.nominal_torques())
         rated = tm.element_torque(th_r)
     ke1 = 0.5 * o_v[-1] @ tm.M @ o_v[-1]
-    pe1 = _potential(tm, o_p[-1], m_idx, m_w, kin_k, kin_b, m_bit, mstate)
+    pe1 = _potential(tm, o_p[-1], meshes)
     return TorsionalTransient(
         model=tm,
         laws=laws,
@@ -1149,28 +1037,28 @@ def torsional_transient(
         mesh_force=mf,
         mesh_state=ms,
         law_torque=o_tq,
-        element_torque_max=e_max,
-        element_torque_min=e_min,
-        coupling_torque_max=c_max,
-        coupling_torque_min=c_min,
+        element_torque_max=ext.element_max,
+        element_torque_min=ext.element_min,
+        coupling_torque_max=ext.coupling_max,
+        coupling_torque_min=ext.coupling_min,
         mesh_force_max=fmx,
         mesh_force_min=fmn,
         rated_element_torque=rated,
-        law_work=work,
-        dissipated=float(diss[0]),
+        law_work=tally.work,
+        dissipated=float(tally.dissipated[0]),
         kinetic=(float(ke0), float(ke1)),
         potential=(float(pe0), float(pe1)),
         dt=float(h),
         steps=int(n_steps),
         iterations=int(stats[0]),
         unsettled_steps=int(stats[1]),
-        pull_in_time=pull_in,
+        pull_in_time=tally.pull_in,
         wall_time=_time.perf_counter() - t_start,
         notes=tuple(notes),
     )
 
 
-def _potential(tm, p, m_idx, m_w, kin_k, kin_b, m_bit, mstate) -> float:
+def _potential(tm, p, meshes: Meshes) -> float:
     """Strain energy: shaft elements and couplings from their twist, meshes from h(δ)."""
     theta = tm.expand(p)
     el = tm.element_torque(theta)
@@ -1178,34 +1066,35 @@ def _potential(tm, p, m_idx, m_w, kin_k, kin_b, m_bit, mstate) -> float:
     if len(tm.cp_names):
         d = theta[tm.cp_dofs[:, 1]] - theta[tm.cp_dofs[:, 0]]
         pe += 0.5 * np.sum(tm.cp_stiffness * d**2)
-    for k in range(len(kin_k)):
-        dl = m_w[k, 0] * p[m_idx[k, 0]] + m_w[k, 1] * p[m_idx[k, 1]]
-        if m_bit[k] < 0:
-            pe += 0.5 * kin_k[k] * dl**2
-        elif mstate[k] != 0:
-            pe += 0.5 * kin_k[k] * (dl - mstate[k] * kin_b[k]) ** 2
+    for k in range(len(meshes.k)):
+        dl = meshes.wi[k] * p[meshes.i[k]] + meshes.wj[k] * p[meshes.j[k]]
+        if meshes.bit[k] < 0:
+            pe += 0.5 * meshes.k[k] * dl**2
+        elif meshes.state[k] != 0:
+            pe += 0.5 * meshes.k[k] * (dl - meshes.state[k] * meshes.b[k]) ** 2
     return float(pe)
 
 
-def _synchronise_at_start(laws, state, l_dof, l_fac, l_sense, p, v) -> None:
-    """Synchronous motors starting within their pull-in slip start in step, at the load angle
-    whose synchronous torque carries their share (by rated power) of the loads at t = 0."""
-    from .drive_laws import KIND_SYNCHRONOUS, P_KIND, P_PP, P_PULLIN, P_RATED, P_SPEED
+def _synchronise_at_start(laws: TorqueLaws, drives: Drives, p: NDArray, v: NDArray) -> None:
+    """Synchronous motors starting within their pull-in slip start in step (their state in
+    ``drives``), at the load angle whose synchronous torque carries their share (by rated
+    power) of the loads at t = 0."""
+    from .drive_laws import KIND_SYNCHRONOUS, P_KIND, P_PP, P_PULLIN, P_SPEED
 
     par = laws.par
     sync = [j for j in range(len(laws)) if laws.is_drive[j] and par[j, P_KIND] == KIND_SYNCHRONOUS]
     if not sync:
         return
-    arrs = laws.arrays()
+    arrs = laws.arrays
     probe = laws.new_state()
     power = 0.0
     for j in np.flatnonzero(~laws.is_drive):
-        om = l_fac[j] * l_sense[j] * v[l_dof[j]]
-        power += law_torque(j, 0.0, 0.0, om, probe, *arrs) * om
+        om = drives.gain[j] * v[drives.dof[j]]
+        power += law_torque(j, 0.0, 0.0, om, probe, arrs) * om
     rated = sum(float(par[j, P_RATED] * par[j, P_SPEED]) for j in np.flatnonzero(laws.is_drive))
     for j in sync:
-        f = l_fac[j] * l_sense[j]
-        om = f * v[l_dof[j]]
+        f = drives.gain[j]
+        om = f * v[drives.dof[j]]
         s = 1.0 - om / par[j, P_SPEED]
         if s > par[j, P_PULLIN]:
             continue
@@ -1214,8 +1103,8 @@ def _synchronise_at_start(laws, state, l_dof, l_fac, l_sense, p, v) -> None:
         probe[j, 1] = 0.0
         # the torque at δ − δ_p = ±π/2 is v² T_avg ± v T_po: split the two parts
         th = np.pi / 2 / par[j, P_PP]
-        t_plus = law_torque(j, 0.0, -th, om, probe, *arrs)
-        t_minus = law_torque(j, 0.0, th, om, probe, *arrs)
+        t_plus = law_torque(j, 0.0, -th, om, probe, arrs)
+        t_minus = law_torque(j, 0.0, th, om, probe, arrs)
         avg, sync = 0.5 * (t_plus + t_minus), 0.5 * (t_plus - t_minus)
         x = (need - avg) / sync
         if abs(x) > 1:
@@ -1225,6 +1114,6 @@ def _synchronise_at_start(laws, state, l_dof, l_fac, l_sense, p, v) -> None:
                 value=f"{sync:.6g} N·m (at the initial voltage)",
                 expected=f"at least {need - avg:.6g} N·m",
             )
-        delta0 = -par[j, P_PP] * f * p[l_dof[j]]  # δ at t = 0
-        state[j, 0] = 1.0
-        state[j, 1] = delta0 - np.arcsin(x)
+        delta0 = -par[j, P_PP] * f * p[drives.dof[j]]  # δ at t = 0
+        drives.state[j, 0] = 1.0
+        drives.state[j, 1] = delta0 - np.arcsin(x)

@@ -352,7 +352,9 @@ def transient(
     extra = () if prep.operators is None else (prep.operators,)
     if extra:
         runner = kn.etd_modal
-    out_arg = out if prep.kind == "physical" else prep.Phi_out
+    rec = kn.Record(
+        out if prep.kind == "physical" else prep.Phi_out, rec_q, rec_v, rec_a, rec_om, rec_t, scale
+    )
     substeps = 0
     while step < n_steps:
         nst = min(chunk, n_steps - step, last_ck_step + ck_steps - step)
@@ -363,17 +365,11 @@ def transient(
             q,
             v,
             save_every,
-            out_arg,
-            rec_q,
-            rec_v,
-            rec_a,
-            rec_om,
-            rec_t,
             step // save_every,
-            scale,
-            prep.P,
-            prep.W,
-            prep.K1,
+            rec,
+            prep.model,
+            prep.work,
+            prep.stages,
             *extra,
         )
         substeps += more[0] if more else 0

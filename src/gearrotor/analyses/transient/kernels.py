@@ -1,41 +1,66 @@
 """Compiled (numba) kernels of the transient: forces, accelerations, RK4 loops.
 
-No objects, only arrays; every work array is allocated by the caller once per run, the step loops
-allocate nothing. Index conventions: ``sel`` indices address the vector of DOFs that carry
-nonlinear forces (gathered from q or from Φ_sel η); ``−1`` marks an inactive DOF.
+No objects but named tuples of arrays, which numba compiles as one argument each: a kernel's
+signature names the physics it reads. Every work array is allocated by the caller once per
+run, the step loops allocate nothing. Index conventions: force DOF indices address the vector
+of DOFs that carry nonlinear forces (gathered from q, or from Φ_sel η); ``−1`` marks an
+inactive DOF.
 
-Parameter packs (all float64 / int64):
+Cost of a pack: numba counts a reference (an atomic increment, and a decrement later) for
+every array read out of a named tuple, also out of a nested one when the inner tuple is bound
+to a name, while arrays passed as arguments are borrowed. So a function reads each array it
+needs once, at its top; a function called per mesh or per law in a loop takes the arrays
+(:func:`~..torsional.drive_laws.drive_torques` unpacks the laws once for all of them). Against
+the former flat argument lists the reads still cost the small flagship's classical modal RK4
+run some 13 % (the others 0-6 %), and compiling the kernels some 25 % more CPU
+(``benchmarks/kernels.py``, ``--cold``).
 
-* meshes: ``m_sel (nm,12)``, ``m_w (nm,2,12)`` (drive line w, back-flank line w_b),
-  ``m_par (nm,8)`` = kg, ka, b, c, teeth, kg_lin
-  (stiffness already in the linear part on the drive line, subtracted), c_lin, kgb_lin (the
-  same on the back line: the exact-linear scheme's operators with the back flank touching);
-  ``m_ab (nm,S,2)``, ``m_ns (nm,)``;
-  tables ``m_tptr (nm+1)``, ``m_tphi``, ``m_tk``; transmission error ``m_te (nm,Se,2)``,
-  ``m_nte (nm,)``;
-* unbalances: ``u_sel (nu,3)`` (x, y, θz), ``u_me``, ``u_ph``;
-* torques: ``t_sel``, ``t_par (nt,3)`` = value, exponent, reference speed; table ``t_ptr``,
-  ``t_time``, ``t_vals``;
-* speed-dependent bearings: ``b_sel (nb,4)``, ``b_shaft``, table ``b_ptr``, ``b_speed``,
-  ``b_coef (·,8)``, reference coefficients ``b_ref (nb,8)`` already in the linear part;
-* drives and loads (``[torsional]``): one tuple ``drv`` = (``l_sel``, sense σ, sign, state
-  (nl,2), then the arrays of :meth:`TorqueLaws.arrays`), evaluated by
-  :func:`..torsional.drive_laws.law_torque` (the torsional transient's laws).
+The packs (built in Python by :mod:`.forces` and :mod:`.prepare`), one per law, each evaluated
+by one function here:
+
+* :class:`MeshLaws` — the meshes (SPEC 2.4): :func:`mesh_eval`, :func:`mesh_forces`;
+* :class:`Unbalances` — the centrifugal part of the unbalances: :func:`unbalance_forces`;
+* :class:`Torques` — external torques and constant loads: :func:`torque_forces`;
+* :class:`BearingTables` — speed-dependent bearings: :func:`bearing_forces`;
+* :class:`~..torsional.drive_laws.Drives` — the ``[torsional]`` drives and loads, the laws of
+  the torsional transient: :func:`~..torsional.drive_laws.drive_torques`;
+
+gathered in :class:`Forces` (:func:`nonlinear_forces`). The models they act in:
+:class:`PhysicalModel` (the full model, RK4) and :class:`ModalModel` (the modal reduction),
+with :class:`ContactOperators` for the exact-linear modal scheme; the runs record into a
+:class:`Record`.
 """
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 from numba import njit
+from numpy.typing import NDArray
 
+from ..csr import Csr, row_dot
 from ..jit import configure_cache
-from ..torsional.drive_laws import advance_state, law_torque
+from ..torsional.drive_laws import Drives, drive_torques
 
 configure_cache()  # before the first @njit(cache=True): numba's cache outside the package
 
 __all__ = [
+    "MeshLaws",
+    "Unbalances",
+    "Torques",
+    "BearingTables",
+    "Forces",
+    "MassFactor",
+    "ImplicitTerms",
+    "PhysicalModel",
+    "ModalModel",
+    "ContactOperators",
+    "Record",
+    "Stages",
+    "Woodbury",
     "mesh_eval",
-    "nl_forces",
+    "nonlinear_forces",
     "rk4_physical",
     "rk4_modal",
     "etd_modal",
@@ -59,6 +84,254 @@ _FAST = {"reassoc", "contract", "arcp", "nsz"}
 _FAST_ETD = _FAST - {"reassoc"}
 
 
+# ------------------------------------------------------------------------------------------
+# the packs
+# ------------------------------------------------------------------------------------------
+class MeshLaws(NamedTuple):
+    """The meshes' laws (SPEC 2.4), nm meshes, on the force DOFs.
+
+    dofs (nm, 12) int64: the 12 gear DOFs (x, y, z, θx, θy, θz of gear and mate; −1
+    inactive); lines (nm, 2, 12): the drive line w (δ = w·q) and the back-flank line w_b;
+    kg, ka, backlash b, damping c, teeth N (nm,): average stiffness, its variation's amplitude,
+    the clearance, the damping, the pinion's teeth (mesh angle φ_m = N θz); kg_linear,
+    kg_back_linear (nm,): the stiffness on the drive and back lines already in the linear part
+    of the integrator (subtracted here); fourier (nm, S, 2), n_fourier (nm,): the variation's
+    Fourier coefficients; table_ptr (nm + 1) into table_phi, table_k: a tabulated stiffness
+    k(φ_m) (it replaces the series); te (nm, Se, 2), n_te (nm,): the transmission error's
+    harmonics in φ_m."""
+
+    dofs: NDArray
+    lines: NDArray
+    kg: NDArray
+    ka: NDArray
+    backlash: NDArray
+    damping: NDArray
+    teeth: NDArray
+    kg_linear: NDArray
+    kg_back_linear: NDArray
+    fourier: NDArray
+    n_fourier: NDArray
+    table_ptr: NDArray
+    table_phi: NDArray
+    table_k: NDArray
+    te: NDArray
+    n_te: NDArray
+
+
+class Unbalances(NamedTuple):
+    """dofs (nu, 3) int64: x, y, θz of each unbalance's node; me (nu,) kg·m; phase (nu,)
+    rad."""
+
+    dofs: NDArray
+    me: NDArray
+    phase: NDArray
+
+
+class Torques(NamedTuple):
+    """External torques (and constant loads, as constant torques on their DOFs): dof (nt,);
+    value (nt,) N·m (or N); speed law ``(|Ω_node| / reference_speed) ** speed_exponent``;
+    a time table ``table_ptr`` (nt + 1) into ``time``, ``values`` (it replaces the value)."""
+
+    dof: NDArray
+    value: NDArray
+    speed_exponent: NDArray
+    reference_speed: NDArray
+    table_ptr: NDArray
+    time: NDArray
+    values: NDArray
+
+
+class BearingTables(NamedTuple):
+    """Speed-dependent bearings: dofs (nb, 4) int64: journal x, y and pedestal x, y (−1:
+    grounded); shaft (nb,): the shaft whose speed the table is read at; ``ptr`` (nb + 1) into
+    ``speed`` and ``coef`` (·, 8): kxx, kxy, kyx, kyy, cxx, cxy, cyx, cyy over speed; ``ref``
+    (nb, 8): the coefficients already in the linear part (subtracted)."""
+
+    dofs: NDArray
+    shaft: NDArray
+    ptr: NDArray
+    speed: NDArray
+    coef: NDArray
+    ref: NDArray
+
+
+class Forces(NamedTuple):
+    """Every nonlinear force of a run (:func:`nonlinear_forces`)."""
+
+    meshes: MeshLaws
+    unbalances: Unbalances
+    torques: Torques
+    bearings: BearingTables
+    drives: Drives
+
+
+class MassFactor(NamedTuple):
+    """Sparse Cholesky factor of the permuted mass matrix ``M[perm][:, perm] = L Lᵀ`` (L rows:
+    diagonal last; U = Lᵀ rows: diagonal first)."""
+
+    perm: NDArray
+    L: Csr
+    U: Csr
+
+
+class ImplicitTerms(NamedTuple):
+    """The low-rank implicit part M + P Qᵀ of the physical model (the θ̈ coupling of the
+    gyroscopic and unbalance terms, :func:`_accel_physical`): M⁻¹a_s (ns, n); M⁻¹ on the
+    unbalances' x, y, θz unit vectors (nu, n) each; the unbalances' DOFs in the full state
+    (nu, 3); the support of each row of Zᵀ = (M⁻¹P)ᵀ, ``z_ptr`` into ``z_idx``; the rows of
+    each G_s, ``g_ptr`` into ``g_idx``."""
+
+    Minv_a: NDArray
+    Minv_ux: NDArray
+    Minv_uy: NDArray
+    Minv_ut: NDArray
+    unbalance_dofs: NDArray
+    z_ptr: NDArray
+    z_idx: NDArray
+    g_ptr: NDArray
+    g_idx: NDArray
+
+
+class PhysicalModel(NamedTuple):
+    """The full active-DOF model: K, C, G = Σ G_s (:class:`~..csr.Csr`; G's rows scaled by the
+    speed of the row's shaft ``row_shaft``, −1 none), the mass factor, the shaft speeds
+    Ω_s = a_sᵀ q̇ (row s of ``speed_rows``), the θz DOFs ``torsion`` (held at frozen speed),
+    ``frozen``, ``reactions`` (the θ̈ coupling terms), the force DOFs ``sel``, the forces and
+    the implicit terms."""
+
+    K: Csr
+    C: Csr
+    G: Csr
+    row_shaft: NDArray
+    mass: MassFactor
+    speed_rows: Csr
+    torsion: NDArray
+    frozen: bool
+    reactions: bool
+    sel: NDArray
+    forces: Forces
+    implicit: ImplicitTerms
+
+
+class ModalModel(NamedTuple):
+    """The modal reduction (M_r = I): stiffness ``diag(lam)`` (the symmetric part) plus the
+    skew part ``k_skew`` on the force DOFs ``k_idx`` (applied as a force); damping Cr (m, m);
+    gyroscopics Gr (ns, m, m); shaft speeds Ω_s = alpha_s η̇ (ns, m); the force DOFs
+    q_sel = Phi_sel η (and its transpose); ``reactions``; the forces."""
+
+    lam: NDArray
+    Cr: NDArray
+    Gr: NDArray
+    alpha: NDArray
+    Phi_sel: NDArray
+    PhiT_sel: NDArray
+    reactions: bool
+    k_idx: NDArray
+    k_skew: NDArray
+    forces: Forces
+
+
+class ContactOperators(NamedTuple):
+    """The exact-linear modal scheme's linear operators, one per combination of the meshes'
+    contact states (:func:`etd_modal`): eigenvectors ``Ys`` (n_ops, m, m), frequencies
+    ``oms``, the step's ETD weights ``coefs`` (n_ops, 12, m); ``pat``/``stride``
+    map the contact states to an operator code, ``op_of`` a code to its operator;
+    ``n_probe`` (0: contact changes never change the operator) and ``max_sub`` of the event
+    location; the modal system in each operator's coordinates (``lams`` … ``PhiTs``), the
+    meshes' stiffness each holds (``kg_linear``, ``kg_back_linear`` (n_ops, nm)) and the
+    recorded rows ``Phi_outs``."""
+
+    Ys: NDArray
+    oms: NDArray
+    coefs: NDArray
+    pat: NDArray
+    stride: NDArray
+    op_of: NDArray
+    n_probe: int
+    max_sub: int
+    lams: NDArray
+    Crs: NDArray
+    Grs: NDArray
+    alphas: NDArray
+    Phis: NDArray
+    PhiTs: NDArray
+    kg_linear: NDArray
+    kg_back_linear: NDArray
+    Phi_outs: NDArray
+
+
+class Record(NamedTuple):
+    """What a run records, one row per saved step: ``out`` the recorded DOFs (their indices
+    in the full model; the rows Φ_out of the modal basis), their q, q̇, q̈ (nrec, nout), the
+    shaft speeds (nrec, ns), the time (nrec,); ``scale`` (nout,) the divergence scale of each
+    output (a |q| · scale above 1 stops the run)."""
+
+    out: NDArray
+    q: NDArray
+    v: NDArray
+    a: NDArray
+    speed: NDArray
+    time: NDArray
+    scale: NDArray
+
+
+class Stages(NamedTuple):
+    """RK4's stage work arrays (each of the state's length)."""
+
+    k1q: NDArray
+    k1v: NDArray
+    k2q: NDArray
+    k2v: NDArray
+    k3q: NDArray
+    k3v: NDArray
+    k4q: NDArray
+    k4v: NDArray
+    qt: NDArray
+    vt: NDArray
+
+
+class Woodbury(NamedTuple):
+    """Work of the low-rank implicit solve (the θ̈ terms, M + P Qᵀ, by Woodbury): the factors
+    Z, the capacitance matrix S = I + Qᵀ Z (r, r), its right side (r,) and pivots (r,)."""
+
+    Z: NDArray
+    S: NDArray
+    rhs: NDArray
+    piv: NDArray
+
+
+class PhysicalWork(NamedTuple):
+    """Work arrays of :func:`_accel_physical`: the force F, ½Gq and M⁻¹(½Gq) (n,); the
+    force DOFs' q, q̇ and forces; the shaft speeds; the Woodbury work (Z = M⁻¹P: (r, n));
+    the triangular solves' work y (n,)."""
+
+    F: NDArray
+    gq: NDArray
+    zq: NDArray
+    qs: NDArray
+    vs: NDArray
+    fs: NDArray
+    Om: NDArray
+    wb: Woodbury
+    y: NDArray
+
+
+class ModalWork(NamedTuple):
+    """Work arrays of :func:`_accel_modal`: the force DOFs' q, q̇ and forces, the shaft
+    speeds, the Woodbury work (Z (2r, m): P in rows 0..r−1, Q in rows r..2r−1), ½ G_s η
+    (ns, m)."""
+
+    qs: NDArray
+    vs: NDArray
+    fs: NDArray
+    Om: NDArray
+    wb: Woodbury
+    gq: NDArray
+
+
+# ------------------------------------------------------------------------------------------
+# the forces
+# ------------------------------------------------------------------------------------------
 @njit(cache=_CACHE)
 def _interp(x, xp, fp, lo, hi):
     """Linear interpolation in xp[lo:hi] (held at the ends)."""
@@ -78,31 +351,33 @@ def _interp(x, xp, fp, lo, hi):
 
 
 @njit(cache=_CACHE)
-def mesh_deflections(k, qs, vs, m_sel, m_w, m_par, m_te, m_nte):
+def mesh_deflections(k, qs, vs, meshes):
     """Mesh k: (δ, δ̇, δ_b, δ̇_b, φ_m): the deflections and rates along the drive line w
     (δ = w·q) and the back-flank line w_b, with the transmission error (δ → δ − e on the drive
     line, δ_b → δ_b + e on the back line), and the mesh angle φ_m = N θz of the pinion node."""
+    dofs, w = meshes.dofs, meshes.lines
     delta = 0.0
     ddelta = 0.0
     db = 0.0
     ddb = 0.0
     for j in range(12):
-        i = m_sel[k, j]
+        i = dofs[k, j]
         if i >= 0:
-            delta += m_w[k, 0, j] * qs[i]
-            ddelta += m_w[k, 0, j] * vs[i]
-            db += m_w[k, 1, j] * qs[i]
-            ddb += m_w[k, 1, j] * vs[i]
-    teeth = m_par[k, 4]
-    it = m_sel[k, 5]
+            delta += w[k, 0, j] * qs[i]
+            ddelta += w[k, 0, j] * vs[i]
+            db += w[k, 1, j] * qs[i]
+            ddb += w[k, 1, j] * vs[i]
+    teeth = meshes.teeth[k]
+    it = dofs[k, 5]
     phi = teeth * qs[it] if it >= 0 else 0.0
     dphi = teeth * vs[it] if it >= 0 else 0.0
     # transmission error: δ → δ − e on the drive line, δ_b → δ_b + e on the back line
-    for s in range(m_nte[k]):
+    te, n_te = meshes.te, meshes.n_te[k]
+    for s in range(n_te):
         sp = (s + 1) * phi
         c, sn = np.cos(sp), np.sin(sp)
-        e = m_te[k, s, 0] * c + m_te[k, s, 1] * sn
-        de = (s + 1) * dphi * (-m_te[k, s, 0] * sn + m_te[k, s, 1] * c)
+        e = te[k, s, 0] * c + te[k, s, 1] * sn
+        de = (s + 1) * dphi * (-te[k, s, 0] * sn + te[k, s, 1] * c)
         delta -= e
         ddelta -= de
         db += e
@@ -111,156 +386,153 @@ def mesh_deflections(k, qs, vs, m_sel, m_w, m_par, m_te, m_nte):
 
 
 @njit(cache=_CACHE)
-def mesh_eval(k, qs, vs, m_sel, m_w, m_par, m_ab, m_ns, m_tptr, m_tphi, m_tk, m_te, m_nte):
+def mesh_eval(k, qs, vs, meshes):
     """Mesh k: returns (F_d, F_b, stiffness, δ_e, δ̇_e, state, φ_m).
 
-    ``m_w[k, 0]`` is the drive line w (δ = w·q), ``m_w[k, 1]`` the back-flank line w_b
-    (``−w`` for SPEC 2.4's law, the mirrored line of action otherwise). F_d ≥ 0 acts along
-    −w, F_b ≥ 0 along −w_b (both N, damping included while in contact); state +1 drive,
-    −1 back, +2 both flanks, 0 separated."""
-    delta, ddelta, db, ddb, phi = mesh_deflections(k, qs, vs, m_sel, m_w, m_par, m_te, m_nte)
-    lo, hi = m_tptr[k], m_tptr[k + 1]
+    ``meshes.lines[k, 0]`` is the drive line w (δ = w·q), ``meshes.lines[k, 1]`` the
+    back-flank line w_b (``−w`` for SPEC 2.4's law, the mirrored line of action otherwise).
+    F_d ≥ 0 acts along −w, F_b ≥ 0 along −w_b (both N, damping included while in contact);
+    state +1 drive, −1 back, +2 both flanks, 0 separated."""
+    delta, ddelta, db, ddb, phi = mesh_deflections(k, qs, vs, meshes)
+    lo, hi = meshes.table_ptr[k], meshes.table_ptr[k + 1]
     if hi > lo:
         ph = phi - 2.0 * np.pi * np.floor(phi / (2.0 * np.pi))
-        stiff = _interp(ph, m_tphi, m_tk, lo, hi)
+        stiff = _interp(ph, meshes.table_phi, meshes.table_k, lo, hi)
     else:
-        stiff = m_par[k, 0]
-        ka2 = 2.0 * m_par[k, 1]
-        ns = m_ns[k]
+        stiff = meshes.kg[k]
+        ka2 = 2.0 * meshes.ka[k]
+        ns = meshes.n_fourier[k]
         if ns > 0:
+            ab = meshes.fourier
             s1, c1 = np.sin(phi), np.cos(phi)
             sn, cn = s1, c1
             for s in range(ns):
-                stiff += ka2 * (m_ab[k, s, 0] * sn + m_ab[k, s, 1] * cn)
+                stiff += ka2 * (ab[k, s, 0] * sn + ab[k, s, 1] * cn)
                 sn, cn = sn * c1 + cn * s1, cn * c1 - sn * s1
-    b = m_par[k, 2]
+    b = meshes.backlash[k]
+    c = meshes.damping[k]
     state = 0
     Fd = 0.0
     Fb = 0.0
     if delta > b:
         state = 1
-        Fd = stiff * (delta - b) + m_par[k, 3] * ddelta
+        Fd = stiff * (delta - b) + c * ddelta
     if db > b:
         state = 2 if state == 1 else -1
-        Fb = stiff * (db - b) + m_par[k, 3] * ddb
+        Fb = stiff * (db - b) + c * ddb
     return Fd, Fb, stiff, delta, ddelta, state, phi
 
 
-@njit(cache=_CACHE)
-def nl_forces(
-    t,
-    qs,
-    vs,
-    Om,
-    fs,
-    m_sel,
-    m_w,
-    m_par,
-    m_ab,
-    m_ns,
-    m_tptr,
-    m_tphi,
-    m_tk,
-    m_te,
-    m_nte,
-    u_sel,
-    u_me,
-    u_ph,
-    t_sel,
-    t_par,
-    t_ptr,
-    t_time,
-    t_vals,
-    b_sel,
-    b_shaft,
-    b_ptr,
-    b_speed,
-    b_coef,
-    b_ref,
-    drv,
-):
-    """Generalised forces on the ``sel`` DOFs (overwrites fs): meshes (minus their linear part
-    kg_lin δ + c_lin δ̇), unbalance centrifugal part m e θ̇² r_u, external torques,
-    speed-dependent bearings (minus their reference coefficients), drives and loads.
+@njit(cache=_CACHE, inline="always")
+def _along(k, line, x, dofs, w):
+    """Mesh k's geometric deflection ``w[k, line] · x`` (line 0 the drive line, 1 the back
+    line; no transmission error)."""
+    d = 0.0
+    for j in range(12):
+        i = dofs[k, j]
+        if i >= 0:
+            d += w[k, line, j] * x[i]
+    return d
 
-    A synchronous motor pulls into step at the first evaluation with its slip at or below the
-    pull-in slip (its state in ``drv`` changes there, within the step: an event located to
-    one step, as in the torsional transient)."""
-    for i in range(fs.shape[0]):
-        fs[i] = 0.0
-    for k in range(m_sel.shape[0]):
-        Fd, Fb, stiff, delta, ddelta, state, phi = mesh_eval(
-            k, qs, vs, m_sel, m_w, m_par, m_ab, m_ns, m_tptr, m_tphi, m_tk, m_te, m_nte
-        )
+
+@njit(cache=_CACHE)
+def mesh_forces(qs, vs, meshes, fs):
+    """The meshes' generalised forces added to fs, minus the linear part the integrator
+    already holds (kg_linear δ on the drive line, kg_back_linear δ_b on the back line, with
+    the geometric δ: no transmission error)."""
+    dofs, w = meshes.dofs, meshes.lines
+    kg_linear, kg_back_linear = meshes.kg_linear, meshes.kg_back_linear
+    for k in range(dofs.shape[0]):
+        Fd, Fb, stiff, delta, ddelta, state, phi = mesh_eval(k, qs, vs, meshes)
         # the linear part kept in the modal basis uses the geometric δ (no TE)
-        dl = 0.0
-        vl = 0.0
+        Fd -= kg_linear[k] * _along(k, 0, qs, dofs, w)
+        if kg_back_linear[k] != 0.0:
+            Fb -= kg_back_linear[k] * _along(k, 1, qs, dofs, w)
         for j in range(12):
-            i = m_sel[k, j]
+            i = dofs[k, j]
             if i >= 0:
-                dl += m_w[k, 0, j] * qs[i]
-                vl += m_w[k, 0, j] * vs[i]
-        Fd -= m_par[k, 5] * dl + m_par[k, 6] * vl
-        if m_par[k, 7] != 0.0:
-            bl = 0.0
-            for j in range(12):
-                i = m_sel[k, j]
-                if i >= 0:
-                    bl += m_w[k, 1, j] * qs[i]
-            Fb -= m_par[k, 7] * bl
-        for j in range(12):
-            i = m_sel[k, j]
-            if i >= 0:
-                fs[i] -= Fd * m_w[k, 0, j] + Fb * m_w[k, 1, j]
-    for u in range(u_sel.shape[0]):
-        it = u_sel[u, 2]
-        th = qs[it] + u_ph[u]
-        w2 = u_me[u] * vs[it] * vs[it]
-        fs[u_sel[u, 0]] += w2 * np.cos(th)
-        fs[u_sel[u, 1]] += w2 * np.sin(th)
-    for j in range(t_sel.shape[0]):
-        lo, hi = t_ptr[j], t_ptr[j + 1]
-        val = t_par[j, 0] if hi == lo else _interp(t, t_time, t_vals, lo, hi)
-        if t_par[j, 1] != 0.0:
-            val *= (abs(vs[t_sel[j]]) / t_par[j, 2]) ** t_par[j, 1]
-        fs[t_sel[j]] += val
-    for j in range(b_sel.shape[0]):
-        lo, hi = b_ptr[j], b_ptr[j + 1]
-        w = abs(Om[b_shaft[j]])
-        kxx = _interp(w, b_speed, b_coef[:, 0], lo, hi) - b_ref[j, 0]
-        kxy = _interp(w, b_speed, b_coef[:, 1], lo, hi) - b_ref[j, 1]
-        kyx = _interp(w, b_speed, b_coef[:, 2], lo, hi) - b_ref[j, 2]
-        kyy = _interp(w, b_speed, b_coef[:, 3], lo, hi) - b_ref[j, 3]
-        cxx = _interp(w, b_speed, b_coef[:, 4], lo, hi) - b_ref[j, 4]
-        cxy = _interp(w, b_speed, b_coef[:, 5], lo, hi) - b_ref[j, 5]
-        cyx = _interp(w, b_speed, b_coef[:, 6], lo, hi) - b_ref[j, 6]
-        cyy = _interp(w, b_speed, b_coef[:, 7], lo, hi) - b_ref[j, 7]
-        x, y = qs[b_sel[j, 0]], qs[b_sel[j, 1]]
-        vx, vy = vs[b_sel[j, 0]], vs[b_sel[j, 1]]
-        if b_sel[j, 2] >= 0:
-            x -= qs[b_sel[j, 2]]
-            y -= qs[b_sel[j, 3]]
-            vx -= vs[b_sel[j, 2]]
-            vy -= vs[b_sel[j, 3]]
+                fs[i] -= Fd * w[k, 0, j] + Fb * w[k, 1, j]
+
+
+@njit(cache=_CACHE)
+def unbalance_forces(qs, vs, unbalances, fs):
+    """The unbalances' centrifugal part m e θ̇² r_u added to fs (the θ̈ part is implicit)."""
+    dofs, me, phase = unbalances
+    for u in range(dofs.shape[0]):
+        it = dofs[u, 2]
+        th = qs[it] + phase[u]
+        w2 = me[u] * vs[it] * vs[it]
+        fs[dofs[u, 0]] += w2 * np.cos(th)
+        fs[dofs[u, 1]] += w2 * np.sin(th)
+
+
+@njit(cache=_CACHE)
+def torque_forces(t, vs, torques, fs):
+    """External torques (a value or a time table, times the speed law) added to fs."""
+    dof, value, exponent, reference, ptr, time, values = torques
+    for j in range(dof.shape[0]):
+        lo, hi = ptr[j], ptr[j + 1]
+        val = value[j] if hi == lo else _interp(t, time, values, lo, hi)
+        if exponent[j] != 0.0:
+            speed = abs(vs[dof[j]]) / reference[j]
+            val *= speed ** exponent[j]
+        fs[dof[j]] += val
+
+
+@njit(cache=_CACHE)
+def bearing_forces(qs, vs, Om, bearings, fs):
+    """Speed-dependent bearings: the coefficients at the speed of their shaft minus those in
+    the linear part, on the journal's motion relative to its pedestal, added to fs."""
+    dofs, shaft, ptr, sp, coef, ref = bearings
+    for j in range(dofs.shape[0]):
+        lo, hi = ptr[j], ptr[j + 1]
+        w = abs(Om[shaft[j]])
+        kxx = _interp(w, sp, coef[:, 0], lo, hi) - ref[j, 0]
+        kxy = _interp(w, sp, coef[:, 1], lo, hi) - ref[j, 1]
+        kyx = _interp(w, sp, coef[:, 2], lo, hi) - ref[j, 2]
+        kyy = _interp(w, sp, coef[:, 3], lo, hi) - ref[j, 3]
+        cxx = _interp(w, sp, coef[:, 4], lo, hi) - ref[j, 4]
+        cxy = _interp(w, sp, coef[:, 5], lo, hi) - ref[j, 5]
+        cyx = _interp(w, sp, coef[:, 6], lo, hi) - ref[j, 6]
+        cyy = _interp(w, sp, coef[:, 7], lo, hi) - ref[j, 7]
+        x, y = qs[dofs[j, 0]], qs[dofs[j, 1]]
+        vx, vy = vs[dofs[j, 0]], vs[dofs[j, 1]]
+        if dofs[j, 2] >= 0:
+            x -= qs[dofs[j, 2]]
+            y -= qs[dofs[j, 3]]
+            vx -= vs[dofs[j, 2]]
+            vy -= vs[dofs[j, 3]]
         fx = -(kxx * x + kxy * y + cxx * vx + cxy * vy)
         fy = -(kyx * x + kyy * y + cyx * vx + cyy * vy)
-        fs[b_sel[j, 0]] += fx
-        fs[b_sel[j, 1]] += fy
-        if b_sel[j, 2] >= 0:
-            fs[b_sel[j, 2]] -= fx
-            fs[b_sel[j, 3]] -= fy
-    (l_sel, l_rot, l_sign, l_state, l_par, lt_ptr, lt_x, lt_y, lt_z, lv_ptr, lv_t, lv_f, ls_ptr,
-     ls_t, ls_f) = drv  # fmt: skip
-    for j in range(l_sel.shape[0]):
-        i = l_sel[j]
-        th = l_rot[j] * qs[i]
-        om = l_rot[j] * vs[i]
-        advance_state(j, t, th, om, l_state, l_par)
-        tq = law_torque(
-            j, t, th, om, l_state, l_par, lt_ptr, lt_x, lt_y, lt_z, lv_ptr, lv_t, lv_f, ls_ptr,
-            ls_t, ls_f,
-        )  # fmt: skip
-        fs[i] += l_rot[j] * l_sign[j] * tq
+        fs[dofs[j, 0]] += fx
+        fs[dofs[j, 1]] += fy
+        if dofs[j, 2] >= 0:
+            fs[dofs[j, 2]] -= fx
+            fs[dofs[j, 3]] -= fy
+
+
+@njit(cache=_CACHE)
+def nonlinear_forces(t, qs, vs, Om, forces, fs):
+    """Generalised forces on the force DOFs (fs overwritten): meshes, unbalances, torques,
+    speed-dependent bearings, drives and loads (:class:`Forces`).
+
+    A synchronous motor pulls into step at the first evaluation with its slip at or below the
+    pull-in slip (its state in ``forces.drives`` changes there, within the step: an event
+    located to one step, as in the torsional transient)."""
+    for i in range(fs.shape[0]):
+        fs[i] = 0.0
+    # (a law the model does not have is not called: a call counts references to its arrays)
+    meshes, unbalances, torques, bearings, drives = forces
+    if meshes.dofs.shape[0]:
+        mesh_forces(qs, vs, meshes, fs)
+    if unbalances.dofs.shape[0]:
+        unbalance_forces(qs, vs, unbalances, fs)
+    if torques.dof.shape[0]:
+        torque_forces(t, vs, torques, fs)
+    if bearings.dofs.shape[0]:
+        bearing_forces(qs, vs, Om, bearings, fs)
+    if drives.dof.shape[0]:
+        drive_torques(t, qs, vs, drives, True, fs)
 
 
 @njit(cache=_CACHE)
@@ -296,17 +568,54 @@ def _lu_solve(A, b, piv):
     return True
 
 
+@njit(cache=_CACHE, inline="always")
+def _matvec2(A, x, y, ax, ay):
+    """ax = A x, ay = A y (one pass over A; each row summed in column order). Inlined: the
+    caller's compile flags apply."""
+    for i in range(A.shape[0]):
+        a = 0.0
+        b = 0.0
+        for j in range(A.shape[1]):
+            a += A[i, j] * x[j]
+            b += A[i, j] * y[j]
+        ax[i] = a
+        ay[i] = b
+
+
+# ------------------------------------------------------------------------------------------
+# RK4's stages (inlined into each integrator: its own compile flags apply)
+# ------------------------------------------------------------------------------------------
+@njit(cache=_CACHE, inline="always")
+def _rk4_stage(h, q, v, src, kq, kv, qt, vt):
+    """kq ← src (the stage's velocity), then the next stage's point (qt, vt) = (q, v) +
+    h (kq, kv)."""
+    for i in range(q.shape[0]):
+        kq[i] = src[i]
+        qt[i] = q[i] + h * kq[i]
+        vt[i] = v[i] + h * kv[i]
+
+
+@njit(cache=_CACHE, inline="always")
+def _rk4_update(dt, q, v, k):
+    """k4q ← vt, then RK4's step (q, v) += dt/6 (k1 + 2 k2 + 2 k3 + k4) (``k`` the
+    :class:`Stages`)."""
+    k1q, k1v, k2q, k2v, k3q, k3v, k4q, k4v, qt, vt = k
+    for i in range(q.shape[0]):
+        k4q[i] = vt[i]
+        q[i] += dt / 6.0 * (k1q[i] + 2.0 * k2q[i] + 2.0 * k3q[i] + k4q[i])
+        v[i] += dt / 6.0 * (k1v[i] + 2.0 * k2v[i] + 2.0 * k3v[i] + k4v[i])
+
+
 # ------------------------------------------------------------------------------------------
 # physical coordinates
 # ------------------------------------------------------------------------------------------
 @njit(cache=_CACHE)
-def _csr_mv(indptr, indices, data, x, out, scale_rows, Om, row_shaft, accumulate_sign):
+def _csr_mv(A, x, out, scale_rows, Om, row_shaft, accumulate_sign):
     """out += sign · A x (rows optionally scaled by the speed of the row's shaft)."""
+    indptr, indices, data = A
     n = indptr.shape[0] - 1
     for i in range(n):
-        s = 0.0
-        for p in range(indptr[i], indptr[i + 1]):
-            s += data[p] * x[indices[p]]
+        s = row_dot(indptr, indices, data, i, x)
         if scale_rows:
             sh = row_shaft[i]
             s = s * Om[sh] if sh >= 0 else 0.0
@@ -314,9 +623,11 @@ def _csr_mv(indptr, indices, data, x, out, scale_rows, Om, row_shaft, accumulate
 
 
 @njit(cache=_CACHE)
-def _msolve(perm, Lp, Li, Ld, Up, Ui, Ud, x, out, y):
-    """out = M⁻¹ x with the sparse Cholesky factor of the permuted mass matrix
-    ``M[perm][:, perm] = L Lᵀ`` (L rows: diagonal last; U = Lᵀ rows: diagonal first)."""
+def _msolve(mass, x, out, y):
+    """out = M⁻¹ x with the sparse Cholesky factor ``mass`` (:class:`MassFactor`)."""
+    perm = mass.perm
+    Lp, Li, Ld = mass.L
+    Up, Ui, Ud = mass.U
     n = perm.shape[0]
     for i in range(n):
         y[i] = x[perm[i]]
@@ -338,131 +649,44 @@ def _msolve(perm, Lp, Li, Ld, Up, Ui, Ud, x, out, y):
 
 @njit(cache=_CACHE)
 def _accel_physical(t, q, v, a, P, W):
-    """Accelerations of the physical model (a ← q̈). P: parameter tuple, W: work tuple.
+    """Accelerations of the physical model (a ← q̈): P a :class:`PhysicalModel`, W its
+    :class:`PhysicalWork`.
 
     The low-rank implicit part M + P Qᵀ is solved by Woodbury: a = y − Z (I + QᵀZ)⁻¹ Qᵀ y with
     y = M⁻¹F and the rows of Zᵀ = (M⁻¹P)ᵀ, each nonzero only on its support (z_ptr/z_idx)."""
-    (
-        Kp,
-        Ki,
-        Kd,
-        Cp,
-        Ci,
-        Cd,
-        Gp,
-        Gi,
-        Gd,
-        row_shaft,
-        perm,
-        Lp,
-        Li,
-        Ld,
-        Up,
-        Ui,
-        Ud,
-        a_idx,
-        a_w,
-        a_ptr,
-        torsion_idx,
-        frozen,
-        reactions,
-        sel,
-        m_sel,
-        m_w,
-        m_par,
-        m_ab,
-        m_ns,
-        m_tptr,
-        m_tphi,
-        m_tk,
-        m_te,
-        m_nte,
-        u_sel,
-        u_me,
-        u_ph,
-        t_sel,
-        t_par,
-        t_ptr,
-        t_time,
-        t_vals,
-        b_sel,
-        b_shaft,
-        b_ptr,
-        b_speed,
-        b_coef,
-        b_ref,
-        drv,
-        Minv_a,
-        Minv_ux,
-        Minv_uy,
-        Minv_ut,
-        u_full,
-        z_ptr,
-        z_idx,
-        g_ptr,
-        g_idx,
-    ) = P
-    (F, gq, zq, qs, vs, fs, Om, Z, S, rhs, piv, y) = W
+    K, C, G, row_shaft, mass, speed_rows = P.K, P.C, P.G, P.row_shaft, P.mass, P.speed_rows
+    torsion, frozen, reactions, sel = P.torsion, P.frozen, P.reactions, P.sel
+    F, gq, zq, qs, vs, fs, Om, y = W.F, W.gq, W.zq, W.qs, W.vs, W.fs, W.Om, W.y
+    Z, S, rhs, piv = W.wb.Z, W.wb.S, W.wb.rhs, W.wb.piv
+    Minv_a, Minv_ux, Minv_uy, Minv_ut, u_full, z_ptr, z_idx, g_ptr, g_idx = P.implicit
+    u_me, u_ph = P.forces.unbalances.me, P.forces.unbalances.phase
     n = q.shape[0]
+    a_ptr, a_idx, a_w = speed_rows
     ns = a_ptr.shape[0] - 1
     for s in range(ns):
-        o = 0.0
-        for p in range(a_ptr[s], a_ptr[s + 1]):
-            o += a_w[p] * v[a_idx[p]]
-        Om[s] = o
+        Om[s] = row_dot(a_ptr, a_idx, a_w, s, v)
     for i in range(n):
         F[i] = 0.0
-    _csr_mv(Kp, Ki, Kd, q, F, False, Om, row_shaft, -1.0)
-    _csr_mv(Cp, Ci, Cd, v, F, False, Om, row_shaft, -1.0)
-    _csr_mv(Gp, Gi, Gd, v, F, True, Om, row_shaft, -1.0)
+    _csr_mv(K, q, F, False, Om, row_shaft, -1.0)
+    _csr_mv(C, v, F, False, Om, row_shaft, -1.0)
+    _csr_mv(G, v, F, True, Om, row_shaft, -1.0)
     for i in range(sel.shape[0]):
         qs[i] = q[sel[i]]
         vs[i] = v[sel[i]]
-    nl_forces(
-        t,
-        qs,
-        vs,
-        Om,
-        fs,
-        m_sel,
-        m_w,
-        m_par,
-        m_ab,
-        m_ns,
-        m_tptr,
-        m_tphi,
-        m_tk,
-        m_te,
-        m_nte,
-        u_sel,
-        u_me,
-        u_ph,
-        t_sel,
-        t_par,
-        t_ptr,
-        t_time,
-        t_vals,
-        b_sel,
-        b_shaft,
-        b_ptr,
-        b_speed,
-        b_coef,
-        b_ref,
-        drv,
-    )
+    nonlinear_forces(t, qs, vs, Om, P.forces, fs)
     for i in range(sel.shape[0]):
         F[sel[i]] += fs[i]
-    _msolve(perm, Lp, Li, Ld, Up, Ui, Ud, F, a, y)
+    _msolve(mass, F, a, y)
     if frozen:
-        for i in range(torsion_idx.shape[0]):
-            a[torsion_idx[i]] = 0.0
+        for i in range(torsion.shape[0]):
+            a[torsion[i]] = 0.0
         return
     # ---- exact solve of the low-rank implicit terms (Woodbury) ----------------------------
     for i in range(n):
         gq[i] = 0.0
-    _csr_mv(Gp, Gi, Gd, q, gq, False, Om, row_shaft, 0.5)  # g = ½ G q (all shafts)
-    _msolve(perm, Lp, Li, Ld, Up, Ui, Ud, gq, zq, y)
-    nu = u_sel.shape[0]
+    _csr_mv(G, q, gq, False, Om, row_shaft, 0.5)  # g = ½ G q (all shafts)
+    _msolve(mass, gq, zq, y)
+    nu = u_me.shape[0]
     per_s = 2 if reactions else 1
     r = per_s * (ns + nu)
     # rows of Zᵀ = (M⁻¹ P)ᵀ on their supports
@@ -485,12 +709,11 @@ def _accel_physical(t, q, v, a, P, W):
             for p in range(z_ptr[c + 1], z_ptr[c + 2]):
                 i = z_idx[p]
                 Z[c + 1, i] = me * Minv_ut[u, i]
+    Q = (speed_rows, g_ptr, g_idx, u_full, u_ph)
     for row in range(r):
-        rhs[row] = _qdot(row, a, q, ns, per_s, a_ptr, a_idx, a_w, g_ptr, g_idx, gq, u_full, u_ph)
+        rhs[row] = _qdot(row, a, q, gq, ns, per_s, Q)
         for col in range(r):
-            S[row, col] = (1.0 if row == col else 0.0) + _qdot(
-                row, Z[col], q, ns, per_s, a_ptr, a_idx, a_w, g_ptr, g_idx, gq, u_full, u_ph
-            )
+            S[row, col] = (1.0 if row == col else 0.0) + _qdot(row, Z[col], q, gq, ns, per_s, Q)
     _lu_solve(S, rhs, piv)
     for c in range(r):
         f = rhs[c]
@@ -500,98 +723,99 @@ def _accel_physical(t, q, v, a, P, W):
 
 
 @njit(cache=_CACHE)
-def _qdot(row, x, q, ns, per_s, a_ptr, a_idx, a_w, g_ptr, g_idx, gq, u_full, u_ph):
-    """Q[:, row]ᵀ x for the low-rank factor Q of the implicit terms (physical model)."""
-    acc = 0.0
+def _qdot(row, x, q, gq, ns, per_s, Q):
+    """Q[:, row]ᵀ x for the low-rank factor Q of the implicit terms (physical model; gq the
+    current ½ G q; ``Q`` = (speed rows, g_ptr, g_idx, the unbalances' DOFs, phases))."""
+    speed_rows, g_ptr, g_idx, ud, phase = Q
     if row < ns * per_s:
         s = row // per_s
         if row % per_s == 0:  # Q = a_s
-            for p in range(a_ptr[s], a_ptr[s + 1]):
-                acc += a_w[p] * x[a_idx[p]]
-        else:  # Q = g_s, nonzero on the rows of G_s
-            for p in range(g_ptr[s], g_ptr[s + 1]):
-                acc += gq[g_idx[p]] * x[g_idx[p]]
+            return row_dot(speed_rows.indptr, speed_rows.indices, speed_rows.data, s, x)
+        acc = 0.0  # Q = g_s, nonzero on the rows of G_s
+        for p in range(g_ptr[s], g_ptr[s + 1]):
+            acc += gq[g_idx[p]] * x[g_idx[p]]
         return acc
     u = (row - ns * per_s) // per_s
     if (row - ns * per_s) % per_s == 0:  # Q = c_u
-        return x[u_full[u, 2]]
-    th = q[u_full[u, 2]] + u_ph[u]  # Q = s_u
-    return -np.sin(th) * x[u_full[u, 0]] + np.cos(th) * x[u_full[u, 1]]
+        return x[ud[u, 2]]
+    th = q[ud[u, 2]] + phase[u]  # Q = s_u
+    return -np.sin(th) * x[ud[u, 0]] + np.cos(th) * x[ud[u, 1]]
+
+
+@njit(cache=_CACHE, inline="always")
+def _rk4_steps(accel, record, t0, dt, n_steps, q, v, save_every, row0, rec, P, W, k):
+    """Classical RK4 on (q, q̇) for ``n_steps`` steps from t0 (q, v updated in place):
+    ``accel(t, q, q̇, q̈, P, W)`` the accelerations of the model P (work W), k the
+    :class:`Stages`. Every ``save_every`` steps (starting with the first) ``record(j, t, q,
+    q̇, q̈, rec, Ω)`` writes the state at the step start to row j = ``row0``, ``row0 + 1``, …
+    of ``rec`` and returns the divergence status. Returns (status, steps done).
+
+    One loop for both RK4 kernels, inlined into each (:func:`rk4_physical`,
+    :func:`rk4_modal`), so that each keeps its own compile flags."""
+    k1q, k1v, k2q, k2v, k3q, k3v, k4q, k4v, qt, vt = k
+    Om = W.Om
+    j = row0
+    for step in range(n_steps):
+        t = t0 + step * dt
+        accel(t, q, v, k1v, P, W)
+        if step % save_every == 0:
+            status = record(j, t, q, v, k1v, rec, Om)
+            j += 1
+            if status != STATUS_OK:
+                return status, step
+        _rk4_stage(0.5 * dt, q, v, v, k1q, k1v, qt, vt)
+        accel(t + 0.5 * dt, qt, vt, k2v, P, W)
+        _rk4_stage(0.5 * dt, q, v, vt, k2q, k2v, qt, vt)
+        accel(t + 0.5 * dt, qt, vt, k3v, P, W)
+        _rk4_stage(dt, q, v, vt, k3q, k3v, qt, vt)
+        accel(t + dt, qt, vt, k4v, P, W)
+        _rk4_update(dt, q, v, k)
+    return STATUS_OK, n_steps
+
+
+@njit(cache=_CACHE, inline="always")
+def _record_speeds(j, t, rec, Om):
+    """Row j of the recorded shaft speeds and time."""
+    speed = rec.speed
+    for s in range(Om.shape[0]):
+        speed[j, s] = Om[s]
+    rec.time[j] = t
+
+
+@njit(cache=_CACHE, inline="always")
+def _record_physical(j, t, q, v, a, rec, Om):
+    """Row j of ``rec`` (:class:`Record`, ``rec.out`` the recorded DOFs) from the full state;
+    the divergence status (any state non-finite, or a recorded |q| beyond its scale)."""
+    out, rq, rv, ra, _, _, scale = rec
+    for i in range(out.shape[0]):
+        rq[j, i] = q[out[i]]
+        rv[j, i] = v[out[i]]
+        ra[j, i] = a[out[i]]
+    _record_speeds(j, t, rec, Om)
+    bad = False
+    big = 0.0
+    for i in range(q.shape[0]):
+        if not (np.isfinite(q[i]) and np.isfinite(v[i])):
+            bad = True
+    for i in range(out.shape[0]):
+        x = abs(rq[j, i]) * scale[i]
+        if x > big:
+            big = x
+    if bad:
+        return STATUS_NONFINITE
+    if big > 1.0:
+        return STATUS_BLOWUP
+    return STATUS_OK
 
 
 @njit(cache=_CACHE)
-def rk4_physical(
-    t0,
-    dt,
-    n_steps,
-    q,
-    v,
-    save_every,
-    out_idx,
-    rec_q,
-    rec_v,
-    rec_a,
-    rec_om,
-    rec_t,
-    rec_start,
-    blowup,
-    P,
-    W,
-    K1,
-):
-    """Classical RK4 on (q, q̇) for ``n_steps`` steps from t0 (q, v updated in place).
-
-    Every ``save_every`` steps (starting with the first) the state at the step start is recorded
-    at row ``rec_start + j``. Returns (status, steps done)."""
-    n = q.shape[0]
-    (k1q, k1v, k2q, k2v, k3q, k3v, k4q, k4v, qt, vt) = K1
-    Om = W[6]
-    j = rec_start
-    for step in range(n_steps):
-        t = t0 + step * dt
-        _accel_physical(t, q, v, k1v, P, W)
-        if step % save_every == 0:
-            for i in range(out_idx.shape[0]):
-                rec_q[j, i] = q[out_idx[i]]
-                rec_v[j, i] = v[out_idx[i]]
-                rec_a[j, i] = k1v[out_idx[i]]
-            for s in range(Om.shape[0]):
-                rec_om[j, s] = Om[s]
-            rec_t[j] = t
-            j += 1
-            bad = False
-            big = 0.0
-            for i in range(n):
-                if not (np.isfinite(q[i]) and np.isfinite(v[i])):
-                    bad = True
-            for i in range(out_idx.shape[0]):
-                x = abs(rec_q[j - 1, i]) * blowup[i]
-                if x > big:
-                    big = x
-            if bad:
-                return STATUS_NONFINITE, step
-            if big > 1.0:
-                return STATUS_BLOWUP, step
-        for i in range(n):
-            k1q[i] = v[i]
-            qt[i] = q[i] + 0.5 * dt * k1q[i]
-            vt[i] = v[i] + 0.5 * dt * k1v[i]
-        _accel_physical(t + 0.5 * dt, qt, vt, k2v, P, W)
-        for i in range(n):
-            k2q[i] = vt[i]
-            qt[i] = q[i] + 0.5 * dt * k2q[i]
-            vt[i] = v[i] + 0.5 * dt * k2v[i]
-        _accel_physical(t + 0.5 * dt, qt, vt, k3v, P, W)
-        for i in range(n):
-            k3q[i] = vt[i]
-            qt[i] = q[i] + dt * k3q[i]
-            vt[i] = v[i] + dt * k3v[i]
-        _accel_physical(t + dt, qt, vt, k4v, P, W)
-        for i in range(n):
-            k4q[i] = vt[i]
-            q[i] += dt / 6.0 * (k1q[i] + 2.0 * k2q[i] + 2.0 * k3q[i] + k4q[i])
-            v[i] += dt / 6.0 * (k1v[i] + 2.0 * k2v[i] + 2.0 * k3v[i] + k4v[i])
-    return STATUS_OK, n_steps
+def rk4_physical(t0, dt, n_steps, q, v, save_every, row0, rec, P, W, k):
+    """Classical RK4 on the full model (:class:`PhysicalModel` P, work W, stages k;
+    :func:`_rk4_steps`), recording the DOFs ``rec.out`` (:class:`Record`) every
+    ``save_every`` steps at rows ``row0``, … Returns (status, steps done)."""
+    return _rk4_steps(
+        _accel_physical, _record_physical, t0, dt, n_steps, q, v, save_every, row0, rec, P, W, k
+    )
 
 
 # ------------------------------------------------------------------------------------------
@@ -599,47 +823,15 @@ def rk4_physical(
 # ------------------------------------------------------------------------------------------
 @njit(cache=_CACHE, fastmath=_FAST)
 def _accel_modal(t, e, de, a, P, W):
-    """Modal accelerations (a ← η̈) with M_r = I. ``PhiT_sel`` is Φ_selᵀ (m, nsel); the
-    stiffness is ``diag(lam)`` (the symmetric part) plus the skew part ``k_skew`` (nk, nk) on the
-    ``sel`` DOFs ``k_idx``, applied as a force; work array ``Z`` (2r, m) holds the Woodbury
-    factors P (rows 0..r−1) and Q (rows r..2r−1)."""
-    (
-        lam,
-        Cr,
-        Gr,
-        alpha,
-        Phi_sel,
-        PhiT_sel,
-        reactions,
-        k_idx,
-        k_skew,
-        m_sel,
-        m_w,
-        m_par,
-        m_ab,
-        m_ns,
-        m_tptr,
-        m_tphi,
-        m_tk,
-        m_te,
-        m_nte,
-        u_sel,
-        u_me,
-        u_ph,
-        t_sel,
-        t_par,
-        t_ptr,
-        t_time,
-        t_vals,
-        b_sel,
-        b_shaft,
-        b_ptr,
-        b_speed,
-        b_coef,
-        b_ref,
-        drv,
-    ) = P
-    (qs, vs, fs, Om, Z, S, rhs, piv, gq) = W
+    """Modal accelerations (a ← η̈) of the :class:`ModalModel` P (M_r = I; work W a
+    :class:`ModalWork`); the stiffness's skew part acts as a force on its force DOFs; the
+    implicit θ̈ terms by Woodbury on I + P Qᵀ (W.wb.Z holds P in rows 0..r−1, Q in rows
+    r..2r−1)."""
+    # every array read once, here (each read from a pack counts a reference: module docstring)
+    lam, Cr, Gr, alpha, Phi_sel, PhiT_sel, reactions, k_idx, k_skew, forces = P
+    qs, vs, fs, Om, wb, gq = W
+    Z, S, rhs, piv = wb
+    u_dofs, u_me, u_phase = forces.unbalances
     m = e.shape[0]
     ns = alpha.shape[0]
     nsel = Phi_sel.shape[0]
@@ -648,46 +840,8 @@ def _accel_modal(t, e, de, a, P, W):
         for i in range(m):
             o += alpha[s, i] * de[i]
         Om[s] = o
-    for i in range(nsel):
-        x = 0.0
-        y = 0.0
-        for j in range(m):
-            x += Phi_sel[i, j] * e[j]
-            y += Phi_sel[i, j] * de[j]
-        qs[i] = x
-        vs[i] = y
-    nl_forces(
-        t,
-        qs,
-        vs,
-        Om,
-        fs,
-        m_sel,
-        m_w,
-        m_par,
-        m_ab,
-        m_ns,
-        m_tptr,
-        m_tphi,
-        m_tk,
-        m_te,
-        m_nte,
-        u_sel,
-        u_me,
-        u_ph,
-        t_sel,
-        t_par,
-        t_ptr,
-        t_time,
-        t_vals,
-        b_sel,
-        b_shaft,
-        b_ptr,
-        b_speed,
-        b_coef,
-        b_ref,
-        drv,
-    )
+    _matvec2(Phi_sel, e, de, qs, vs)
+    nonlinear_forces(t, qs, vs, Om, forces, fs)
     nk = k_idx.shape[0]
     for i in range(nk):
         f = 0.0
@@ -713,7 +867,7 @@ def _accel_modal(t, e, de, a, P, W):
             f += PhiT_sel[i, p] * fs[p]
         a[i] = acc + f
     # Woodbury on I + P Qᵀ
-    nu = u_sel.shape[0]
+    nu = u_dofs.shape[0]
     per_s = 2 if reactions else 1
     r = per_s * (ns + nu)
     for s in range(ns):
@@ -727,10 +881,10 @@ def _accel_modal(t, e, de, a, P, W):
                 Z[r + c + 1, i] = gq[s, i]
     for u in range(nu):
         c = per_s * (ns + u)
-        th = qs[u_sel[u, 2]] + u_ph[u]
+        th = qs[u_dofs[u, 2]] + u_phase[u]
         sn, cs = np.sin(th), np.cos(th)
         me = u_me[u]
-        ix, iy, it = u_sel[u, 0], u_sel[u, 1], u_sel[u, 2]
+        ix, iy, it = u_dofs[u, 0], u_dofs[u, 1], u_dofs[u, 2]
         for i in range(m):
             su = -sn * Phi_sel[ix, i] + cs * Phi_sel[iy, i]
             Z[c, i] = me * su
@@ -755,109 +909,65 @@ def _accel_modal(t, e, de, a, P, W):
             a[i] -= Z[c, i] * f
 
 
+@njit(cache=_CACHE, inline="always")
+def _record_projected(j, Po, z, v, a, rec):
+    """Row j of the recorded outputs Po z, Po v, Po a (``Po`` the rows of the outputs in the
+    basis of the coordinates z); the divergence status (a non-finite output, or |q| beyond its
+    scale). Inlined: the caller's compile flags apply."""
+    _, rq, rv, ra, _, _, scale = rec
+    m = z.shape[0]
+    big = 0.0
+    bad = False
+    for i in range(Po.shape[0]):
+        x = 0.0
+        y = 0.0
+        zz = 0.0
+        for c in range(m):
+            x += Po[i, c] * z[c]
+            y += Po[i, c] * v[c]
+            zz += Po[i, c] * a[c]
+        rq[j, i] = x
+        rv[j, i] = y
+        ra[j, i] = zz
+        if not (np.isfinite(x) and np.isfinite(y)):
+            bad = True
+        if abs(x) * scale[i] > big:
+            big = abs(x) * scale[i]
+    if bad:
+        return STATUS_NONFINITE
+    if big > 1.0:
+        return STATUS_BLOWUP
+    return STATUS_OK
+
+
+@njit(cache=_CACHE, fastmath=_FAST, inline="always")
+def _record_modal(j, t, e, de, dde, rec, Om):
+    """Row j of ``rec`` (:class:`Record`, ``rec.out`` the rows Φ_out of the modal basis): the
+    physical outputs Φ_out η, η̇, η̈, the shaft speeds and t; the divergence status."""
+    _record_speeds(j, t, rec, Om)
+    return _record_projected(j, rec.out, e, de, dde, rec)
+
+
 @njit(cache=_CACHE, fastmath=_FAST)
-def rk4_modal(
-    t0,
-    dt,
-    n_steps,
-    e,
-    de,
-    save_every,
-    Phi_out,
-    rec_q,
-    rec_v,
-    rec_a,
-    rec_om,
-    rec_t,
-    rec_start,
-    blowup,
-    P,
-    W,
-    K1,
-):
-    """Classical RK4 on the reduced modal system; records physical output DOFs Φ_out η."""
-    m = e.shape[0]
-    (k1q, k1v, k2q, k2v, k3q, k3v, k4q, k4v, qt, vt) = K1
-    Om = W[3]
-    j = rec_start
-    nout = Phi_out.shape[0]
-    for step in range(n_steps):
-        t = t0 + step * dt
-        _accel_modal(t, e, de, k1v, P, W)
-        if step % save_every == 0:
-            big = 0.0
-            bad = False
-            for i in range(nout):
-                x = 0.0
-                y = 0.0
-                z = 0.0
-                for c in range(m):
-                    x += Phi_out[i, c] * e[c]
-                    y += Phi_out[i, c] * de[c]
-                    z += Phi_out[i, c] * k1v[c]
-                rec_q[j, i] = x
-                rec_v[j, i] = y
-                rec_a[j, i] = z
-                if not (np.isfinite(x) and np.isfinite(y)):
-                    bad = True
-                if abs(x) * blowup[i] > big:
-                    big = abs(x) * blowup[i]
-            for s in range(Om.shape[0]):
-                rec_om[j, s] = Om[s]
-            rec_t[j] = t
-            j += 1
-            if bad:
-                return STATUS_NONFINITE, step
-            if big > 1.0:
-                return STATUS_BLOWUP, step
-        for i in range(m):
-            k1q[i] = de[i]
-            qt[i] = e[i] + 0.5 * dt * k1q[i]
-            vt[i] = de[i] + 0.5 * dt * k1v[i]
-        _accel_modal(t + 0.5 * dt, qt, vt, k2v, P, W)
-        for i in range(m):
-            k2q[i] = vt[i]
-            qt[i] = e[i] + 0.5 * dt * k2q[i]
-            vt[i] = de[i] + 0.5 * dt * k2v[i]
-        _accel_modal(t + 0.5 * dt, qt, vt, k3v, P, W)
-        for i in range(m):
-            k3q[i] = vt[i]
-            qt[i] = e[i] + dt * k3q[i]
-            vt[i] = de[i] + dt * k3v[i]
-        _accel_modal(t + dt, qt, vt, k4v, P, W)
-        for i in range(m):
-            k4q[i] = vt[i]
-            e[i] += dt / 6.0 * (k1q[i] + 2.0 * k2q[i] + 2.0 * k3q[i] + k4q[i])
-            de[i] += dt / 6.0 * (k1v[i] + 2.0 * k2v[i] + 2.0 * k3v[i] + k4v[i])
-    return STATUS_OK, n_steps
+def rk4_modal(t0, dt, n_steps, e, de, save_every, row0, rec, P, W, k):
+    """Classical RK4 on the reduced modal system (:class:`ModalModel` P, work W, stages k;
+    :func:`_rk4_steps`); records the physical output DOFs Φ_out η (``rec.out``) as
+    :func:`rk4_physical`."""
+    return _rk4_steps(
+        _accel_modal, _record_modal, t0, dt, n_steps, e, de, save_every, row0, rec, P, W, k
+    )
 
 
 # ------------------------------------------------------------------------------------------
 # outputs from recorded states
 # ------------------------------------------------------------------------------------------
 @njit(cache=_CACHE)
-def outputs_kernel(
-    rec_q, rec_v, m_sel, m_w, m_par, m_ab, m_ns, m_tptr, m_tphi, m_tk, m_te, m_nte, mesh_out
-):
+def outputs_kernel(rec_q, rec_v, meshes, mesh_out):
     """Per record and mesh: F = F_d − F_b (N), k (N/m), δ_e (m), δ̇_e, state, φ_m, F_d, F_b
-    into mesh_out (nt, nm, 8). ``m_sel`` indexes the recorded output DOFs here."""
+    into mesh_out (nt, nm, 8). ``meshes.dofs`` index the recorded output DOFs here."""
     for j in range(rec_q.shape[0]):
-        for k in range(m_sel.shape[0]):
-            Fd, Fb, stiff, delta, ddelta, state, phi = mesh_eval(
-                k,
-                rec_q[j],
-                rec_v[j],
-                m_sel,
-                m_w,
-                m_par,
-                m_ab,
-                m_ns,
-                m_tptr,
-                m_tphi,
-                m_tk,
-                m_te,
-                m_nte,
-            )
+        for k in range(meshes.dofs.shape[0]):
+            Fd, Fb, stiff, delta, ddelta, state, phi = mesh_eval(k, rec_q[j], rec_v[j], meshes)
             mesh_out[j, k, 0] = Fd - Fb
             mesh_out[j, k, 6] = Fd
             mesh_out[j, k, 7] = Fb
@@ -872,11 +982,11 @@ def outputs_kernel(
 # modal coordinates, linear part exact (integrating factor), contact changes located
 # ------------------------------------------------------------------------------------------
 @njit(cache=_CACHE)
-def mesh_gaps(k, qs, vs, m_sel, m_w, m_par, m_te, m_nte, g):
+def mesh_gaps(k, qs, vs, meshes, g):
     """Gap functions of mesh k into g[0:4]: δ − b, δ̇ (drive line), δ_b − b, δ̇_b (back line),
     with the transmission error, as :func:`mesh_eval` forms them (> 0: that flank touches)."""
-    delta, ddelta, db, ddb, _ = mesh_deflections(k, qs, vs, m_sel, m_w, m_par, m_te, m_nte)
-    b = m_par[k, 2]
+    delta, ddelta, db, ddb, _ = mesh_deflections(k, qs, vs, meshes)
+    b = meshes.backlash[k]
     g[0] = delta - b
     g[1] = ddelta
     g[2] = db - b
@@ -884,19 +994,11 @@ def mesh_gaps(k, qs, vs, m_sel, m_w, m_par, m_te, m_nte, g):
 
 
 @njit(cache=_CACHE, fastmath=_FAST)
-def _gaps_of(e, de, Phi_sel, qs, vs, m_sel, m_w, m_par, m_te, m_nte, G):
+def _gaps_of(e, de, Phi_sel, qs, vs, meshes, G):
     """G[k, 0:4] = :func:`mesh_gaps` of every mesh at the modal state (e, de)."""
-    m = e.shape[0]
-    for i in range(Phi_sel.shape[0]):
-        x = 0.0
-        y = 0.0
-        for j in range(m):
-            x += Phi_sel[i, j] * e[j]
-            y += Phi_sel[i, j] * de[j]
-        qs[i] = x
-        vs[i] = y
-    for k in range(m_sel.shape[0]):
-        mesh_gaps(k, qs, vs, m_sel, m_w, m_par, m_te, m_nte, G[k])
+    _matvec2(Phi_sel, e, de, qs, vs)
+    for k in range(meshes.dofs.shape[0]):
+        mesh_gaps(k, qs, vs, meshes, G[k])
 
 
 @njit(cache=_CACHE)
@@ -1115,119 +1217,74 @@ def _etd_substep(t, tau, z, v, om, coef, P, W, L, out_z, out_v):
 
 @njit(cache=_CACHE)
 def _op_system(P, X, op):
-    """The modal parameter tuple of :func:`_accel_modal` in the coordinates of operator op."""
-    lams, Crs, Grs, alphas, Phis, PhiTs, m_pars = X[9], X[10], X[11], X[12], X[13], X[14], X[15]
-    return (
-        (lams[op], Crs[op], Grs[op], alphas[op], Phis[op], PhiTs[op])
-        + P[6:11]
-        + (m_pars[op],)
-        + P[12:]
-    )
+    """The :class:`ModalModel` of :func:`_accel_modal` in the coordinates of operator op of
+    the :class:`ContactOperators` X (the meshes' stiffness it holds not subtracted again)."""
+    m = P.forces.meshes
+    meshes = MeshLaws(
+        m.dofs, m.lines, m.kg, m.ka, m.backlash, m.damping, m.teeth, X.kg_linear[op],
+        X.kg_back_linear[op], m.fourier, m.n_fourier, m.table_ptr, m.table_phi, m.table_k,
+        m.te, m.n_te,
+    )  # fmt: skip
+    f = P.forces
+    forces = Forces(meshes, f.unbalances, f.torques, f.bearings, f.drives)
+    return ModalModel(
+        X.lams[op], X.Crs[op], X.Grs[op], X.alphas[op], X.Phis[op], X.PhiTs[op], P.reactions,
+        P.k_idx, P.k_skew, forces,
+    )  # fmt: skip
 
 
 @njit(cache=_CACHE)
 def _rotate(Ya, Yb, z, v, tz, tv):
     """(z, v) ← Y_bᵀ Y_a (z, v): coordinates of operator a to those of operator b."""
-    m = z.shape[0]
-    for i in range(m):
-        a = 0.0
-        b = 0.0
-        for j in range(m):
-            a += Ya[i, j] * z[j]
-            b += Ya[i, j] * v[j]
-        tz[i] = a
-        tv[i] = b
-    for i in range(m):
-        a = 0.0
-        b = 0.0
-        for j in range(m):
-            a += Yb[j, i] * tz[j]
-            b += Yb[j, i] * tv[j]
-        z[i] = a
-        v[i] = b
+    _matvec2(Ya, z, v, tz, tv)
+    _matvec2(Yb.T, tz, tv, z, v)
 
 
 @njit(cache=_CACHE, fastmath=_FAST_ETD)
-def _record_etd(j, t, z, v, g1, om, Po, alpha, rec_q, rec_v, rec_a, rec_om, rec_t, blowup):
-    """Record row j of the outputs Φ_out η, η̇, η̈ (η̈ = N − μζ, ``g1`` the first stage's N)
-    and the shaft speeds at t, in an operator's coordinates; returns the divergence status."""
+def _record_etd(j, t, z, v, g1, om, Po, alpha, rec, acc):
+    """Record row j of the outputs Φ_out η, η̇, η̈ (η̈ = N − μζ, ``g1`` the first stage's N,
+    into the work vector ``acc``) and the shaft speeds at t, in an operator's coordinates (its
+    rows ``Po`` of Φ_out, ``alpha`` of the speeds); returns the divergence status."""
     m = z.shape[0]
-    big = 0.0
-    bad = False
-    for i in range(Po.shape[0]):
-        x = 0.0
-        y = 0.0
-        zz = 0.0
-        for c in range(m):
-            x += Po[i, c] * z[c]
-            y += Po[i, c] * v[c]
-            zz += Po[i, c] * (g1[c] - om[c] * om[c] * z[c])
-        rec_q[j, i] = x
-        rec_v[j, i] = y
-        rec_a[j, i] = zz
-        if not (np.isfinite(x) and np.isfinite(y)):
-            bad = True
-        if abs(x) * blowup[i] > big:
-            big = abs(x) * blowup[i]
+    for c in range(m):
+        acc[c] = g1[c] - om[c] * om[c] * z[c]
+    speed = rec.speed
     for s in range(alpha.shape[0]):
         o = 0.0
         for c in range(m):
             o += alpha[s, c] * v[c]
-        rec_om[j, s] = o
-    rec_t[j] = t
-    if bad:
-        return STATUS_NONFINITE
-    if big > 1.0:
-        return STATUS_BLOWUP
-    return STATUS_OK
+        speed[j, s] = o
+    rec.time[j] = t
+    return _record_projected(j, Po, z, v, acc, rec)
 
 
 @njit(cache=_CACHE, fastmath=_FAST_ETD)
-def etd_modal(
-    t0,
-    dt,
-    n_steps,
-    e,
-    de,
-    save_every,
-    Phi_out,
-    rec_q,
-    rec_v,
-    rec_a,
-    rec_om,
-    rec_t,
-    rec_start,
-    blowup,
-    P,
-    W,
-    K1,
-    X,
-):
+def etd_modal(t0, dt, n_steps, e, de, save_every, row0, rec, P, W, K1, X):
     """Exponential RK4 on the reduced modal system with the contact changes located.
 
-    ``X`` holds one linear operator per combination of the meshes' contact states: diag(Λ)
-    with each mesh's stiffness Kg w wᵀ on the lines that touch (none while the teeth are
-    apart), its eigenvectors ``Ys`` (orthonormal, η = Y ζ) and frequencies ``oms``, the step's
-    ETD weights ``coefs``, and the modal system in its coordinates (``lams`` … ``m_pars``,
-    ``Phi_outs``); ``pat``/``stride`` map the contact states to an operator. Each step runs in
-    the coordinates of the operator of the contact state at its start, whose oscillators it
+    ``X`` (:class:`ContactOperators`) holds one linear operator per combination of the meshes'
+    contact states: diag(Λ) with each mesh's stiffness Kg w wᵀ on the lines that touch (none
+    while the teeth are apart), its eigenvectors ``Ys`` (orthonormal, η = Y ζ) and frequencies
+    ``oms``, the step's ETD weights ``coefs``, and the modal system in its coordinates;
+    ``pat``/``stride`` map the contact states to an operator. Each step runs in the
+    coordinates of the operator of the contact state at its start, whose oscillators it
     integrates exactly (:func:`_etd_substep`). When a gap function changes sign within the step
     in a way that changes the operator (cubic Hermite through its values and rates at both
     ends) the step is redone up to the crossing and continued from there with the new
     operator, so each piece of a step sees one smooth law. Records Φ_out η every
     ``save_every`` steps as :func:`rk4_modal`; (e, de) in and out are modal coordinates η.
     Returns (status, steps done, substeps added by contact changes)."""
-    (Ys, idents, oms, coefs, pat, stride, op_of, n_probe, max_sub, lams, Crs, Grs, alphas,
-     Phis, PhiTs, m_pars, Phi_outs) = X  # fmt: skip
+    Ys, oms, coefs, pat, stride, op_of = X.Ys, X.oms, X.coefs, X.pat, X.stride, X.op_of
+    n_probe, max_sub, Phis = X.n_probe, X.max_sub, X.Phis
+    Phi_outs, alphas = X.Phi_outs, X.alphas
     m = e.shape[0]
-    (k1q, k1v, k2q, k2v, k3q, k3v, k4q, k4v, qt, vt) = K1
-    L = (k1q, k1v, k2q, k2v, k3q, k3v, k4q, k4v, qt, np.zeros((12, m)))
+    L = (K1.k1q, K1.k1v, K1.k2q, K1.k2v, K1.k3q, K1.k3v, K1.k4q, K1.k4v, K1.qt, np.zeros((12, m)))
     none = np.zeros((0, m))
-    m_sel, m_w, m_par = P[9], P[10], P[11]
-    m_te, m_nte = P[17], P[18]
-    qs, vs = W[0], W[1]
-    nm = m_sel.shape[0]
+    meshes = P.forces.meshes
+    qs, vs = W.qs, W.vs
+    nm = meshes.dofs.shape[0]
     G0 = np.zeros((nm, 4))
+    acc = np.zeros(m)  # η̈ of a recorded step
     G1 = np.zeros((nm, 4))
     Gs = np.zeros((nm, 4))
     z = np.zeros(m)
@@ -1237,7 +1294,7 @@ def etd_modal(
     extra = 0
     code = 0
     # start in the coordinates of the initial contact state's operator
-    _gaps_of(e, de, P[4], qs, vs, m_sel, m_w, m_par, m_te, m_nte, G0)
+    _gaps_of(e, de, P.Phi_sel, qs, vs, meshes, G0)
     new = op_of[_op_code(G0, pat, stride)]
     for i in range(m):
         z[i] = 0.0
@@ -1247,7 +1304,7 @@ def etd_modal(
             v[i] += Ys[new, j, i] * de[j]
     cur = new
     Pc = _op_system(P, X, cur)
-    j = rec_start
+    j = row0
     status = STATUS_OK
     done = n_steps
     for step in range(n_steps):
@@ -1255,7 +1312,7 @@ def etd_modal(
         left = dt
         forced = -1
         if n_probe > 0:
-            _gaps_of(z, v, Phis[cur], qs, vs, m_sel, m_w, m_par, m_te, m_nte, G0)
+            _gaps_of(z, v, Phis[cur], qs, vs, meshes, G0)
         for sub in range(max_sub):
             if n_probe > 0:
                 code = forced if forced >= 0 else _op_code(G0, pat, stride)
@@ -1268,17 +1325,14 @@ def etd_modal(
             _etd_substep(t, left, z, v, om, coefs[cur] if sub == 0 else none, Pc, W, L, z1, v1)
             if sub == 0 and step % save_every == 0:
                 # the step's start: η̈ = N − μζ from the first stage (no extra evaluation)
-                status = _record_etd(
-                    j, t, z, v, L[3], om, Phi_outs[cur], alphas[cur], rec_q, rec_v, rec_a,
-                    rec_om, rec_t, blowup,
-                )  # fmt: skip
+                status = _record_etd(j, t, z, v, L[3], om, Phi_outs[cur], alphas[cur], rec, acc)
                 j += 1
                 if status != STATUS_OK:
                     done = step
                     break
             if sub == max_sub - 1 or n_probe == 0:
                 break
-            _gaps_of(z1, v1, Phis[cur], qs, vs, m_sel, m_w, m_par, m_te, m_nte, G1)
+            _gaps_of(z1, v1, Phis[cur], qs, vs, meshes, G1)
             frac, code = _first_event(G0, G1, left, n_probe, pat, stride, code, Gs)
             if frac > 1.0:
                 break
@@ -1291,7 +1345,7 @@ def etd_modal(
             t += tau
             left -= tau
             extra += 1
-            _gaps_of(z, v, Phis[cur], qs, vs, m_sel, m_w, m_par, m_te, m_nte, G0)
+            _gaps_of(z, v, Phis[cur], qs, vs, meshes, G0)
             # the state the crossing leads to, whatever round-off says at the crossing itself
             forced = code
         if status != STATUS_OK:

@@ -5,7 +5,7 @@ stability region (:mod:`.step_limits`)."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 
 import numpy as np
 import scipy.linalg as la
@@ -15,10 +15,23 @@ from scipy.sparse.csgraph import connected_components
 
 from ...errors import ModelError, SolverError
 from ...threads import limit as thread_limit
+from ..csr import Csr, csr
 from ..torsional.drive_laws import P_WLINE
 from .equations import TransientSystem
-from .forces import _drive_laws, _force_dofs, _pack_forces
-from .kernels import etd_coefficients
+from .forces import _drive_laws, _force_dofs, pack_forces
+from .kernels import (
+    ContactOperators,
+    ImplicitTerms,
+    MassFactor,
+    MeshLaws,
+    ModalModel,
+    ModalWork,
+    PhysicalModel,
+    PhysicalWork,
+    Stages,
+    Woodbury,
+    etd_coefficients,
+)
 from .options import RK4, ModalRK4, excitation_frequency
 from .reduction import (
     ModalBases,
@@ -41,22 +54,32 @@ class _Prepared:
     kind: str
     dt: float
     n_state: int
-    P: tuple
-    W: tuple
-    K1: tuple
+    model: PhysicalModel | ModalModel
+    work: PhysicalWork | ModalWork
+    stages: Stages
     out: NDArray  # active output DOFs
     Phi_out: NDArray | None
     info: dict
-    # the drives' event state inside P (synchronous motors' pull-in), saved with checkpoints
-    drive_state: NDArray = field(default_factory=lambda: np.zeros((0, 2)))
     # the exact-linear modal scheme's operators per contact state (kernels.etd_modal)
-    operators: tuple | None = None
+    operators: ContactOperators | None = None
+
+    @property
+    def drive_state(self) -> NDArray:
+        """The drives' event state inside the model (synchronous motors' pull-in), saved
+        with checkpoints."""
+        return self.model.forces.drives.state
 
 
-def _mass_factor(M: sp.csr_array) -> tuple[NDArray, ...]:
+def _woodbury(rows: int, n: int, r: int) -> Woodbury:
+    """The :class:`~.kernels.Woodbury` work of rank r: Z (rows, n)."""
+    return Woodbury(np.zeros((rows, n)), np.zeros((r, r)), np.zeros(r), np.zeros(r, np.int64))
+
+
+def _mass_factor(M: sp.csr_array) -> tuple[MassFactor, NDArray]:
     """Sparse Cholesky factor of M, block by block (M's connected components, each banded in
-    node order): returns perm, L (CSR, diagonal last in each row), U = Lᵀ (CSR, diagonal first),
-    with ``M[perm][:, perm] = L Lᵀ``, and the component label of every DOF."""
+    node order): returns the :class:`~.kernels.MassFactor` (perm, L: diagonal last in each
+    row, U = Lᵀ: diagonal first, with ``M[perm][:, perm] = L Lᵀ``), and the component label of
+    every DOF."""
     nb, labels = connected_components(M, directed=False)
     perm = np.argsort(labels, kind="stable")
     counts = np.bincount(labels, minlength=nb)
@@ -74,33 +97,14 @@ def _mass_factor(M: sp.csr_array) -> tuple[NDArray, ...]:
                 "the mass matrix is not positive definite on some DOFs (a node "
                 "without mass or inertia?)"
             ) from None
-    Ls = sp.csr_array(L)
-    Ls.sort_indices()
-    Us = sp.csr_array(L.T)
-    Us.sort_indices()
-    return (
-        perm.astype(np.int64),
-        Ls.indptr.astype(np.int64),
-        Ls.indices.astype(np.int64),
-        Ls.data.copy(),
-        Us.indptr.astype(np.int64),
-        Us.indices.astype(np.int64),
-        Us.data.copy(),
-        labels,
-    )
-
-
-def _csr(A: sp.csr_array) -> tuple[NDArray, NDArray, NDArray]:
-    A = sp.csr_array(A)
-    A.sort_indices()
-    return A.indptr.astype(np.int64), A.indices.astype(np.int64), A.data.astype(float)
+    return MassFactor(perm.astype(np.int64), csr(L), csr(L.T)), labels
 
 
 def _prepare_physical(system: TransientSystem, integ: RK4, out: NDArray, frozen: bool) -> _Prepared:
     n = system.n
     sel = _force_dofs(system)
     G = sum((g for g in system.G), sp.csr_array((n, n)))
-    *fac, comp = _mass_factor(system.M)
+    mass, comp = _mass_factor(system.M)
     if integ.check_stability:
         limit, lam = _rk4_step_limit(*_linearised(system))
         if integ.dt >= 0.995 * limit:
@@ -118,6 +122,7 @@ def _prepare_physical(system: TransientSystem, integ: RK4, out: NDArray, frozen:
         a_idx.extend(nz)
         a_w.extend(a[nz])
         a_ptr.append(len(a_idx))
+    speed_rows = Csr(np.array(a_ptr, np.int64), np.array(a_idx, np.int64), np.array(a_w, float))
     Md = system.M.toarray()
     Minv_a = np.array([la.solve(Md, a, assume_a="pos") for a in system.a_weights]).reshape(ns, n)
 
@@ -146,48 +151,44 @@ def _prepare_physical(system: TransientSystem, integ: RK4, out: NDArray, frozen:
     z_idx = np.concatenate(z_sup + [np.zeros(0, int)]).astype(np.int64)
     g_ptr = np.concatenate([[0], np.cumsum([len(g) for g in g_rows])]).astype(np.int64)
     g_idx = np.concatenate(g_rows + [np.zeros(0, int)]).astype(np.int64)
-    forces = _pack_forces(system, sel, modal=False, bearing_ref=False)
-    P = (
-        *_csr(system.K),
-        *_csr(system.C),
-        *_csr(G),
-        system.shaft_of_row.astype(np.int64),
-        *fac,
-        np.array(a_idx, np.int64),
-        np.array(a_w, float),
-        np.array(a_ptr, np.int64),
-        np.flatnonzero(system.torsion).astype(np.int64),
-        bool(frozen),
-        bool(system.reactions),
-        sel,
-        *forces,
-        Minv_a,
-        *Minv_u,
-        system.unbalance_dofs.astype(np.int64).reshape(-1, 3),
-        z_ptr,
-        z_idx,
-        g_ptr,
-        g_idx,
+    forces = pack_forces(system, sel, modal=False, bearing_ref=False)
+    model = PhysicalModel(
+        K=csr(system.K),
+        C=csr(system.C),
+        G=csr(G),
+        row_shaft=system.shaft_of_row.astype(np.int64),
+        mass=mass,
+        speed_rows=speed_rows,
+        torsion=np.flatnonzero(system.torsion).astype(np.int64),
+        frozen=bool(frozen),
+        reactions=bool(system.reactions),
+        sel=sel,
+        forces=forces,
+        implicit=ImplicitTerms(
+            Minv_a,
+            *Minv_u,
+            system.unbalance_dofs.astype(np.int64).reshape(-1, 3),
+            z_ptr,
+            z_idx,
+            g_ptr,
+            g_idx,
+        ),
     )
     r = 2 * (ns + len(ud))
-    W = (
-        np.zeros(n),
-        np.zeros(n),
-        np.zeros(n),
-        np.zeros(len(sel)),
-        np.zeros(len(sel)),
-        np.zeros(len(sel)),
-        np.zeros(ns),
-        np.zeros((max(r, 1), n)),
-        np.zeros((r, r)),
-        np.zeros(r),
-        np.zeros(r, np.int64),
-        np.zeros(n),
+    nsel = len(sel)
+    work = PhysicalWork(
+        F=np.zeros(n),
+        gq=np.zeros(n),
+        zq=np.zeros(n),
+        qs=np.zeros(nsel),
+        vs=np.zeros(nsel),
+        fs=np.zeros(nsel),
+        Om=np.zeros(ns),
+        wb=_woodbury(max(r, 1), n, r),
+        y=np.zeros(n),
     )
-    K1 = tuple(np.zeros(n) for _ in range(10))
-    return _Prepared(
-        "physical", integ.dt, n, P, W, K1, out, None, {"n_dof": n}, drive_state=forces[-1][3]
-    )
+    stages = Stages(*(np.zeros(n) for _ in range(10)))
+    return _Prepared("physical", integ.dt, n, model, work, stages, out, None, {"n_dof": n})
 
 
 def _linear_growth(Phi: NDArray, K: NDArray, CG: NDArray, M: NDArray | None = None) -> float:
@@ -326,40 +327,38 @@ def _prepare_modal(
     ns = len(system.a_weights)
     nu = len(system.unbalance_dofs)
     r = 2 * (ns + nu)
-    forces = _pack_forces(system, sel, modal=True, bearing_ref=True)
-    P = (
-        lam,
-        np.ascontiguousarray(Cr),
-        np.ascontiguousarray(Gr),
-        np.ascontiguousarray(alpha),
-        np.ascontiguousarray(Phi[sel]),
-        np.ascontiguousarray(Phi[sel].T),
-        bool(system.reactions),
-        np.searchsorted(sel, k_dofs).astype(np.int64),
-        np.ascontiguousarray(Ka_k),
-        *forces,
+    forces = pack_forces(system, sel, modal=True, bearing_ref=True)
+    model = ModalModel(
+        lam=lam,
+        Cr=np.ascontiguousarray(Cr),
+        Gr=np.ascontiguousarray(Gr),
+        alpha=np.ascontiguousarray(alpha),
+        Phi_sel=np.ascontiguousarray(Phi[sel]),
+        PhiT_sel=np.ascontiguousarray(Phi[sel].T),
+        reactions=bool(system.reactions),
+        k_idx=np.searchsorted(sel, k_dofs).astype(np.int64),
+        k_skew=np.ascontiguousarray(Ka_k),
+        forces=forces,
     )
-    W = (
-        np.zeros(len(sel)),
-        np.zeros(len(sel)),
-        np.zeros(len(sel)),
-        np.zeros(ns),
-        np.zeros((2 * max(r, 1), m)),
-        np.zeros((r, r)),
-        np.zeros(r),
-        np.zeros(r, np.int64),
-        np.zeros((ns, m)),
+    nsel = len(sel)
+    work = ModalWork(
+        qs=np.zeros(nsel),
+        vs=np.zeros(nsel),
+        fs=np.zeros(nsel),
+        Om=np.zeros(ns),
+        wb=_woodbury(2 * max(r, 1), m, r),
+        gq=np.zeros((ns, m)),
     )
-    K1 = tuple(np.zeros(m) for _ in range(10))
+    stages = Stages(*(np.zeros(m) for _ in range(10)))
     operators = None
     if exact:
-        operators = _contact_operators(system, lam, Phi, sel, out, P, dt, forces[:3])
+        operators = _contact_operators(system, model, Phi, out, dt)
         Bk = -Phi.T @ Ka @ Phi
         Bc = -Phi.T @ C_lin @ Phi
         while (
             grow := max(
                 _etd_unstable(om_j, C_j, Y.T @ Bk @ Y, Y.T @ Bc @ Y, dt)
-                for Y, om_j, C_j in zip(operators[0], operators[2], operators[3], strict=True)
+                for Y, om_j, C_j in zip(operators.Ys, operators.oms, operators.coefs, strict=True)
             )
         ) > 1.0 + 1e-6:
             if integ.dt is not None:
@@ -371,7 +370,7 @@ def _prepare_modal(
             dt *= 0.8
             if save_dt is not None:
                 dt = save_dt / np.ceil(save_dt / dt * (1 - 1e-9))
-            operators = _contact_operators(system, lam, Phi, sel, out, P, dt, forces[:3])
+            operators = _contact_operators(system, model, Phi, out, dt)
     info = {
         "n_modes": m,
         "cutoff_hz": wcut / 2 / np.pi,
@@ -384,37 +383,30 @@ def _prepare_modal(
         "modal",
         dt,
         m,
-        P,
-        W,
-        K1,
+        model,
+        work,
+        stages,
         out,
         np.ascontiguousarray(Phi[out]),
         info,
-        drive_state=forces[-1][3],
         operators=operators,
     )
 
 
 def _contact_operators(
-    system: TransientSystem,
-    lam: NDArray,
-    Phi: NDArray,
-    sel: NDArray,
-    out: NDArray,
-    P: tuple,
-    dt: float,
-    mesh: tuple,
-) -> tuple:
+    system: TransientSystem, model: ModalModel, Phi: NDArray, out: NDArray, dt: float
+) -> ContactOperators:
     """The linear operators of the exact-linear modal scheme (:func:`.kernels.etd_modal`),
     one per combination of the meshes' contact states: diag(Λ) (every mesh engaged at Kg on
     its drive line, as the modal basis is built) with Kg w wᵀ removed from the meshes whose
     teeth are apart (and, for the mirrored back flank, Kg w_b w_bᵀ added while it touches);
     its eigenvectors Y (orthonormal: η = Y ζ), frequencies ω (rad/s), the ETD weights of the
     step and the reduced system in its coordinates (the mesh stiffness it holds not subtracted
-    again). Returns the kernel's tuple."""
-    m_sel, m_w, m_par = mesh
-    lam0, Cr, Gr, alpha, Phi_sel = P[0], P[1], P[2], P[3], P[4]
-    m = len(lam)
+    again)."""
+    meshes: MeshLaws = model.forces.meshes
+    m_sel, m_w = meshes.dofs, meshes.lines
+    lam0, Cr, Gr, alpha, Phi_sel = model.lam, model.Cr, model.Gr, model.alpha, model.Phi_sel
+    m = len(lam0)
     nm = len(system.meshes)
     pats = np.zeros((nm, 4), np.int64)
     radix = []
@@ -441,15 +433,16 @@ def _contact_operators(
                 u[k, 1] += m_w[k, 1, j] * Phi_sel[m_sel[k, j]]
     Ys = np.zeros((n_ops, m, m))
     oms = np.zeros((n_ops, m))
-    m_pars = np.repeat(m_par[None], n_ops, axis=0)
+    kg_linear = np.zeros((n_ops, nm))
+    kg_back_linear = np.zeros((n_ops, nm))
     for code in range(n_ops):
         Kc = np.diag(lam0).astype(float)
         changed = False
         for k, law in enumerate(system.meshes):
             p = (code // stride[k]) % radix[k]
             drive, back = (p, 0) if radix[k] == 2 else (p & 1, (p >> 1) & 1)
-            m_pars[code, k, 5] = law.kg * drive
-            m_pars[code, k, 7] = law.kg * back
+            kg_linear[code, k] = law.kg * drive
+            kg_back_linear[code, k] = law.kg * back
             if not drive:
                 Kc -= law.kg * np.outer(u[k, 0], u[k, 0])
                 changed = True
@@ -466,30 +459,28 @@ def _contact_operators(
         Ys[code] = Y
         oms[code] = np.sqrt(mu)
     op_of = np.arange(n_ops, dtype=np.int64)
-    idents = np.array([np.array_equal(Y, np.eye(m)) for Y in Ys])
     coefs = np.zeros((n_ops, 12, m))
     for code in range(n_ops):
         etd_coefficients(oms[code], dt, coefs[code])
     rot = np.ascontiguousarray
     Phis = np.array([rot(Phi_sel @ Y) for Y in Ys])
-    X = (
-        Ys,
-        idents,
-        oms,
-        coefs,
-        pats,
-        stride,
-        op_of,
+    return ContactOperators(
+        Ys=Ys,
+        oms=oms,
+        coefs=coefs,
+        pat=pats,
+        stride=stride,
+        op_of=op_of,
         # contact changes change the operator only with backlash or a mirrored back flank
-        8 if any(law.backlash > 0 for law in system.meshes) or 4 in radix else 0,
-        16,
-        oms**2,
-        np.array([Y.T @ Cr @ Y for Y in Ys]),
-        np.array([[Y.T @ g @ Y for g in Gr] for Y in Ys]).reshape(n_ops, *Gr.shape),
-        np.array([alpha @ Y for Y in Ys]).reshape(n_ops, *alpha.shape),
-        Phis,
-        np.array([rot(p.T) for p in Phis]),
-        m_pars,
-        np.array([rot(Phi[out] @ Y) for Y in Ys]),
+        n_probe=8 if any(law.backlash > 0 for law in system.meshes) or 4 in radix else 0,
+        max_sub=16,
+        lams=oms**2,
+        Crs=np.array([Y.T @ Cr @ Y for Y in Ys]),
+        Grs=np.array([[Y.T @ g @ Y for g in Gr] for Y in Ys]).reshape(n_ops, *Gr.shape),
+        alphas=np.array([alpha @ Y for Y in Ys]).reshape(n_ops, *alpha.shape),
+        Phis=Phis,
+        PhiTs=np.array([rot(p.T) for p in Phis]),
+        kg_linear=kg_linear,
+        kg_back_linear=kg_back_linear,
+        Phi_outs=np.array([rot(Phi[out] @ Y) for Y in Ys]),
     )
-    return X

@@ -20,7 +20,7 @@ from ...files import write_netcdf
 from ...signals import amplitude_at, order_amplitudes, spectral_lines, spectrum
 from . import kernels as kn
 from .equations import TransientSystem
-from .forces import _pack_forces
+from .forces import pack_forces
 
 __all__ = [
     "TransientResult",
@@ -633,11 +633,11 @@ def build_result(
         probes.append(hist(rq, g) * np.cos(p.angle) + hist(rq, g + 1) * np.sin(p.angle))
 
     # meshes
-    pk = _pack_forces(system, out, modal=False, bearing_ref=False)
+    forces = pack_forces(system, out, modal=False, bearing_ref=False)
     nm = len(system.meshes)
     mo = np.zeros((nt, nm, 8))
     if nm:
-        kn.outputs_kernel(rq, rv, *pk[:10], mo)
+        kn.outputs_kernel(rq, rv, forces.meshes, mo)
     F = mo[:, :, 0]
     # generalised force on the 12 gear DOFs: −F_d w − F_b w_b
     w = np.array([law.w for law in system.meshes]).reshape(nm, 12)

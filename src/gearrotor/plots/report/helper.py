@@ -122,12 +122,13 @@ class Helper:
             # (Python >= 3.12 warns about forking a process with threads: the BLAS library's
             # idle pool; the helper uses it single-threaded, as this process does)
             warnings.simplefilter("ignore", DeprecationWarning)
+            parent = os.getpid()
             pid = os.fork()
         if pid == 0:  # the helper: run the job, send its value, leave without cleaning up
             code = 1
             try:
                 os.close(r)
-                _helper_setup()
+                _helper_setup(parent)
                 data = pickle.dumps(self._fns[key](), protocol=pickle.HIGHEST_PROTOCOL)
                 view = memoryview(data)
                 while view:
@@ -163,11 +164,27 @@ class Helper:
                 pass
 
 
-def _helper_setup() -> None:
+def _helper_setup(parent: int) -> None:
     """In the forked helper: files written at once (not staged in an output set of the parent,
-    whose end runs only there) and the default Ctrl-C (the parent handles it)."""
+    whose end runs only there), the default Ctrl-C (the parent handles it), and no life of its
+    own: killed with the parent (Linux's parent-death signal; a parent already gone ends it
+    here), so a killed report leaves no orphan process."""
     from ... import files
 
     files._SET.set(None)
     signal.signal(signal.SIGINT, signal.SIG_DFL)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    _die_with_parent()
+    if os.getppid() != parent:
+        os._exit(1)
+
+
+def _die_with_parent() -> None:
+    """SIGKILL this process when its parent exits (prctl PR_SET_PDEATHSIG; Linux only,
+    elsewhere nothing)."""
+    import ctypes
+
+    try:
+        ctypes.CDLL(None).prctl(1, signal.SIGKILL, 0, 0, 0)  # PR_SET_PDEATHSIG = 1
+    except (OSError, AttributeError):
+        pass
