@@ -85,7 +85,8 @@ def run_command(
         typer.Option(
             "--workers",
             "-j",
-            help="worker processes, local or Dask LocalCluster (default: all cores); "
+            help="worker processes, local or Dask LocalCluster (default: the cores not busy with "
+            "other processes, or --threads N); "
             "ignored with a remote scheduler",
         ),
     ] = None,

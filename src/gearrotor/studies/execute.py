@@ -36,6 +36,7 @@ from typing import TextIO
 
 from ..errors import ModelError
 from ..files import check_output, remove_stale_temporaries, write_json, write_netcdf
+from ..threads import processes
 from .cases import (
     CaseStatus,
     PlannedCase,
@@ -414,7 +415,7 @@ def _execute_dask(
     with contextlib.ExitStack() as stack:
         cluster = None
         if scheduler == "local":
-            n = workers or os.cpu_count() or 1
+            n = workers or processes()
             # started whole (a Ctrl-C meanwhile is answered once it is up), its workers
             # without SIGINT (the parent answers it)
             with signals_deferred(), children_without_sigint():
@@ -491,7 +492,8 @@ def run_study(
 
     scheduler : None (local processes), ``"local"`` (a Dask LocalCluster) or a Dask scheduler
         address (``tcp://host:8786``)
-    workers : processes (local) or Dask workers (LocalCluster); default: all cores
+    workers : processes (local) or Dask workers (LocalCluster); default: the cores not busy
+        with other processes (:func:`gearrotor.threads.processes`: ``--threads N`` sets N)
     cases : run only these case indices (the others are left as they are)
     retry_failed : run previously failed cases again (default); False skips them
     progress : a progress bar on ``stream`` (default stderr)
@@ -574,7 +576,7 @@ def run_study(
     weights = {p.key: _case_weight(p) for p in order}
     bar.weight_total = sum(weights.values())
     payloads = [_payload(study, p) for p in order]
-    n_workers = workers or os.cpu_count() or 1
+    n_workers = workers or processes()
     backend = "local"
     if payloads:
         if scheduler is None:
