@@ -82,6 +82,24 @@ def depends_on(cmd: PrintedCommand) -> list[PrintedCommand]:
     return out
 
 
+def folders_made_earlier(cmd: PrintedCommand) -> set[str]:
+    """The folders of ``cmd``'s output files that an earlier command of its doc creates (a
+    plot folder, another output's folder): a reader following the doc has them; with
+    ``pytest -n`` that earlier command may have run on another worker."""
+    same = [c for c in COMMANDS if c.doc == cmd.doc]
+    outputs = [cmd.argv[k + 1] for k, a in enumerate(cmd.argv[:-1]) if a in ("--output", "-o")]
+    wanted = {str(Path(o).parent) for o in outputs} - {"."}
+    made = set()
+    for c in same[: same.index(cmd)]:
+        for k, a in enumerate(c.argv[:-1]):
+            target = c.argv[k + 1]
+            if a == "--plot":
+                made |= {target, str(Path(target).parent)}
+            elif a in ("--output", "-o"):
+                made.add(str(Path(target).parent))
+    return wanted & made
+
+
 def is_fast(cmd: PrintedCommand) -> bool:
     if any(not is_fast(d) for d in depends_on(cmd)):
         return False
@@ -260,6 +278,8 @@ def test_printed_command_runs(cmd, doc_workspaces):
             p = _run(dep, where)
             assert p.returncode == expected_status(dep), (dep.shell, p.stderr[-2000:])
             _DONE[(dep.doc, dep.shell)] = where
+    for folder in folders_made_earlier(cmd):
+        (where / folder).mkdir(parents=True, exist_ok=True)
     p = _run(cmd, where)
     status = expected_status(cmd)
     assert p.returncode == status, (cmd.shell, p.stderr[-3000:])
