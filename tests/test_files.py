@@ -285,9 +285,9 @@ def test_output_set_failure_leaves_none_of_its_files(tmp_path, monkeypatch, faul
     assert leftovers(tmp_path) == []
 
 
-def test_signal_during_commit_comes_after_it(tmp_path, monkeypatch):
-    """SIGINT and SIGTERM are held back while the set is renamed into place: a real SIGINT
-    sent at the first rename interrupts after the last one (all files there), not between."""
+def _interrupt_at_first_rename(tmp_path, monkeypatch) -> None:
+    """Write a set of 5 files with a real SIGINT sent at the first rename: the interrupt must
+    come after the last rename (all files there), not between two."""
     import signal
 
     real = files.os.replace
@@ -306,35 +306,26 @@ def test_signal_during_commit_comes_after_it(tmp_path, monkeypatch):
     assert sent and sorted(p.name for p in tmp_path.iterdir()) == [f"{k}.txt" for k in range(5)]
 
 
+def test_signal_during_commit_comes_after_it(tmp_path, monkeypatch):
+    """SIGINT and SIGTERM are held back while the set is renamed into place."""
+    _interrupt_at_first_rename(tmp_path, monkeypatch)
+
+
 def test_signal_during_commit_with_other_threads_alive(tmp_path, monkeypatch):
     """The same with another thread alive (BLAS, numba and executor threads are): the kernel
     hands a process-directed SIGINT to a thread that does not block it, and Python raises it in
     the main thread at once; a per-thread signal mask let it through between two renames (CI,
     stop 29)."""
-    import signal
     import threading
 
     done = threading.Event()
     other = threading.Thread(target=done.wait, daemon=True)
     other.start()
-    real = files.os.replace
-    sent = []
-
-    def replace(src, dst):
-        if not sent:
-            sent.append(dst)
-            os.kill(os.getpid(), signal.SIGINT)
-        real(src, dst)
-
-    monkeypatch.setattr(files.os, "replace", replace)
     try:
-        with pytest.raises(KeyboardInterrupt), files.output_set():
-            for k in range(5):
-                files.write_text(tmp_path / f"{k}.txt", str(k))
+        _interrupt_at_first_rename(tmp_path, monkeypatch)
     finally:
         done.set()
         other.join()
-    assert sent and sorted(p.name for p in tmp_path.iterdir()) == [f"{k}.txt" for k in range(5)]
 
 
 # ---- stale temporaries of every output (issue 23) ------------------------------------------
