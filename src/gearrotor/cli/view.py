@@ -225,10 +225,10 @@ def view_command(
         )
     server, watcher = serve(model, port)
     host, bound = server.server_address[:2]
-    typer.echo(f"serving {model} at http://{host}:{bound}/ (Ctrl-C to stop)", err=True)
-    if watcher.error:
-        typer.echo(watcher.error, err=True)
-    try:
+    try:  # from the first line on: a Ctrl-C right after "serving" stops it as cleanly
+        typer.echo(f"serving {model} at http://{host}:{bound}/ (Ctrl-C to stop)", err=True)
+        if watcher.error:
+            typer.echo(watcher.error, err=True)
         while True:
             time.sleep(3600)
     except KeyboardInterrupt:
