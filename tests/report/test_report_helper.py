@@ -182,3 +182,17 @@ time.sleep(60)
             return
         time.sleep(0.05)
     pytest.fail(f"helper {helper} still runs after its parent was killed")
+
+
+def test_sections_that_inline_a_png_wait_for_its_job(examples, tmp_path, monkeypatch):
+    """The torsional, static, audit and mesh-response sections put their PNG into the page as
+    a data URI: with the helper they read the file while its job may still be queued or running
+    (the steam-turbine audit report failed with 'audit_ucs.png: No such file or directory' on
+    two idle cores). Here the helper starts no job on its own, so every job waits until asked
+    for: the page must still hold the image."""
+    train = load_model(examples / "unity_gearbox.toml")
+    monkeypatch.setattr(build, "processes", lambda: 2)
+    monkeypatch.setattr(Helper, "_poll", lambda self: None)  # jobs wait in the queue
+    rep = make_report(train, tmp_path / "out", analyses="modal,torsional")
+    html = rep.html.read_text()
+    assert re.search(r'<img src="data:image/png;base64,[A-Za-z0-9+/]{100}', html)

@@ -11,6 +11,7 @@ results of the analyses) and writes what it produces into it.
 from __future__ import annotations
 
 import math
+from collections.abc import Hashable
 from dataclasses import dataclass, field
 from functools import partial
 from pathlib import Path
@@ -79,6 +80,8 @@ class Context:
     helper: Helper = field(default_factory=lambda: Helper(False))
     # the names of the PNG files submitted so far (one job per file)
     started: set[str] = field(default_factory=set)
+    #: file name -> the helper job that writes it (:meth:`png_data` waits for it)
+    jobs: dict[str, Hashable] = field(default_factory=dict)
 
     @property
     def train(self) -> Train:
@@ -139,6 +142,7 @@ class Context:
         path = self.directory / name
         if name not in self.started:
             self.started.add(name)
+            self.jobs[name] = ("png", name)
             self.helper.submit(("png", name), partial(_draw, fn, args, kw, path))
         self.figures.append(path)
 
@@ -159,6 +163,7 @@ class Context:
         step = 1 if self.helper.enabled else max(len(pages), 1)
         for lo in range(0, len(pages), step):
             job = partial(fn, *args, pages[lo : lo + step], paths[lo : lo + step], **kw)
+            self.jobs.update(dict.fromkeys(names[lo : lo + step], ("png", names[lo])))
             self.helper.submit(("png", names[lo]), job)
         self.started.update(names)
         self.figures.extend(paths)
@@ -175,8 +180,18 @@ class Context:
         """Write a matplotlib Figure as ``<directory>/name`` (PNG): a job of :attr:`helper`."""
         path = self.directory / name
         self.started.add(name)
+        self.jobs[name] = ("png", name)
         self.helper.submit(("png", name), partial(_savefig, fig, path))
         self.figures.append(path)
+
+    def png_data(self, name: str) -> str:
+        """A PNG file of this report as base64, for a data URI in the page: its job finished
+        first (with the helper process the file may still be being drawn)."""
+        import base64
+
+        if name in self.jobs:
+            self.helper.result(self.jobs[name])
+        return base64.b64encode((self.directory / name).read_bytes()).decode("ascii")
 
 
 def _draw(fn, args, kw, path: Path) -> None:

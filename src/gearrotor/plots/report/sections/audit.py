@@ -13,8 +13,6 @@ else the section runs it with the same settings.
 
 from __future__ import annotations
 
-import base64
-
 from ....errors import ModelError
 from ..base import Context, Part, Section
 from ..blocks import RPM, _badge, _e, _fmt
@@ -166,7 +164,7 @@ def _criterion_badge(ok: bool | None) -> str:
 
 
 def _img(ctx: Context, name: str, alt: str) -> str:
-    data = base64.b64encode((ctx.directory / name).read_bytes()).decode("ascii")
+    data = ctx.png_data(name)
     return (
         f"<div class='plot'><img alt='{_e(alt)}' src='data:image/png;base64,{data}' "
         "style='max-width:100%'></div>"

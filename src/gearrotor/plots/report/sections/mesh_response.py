@@ -67,7 +67,6 @@ class MeshResponseSection(Section):
 
 
 def _html(ctx: Context, res, i: int) -> str:
-    import base64
 
     rows = [
         f"<p>Harmonic balance of the linear time-periodic equations at {len(res.speed)} "
@@ -108,7 +107,7 @@ def _html(ctx: Context, res, i: int) -> str:
         ("mesh_response.png", "DTE, dynamic factor and probe amplitudes against speed"),
         ("mesh_bearing_forces.png", "bearing forces against speed"),
     ):
-        data = base64.b64encode((ctx.directory / name).read_bytes()).decode("ascii")
+        data = ctx.png_data(name)
         rows.append(
             f'<p><img src="data:image/png;base64,{data}" alt="{_e(alt)}" '
             f'title="{_e(name)}" style="max-width:100%"></p>'

@@ -5,8 +5,6 @@ the journal eccentricity locus and the least-stable log dec against power."""
 
 from __future__ import annotations
 
-import base64
-
 import numpy as np
 
 from ....errors import ModelError
@@ -120,7 +118,7 @@ def _least_stable(md) -> int | None:
 
 
 def _img(ctx: Context, name: str) -> str:
-    data = base64.b64encode((ctx.directory / name).read_bytes()).decode("ascii")
+    data = ctx.png_data(name)
     return (
         f'<p><img alt="{_e(name)}" src="data:image/png;base64,{data}" style="max-width:100%"></p>'
     )

@@ -163,9 +163,8 @@ def _excitations(tm):
 
 def _img(ctx: Context, name: str, alt: str) -> str:
     """The PNG just written, inline (data URI: the page stays self-contained)."""
-    import base64
 
-    data = base64.b64encode((ctx.directory / name).read_bytes()).decode("ascii")
+    data = ctx.png_data(name)
     return (
         f'<p><img src="data:image/png;base64,{data}" alt="{_e(alt)}" '
         f'title="{_e(name)}" style="max-width:100%"></p>'
