@@ -3,6 +3,7 @@ and a light `import gearrotor` / fast `gearrotor --help`."""
 
 from __future__ import annotations
 
+import re
 import subprocess
 import sys
 import time
@@ -96,7 +97,11 @@ def test_t_end_is_optional_in_help_and_readme():
 def test_readme_says_browser_tests_need_chromium_and_suite_time():
     readme = (ROOT / "README.md").read_text()
     assert "python -m playwright install chromium" in readme
-    assert "Chromium" in readme and "minutes on\n2 cores" in readme
+    assert "Chromium" in readme
+    # the suite's time as measured on 2 cores, idle and loaded (issue 28)
+    text = " ".join(readme.split())
+    assert re.search(r"\d+ min \d+ s on an idle 2-core machine", text)
+    assert re.search(r"\d+ min \d+ s with other work sharing the cores", text)
 
 
 def test_bearing_given_a_rotor_model_says_so():
