@@ -30,6 +30,31 @@ def _one_thread_per_worker() -> None:
 
 _one_thread_per_worker()
 
+
+def pytest_configure(config) -> None:
+    """One results cache (``gearrotor.cache``: the fluid-film tables) for the whole run, fresh
+    and shared: set by the controlling process before pytest-xdist starts its workers, so that
+    they and every command line a test runs use the same folder, and a table solved by one is
+    read by the others; removed when the run ends. A cache directory set by the caller (or
+    ``GEARROTOR_CACHE=off``) is kept."""
+    if os.environ.get("PYTEST_XDIST_WORKER") or os.environ.get("GEARROTOR_CACHE_DIR"):
+        return
+    import tempfile
+
+    folder = tempfile.mkdtemp(prefix="gearrotor-test-cache-")
+    os.environ["GEARROTOR_CACHE_DIR"] = folder
+    config._gearrotor_cache = folder
+
+
+def pytest_unconfigure(config) -> None:
+    import shutil
+
+    folder = getattr(config, "_gearrotor_cache", None)
+    if folder:
+        shutil.rmtree(folder, ignore_errors=True)
+        os.environ.pop("GEARROTOR_CACHE_DIR", None)
+
+
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLES = ROOT / "examples"
 
