@@ -24,13 +24,12 @@ import os
 import re
 import shutil
 import subprocess
-import sys
 from pathlib import Path
 
 import pytest
 import typer.main
 
-from doc_examples import ENV, ROOT, PrintedCommand, printed_commands
+from doc_examples import ENV, ROOT, PrintedCommand, printed_commands, run_gearrotor
 from gearrotor.cli import app
 
 COMMANDS, SYNOPSES = printed_commands()
@@ -239,14 +238,7 @@ _DONE: dict[tuple[str, str], Path] = {}
 
 def _run(cmd: PrintedCommand, where: Path) -> subprocess.CompletedProcess:
     env = dict(ENV, PYTHONPATH=os.pathsep.join([str(ROOT / "src"), ENV.get("PYTHONPATH", "")]))
-    return subprocess.run(
-        [sys.executable, "-m", "gearrotor", *cmd.argv],
-        cwd=where,
-        env=env,
-        capture_output=True,
-        text=True,
-        timeout=1800,
-    )
+    return run_gearrotor(cmd.argv, where, env, timeout=1800)
 
 
 @pytest.fixture(scope="module")
