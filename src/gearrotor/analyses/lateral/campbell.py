@@ -234,27 +234,31 @@ def campbell(
     that frequency. ``frequency_weight`` scales the relative-frequency-jump penalty added to
     1 − MAC.
 
-    ``reduced=True`` (default) solves the first speed on the full model and every later one
-    by a two-sided Rayleigh–Ritz step (:class:`_Subspace`): trial space the real and imaginary
-    parts of the tracked modes' right eigenvectors and of their first derivatives in speed at
-    the last speed solved on the full model, test space those of their left eigenvectors and
-    derivatives (:func:`_speed_vectors`: one sparse LU per mode at the full solve). The Ritz
-    pairs that continue the tracked modes (the same MAC assignment as for the full solve) are
-    checked a posteriori on the full model by their relative residual
-    ``‖P(λ)φ‖ / (|λ|²‖Mφ‖ + |λ|‖(C+G)φ‖ + ‖Kφ‖)``, ``P(λ) = λ²M + λ(C+G) + K``; when one
-    exceeds ``residual_tol`` that speed is solved on the full model instead and its vectors
-    replace the subspaces. The residual is second order in the speed change (the derivatives),
-    and with the left eigenvectors in the test space a Ritz value's error is second order in
-    the residual (with the right ones alone it was first order where fluid-film cross-coupling
-    makes the model far from symmetric: the steam turbine's log decs erred 0.024 × the
-    residual). The default tolerance 3e-4 keeps the frequencies and log decrements within
-    1e-6 (relative) of the full solve (tests/perf; measured within 1.5e-8 and 8e-8 on the
-    three example machines with 1–3 full solves). The reduced speeds' ``modal_results`` hold
-    the tracked modes only; the residuals and the solver used at each speed are in the result
-    (``residual``, ``solver``, ``full_solves``). Cost per reduced speed: one dense
-    eigenproblem of twice the subspace's dimension (104 states for the flagship's 13 tracked
-    modes) and O(n·m) work; subspaces beyond half the model's DOFs are not used (every speed
-    is then solved on the full model).
+    ``reduced=True`` (default) solves the first speed on the full model and every later one by a
+    two-sided Rayleigh–Ritz step (:class:`_Subspace`): trial space the real and imaginary parts
+    of the tracked modes' right eigenvectors and of their first derivatives in speed at the last
+    speed solved on the full model, test space those of their left eigenvectors and derivatives
+    (:func:`_speed_vectors`: one sparse LU per mode at the full solve). Each candidate Ritz pair
+    is checked on the full model by its relative residual ``‖P(λ)φ‖ / (|λ|²‖Mφ‖ + |λ|‖(C+G)φ‖ +
+    ‖Kφ‖)``, ``P(λ) = λ²M + λ(C+G) + K``, and only those within ``residual_tol`` may continue a
+    track (the same MAC assignment as for the full solve; a spurious Ritz pair in a multiple
+    mode's subspace can resemble one of its copies); when fewer remain than there are tracks, or
+    a track finds no continuation, that speed is solved on the full model instead and its
+    vectors replace the subspaces. The residual is second order in the speed change (the
+    derivatives), and with the left eigenvectors in the test space a Ritz value's error is
+    second order in the residual (with the right ones alone it was first order where fluid-film
+    cross-coupling makes the model far from symmetric: the steam turbine's log decs erred 0.024
+    × the residual). The default tolerance 3e-4 keeps the frequencies and log decrements within
+    1e-6 (relative) of the full solve (tests/perf; measured within 1.5e-8 and 8e-8 on the three
+    example machines with 1–3 full solves). The reduced speeds' ``modal_results`` hold the
+    tracked modes only; the residuals and the solver used at each speed are in the result
+    (``residual``, ``solver``, ``full_solves``). Cost per reduced speed: the eigenvalues of a
+    dense first-order problem of twice the subspace's dimension (LAPACK geev without vectors,
+    100 states for the flagship's 13 tracked modes), the vectors of the candidates by one
+    batched inverse-iteration step (:meth:`_Subspace.ritz_vectors`) and O(n·m) work; subspaces
+    beyond half the model's DOFs are not used (every speed is then solved on the full model).
+    The first sparse solve asks for as many eigenvalues as the circle is expected to hold
+    (:func:`_expected_count`).
 
     With speed × whirl tables (:mod:`gearrotor.analyses.lateral.whirl`) every speed is one
     eigensolve of the model with the tables' states and ``reduced`` does not apply; the
@@ -320,9 +324,7 @@ def campbell(
         report(sweep, i / len(speeds), f"speed {i + 1}/{len(speeds)}")
         r = None
         if space is not None and space.ready:
-            out = space.tracked_modes(
-                w, radius, n_track, include_overdamped, assign, residual_tol
-            )
+            out = space.tracked_modes(w, radius, n_track, include_overdamped, assign, residual_tol)
             if out is not None and np.max(out[2]) <= residual_tol:
                 r, chosen, res = out
                 solver.append("reduced")
@@ -591,6 +593,9 @@ class _Subspace:
         self.C0r, self.K0r = WT @ self.C0Q, WT @ self.K0Q
         self.Gr = [None if g is None else WT @ g for g in self.GQ]
         self.Kcr = [None if k is None else WT @ k for k in self.KcQ]
+        # the fixed start vectors of ritz_vectors' inverse-iteration step
+        rng = np.random.default_rng(20261128)
+        self.start = rng.standard_normal((m, m)) + 1j * rng.standard_normal((m, m))
         self.ready = True
 
     def applied(self, speed: float):
@@ -626,32 +631,31 @@ class _Subspace:
         if got is None or got[0] != n:
             geev, geev_lwork = la.get_lapack_funcs(("geev", "geev_lwork"), (np.zeros(1),))
             lwork = la.lapack._compute_lwork(geev_lwork, n, compute_vl=0, compute_vr=0)
-            # the fixed start vectors of the inverse-iteration step (ritz_vectors)
-            start = np.random.default_rng(20261128).standard_normal((2, n // 2, n // 2))
-            self._geev = got = (n, geev, lwork, start[0] + 1j * start[1])
+            self._geev = got = (n, geev, lwork)
         return got[1], got[2]
 
     def ritz_vectors(self, lam: NDArray, Kt: NDArray, Ct: NDArray) -> NDArray | None:
-        """(m, k) reduced vectors z_j of the Ritz values λ_j: (λ_j² I + λ_j C̃ + K̃) z_j = 0,
-        C̃ = Mr⁻¹Cr, K̃ = Mr⁻¹Kr (the pencil geev solved, first-order form), by one step of
-        inverse iteration at λ_j from a fixed generic vector (its own for each λ_j: the copies
-        of a multiple Ritz value span its eigenspace) in one batched LU. λ_j is an eigenvalue
-        to round-off, so the step amplifies the eigen-direction by ~1/round-off against
-        1/gap for the others: the vector is as accurate as geev's own (which computed all 2m
-        vectors, 40 % of its time for the 13 of 100 wanted)."""
+        """(m, k) reduced vectors z_j of the Ritz values λ_j: (λ_j² I + λ_j C̃ + K̃) z_j = 0
+        with C̃ = Mr⁻¹Cr, K̃ = Mr⁻¹Kr (the pencil whose first-order form geev solved), by one
+        step of inverse iteration at λ_j from a fixed generic vector, its own for each λ_j (the
+        copies of a multiple Ritz value then span its eigenspace), all k in one batched LU.
+        λ_j is an eigenvalue to round-off, so the step amplifies its eigen-direction by
+        ~1/round-off against 1/gap for the others: the vector is as accurate as geev's own
+        (geev computed all 2m vectors, 40 % of its time, for the ~13 of 100 wanted). None if
+        the solve fails."""
         m, k = len(Kt), len(lam)
-        start = self._geev[3][:, :k].T[..., None]  # (k, m, 1)
+        d = np.arange(m)
         N = np.multiply.outer(lam, Ct)
         N += Kt
-        N[:, np.arange(m), np.arange(m)] += (lam * lam)[:, None]
-        for shift in (0.0, 1e-12):  # an exactly singular pivot: a shift of round-off size
+        N[:, d, d] += (lam * lam)[:, None]
+        start = self.start[:k, :, None]  # k ≤ m: the Ritz values with Im λ > 0
+        for _ in range(2):
             try:
                 z = np.linalg.solve(N, start)[..., 0]
-            except np.linalg.LinAlgError:
-                N[:, np.arange(m), np.arange(m)] += (shift or 1e-12) * np.abs(lam)[:, None] ** 2
+            except np.linalg.LinAlgError:  # an exactly zero pivot: off λ_j by round-off
+                N[:, d, d] += 1e-13 * np.abs(lam)[:, None] ** 2
                 continue
-            if np.isfinite(z).all():
-                return z.T
+            return z.T if np.isfinite(z).all() else None
         return None
 
     def tracked_modes(
