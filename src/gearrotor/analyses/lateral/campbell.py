@@ -549,6 +549,10 @@ class _Subspace:
 
     def __init__(self, asm: Assembly):
         self.asm = asm
+        # K changes with speed: bearing coefficients, rotating material damping (kept: the
+        # Assembly works them out on every call)
+        self.bearings_vary = asm.speed_dependent
+        self.varies = self.bearings_vary or asm.rotating_damping
         self.sets: list[tuple[NDArray, NDArray]] = []
         self.ready = False
 
@@ -614,9 +618,9 @@ class _Subspace:
                     KQ += s * kq
                     Kr += s * kr
         K = None
-        if asm.speed_dependent or asm.rotating_damping:
+        if self.varies:
             _, C, _, K = asm.matrices(speed)
-        if asm.speed_dependent:  # the bearings' speed-dependent parts
+        if self.bearings_vary:  # the bearings' speed-dependent parts
             dCQ = (C - asm.C0) @ self.Q
             KQ = K @ self.Q
             CQ += dCQ
