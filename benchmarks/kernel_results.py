@@ -131,7 +131,7 @@ def _lateral_cases():
     seals = load_model(EX / "seals" / "compressor_with_seals.toml")
     yield "seals_modal", lambda: transient(seals, t_end=0.02, save=save)
     # tilting pads with their own DOFs (the model of tests/pads)
-    sys.path.insert(0, str(ROOT / "tests" / "pads"))
+    sys.path[:0] = [str(ROOT / "tests" / "pads"), str(ROOT / "tests")]
     from pad_models import write
 
     pads = write(Path(tempfile.mkdtemp()))

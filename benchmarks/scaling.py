@@ -32,6 +32,7 @@ import argparse
 import json
 import os
 import platform
+import sys
 import time
 from pathlib import Path
 
@@ -45,64 +46,13 @@ from gearrotor.analyses.transient import ModalRK4, transient
 from gearrotor.assembly import assemble
 from gearrotor.io.model_file import model_from_dict
 
+# the trains (shared with tests/transient/test_transient_large.py)
+sys.path.append(str(Path(__file__).resolve().parents[1] / "tests"))
+from helpers import chain  # noqa: E402
+
 RPM = np.pi / 30
 FMAX = 80000 * RPM
 TASKS = ("modal dense", "modal sparse", "campbell", "unbalance", "transient")
-
-
-def chain(n_shafts: int, elements: int) -> dict:
-    """A row of ``n_shafts`` SPEC 6.1 shafts, shaft k meshing with shaft k+1 at mid-span."""
-    mid = elements // 2
-    steel = {"E": "211 GPa", "poisson": 0.3, "density": "7890 kg/m^3"}
-    shafts, bearings, meshes, unbalances = [], [], [], []
-    for k in range(n_shafts):
-        name = f"s{k}"
-        shafts.append(
-            {
-                "name": name,
-                "material": "steel",
-                "speed": f"{6500 * (-1) ** k} rpm",
-                "sections": [
-                    {"length": "1.02 m", "outer_diameter": "0.06 m", "elements": elements}
-                ],
-                **({"position": ["0 m", "0 m"]} if k == 0 else {}),
-            }
-        )
-        for node in (0, elements):
-            bearings.append(
-                {
-                    "name": f"{name}-b{node}",
-                    "shaft": name,
-                    "node": node,
-                    "k": "1.0e7 N/m",
-                    "c": "1.75e4 N*s/m",
-                }
-            )
-        unbalances.append({"shaft": name, "node": mid, "amount": "720 g*mm", "phase": "0 deg"})
-        if k + 1 < n_shafts:
-            meshes.append(
-                {
-                    "name": f"m{k}",
-                    "gear": {"shaft": name, "node": mid, "teeth": 30, "radius": "0.11 m"},
-                    "mate": {"shaft": f"s{k + 1}", "node": mid, "teeth": 30, "radius": "0.11 m"},
-                    "radius_type": "pitch",
-                    "pressure_angle": "0.349 rad",
-                    "helix_angle": "0 rad",
-                    "orientation": "0 rad",
-                    "stiffness": "3.0e7 N/m",
-                }
-            )
-    return {
-        "name": f"chain {n_shafts}x{elements}",
-        "reference_shaft": "s0",
-        "speed": "6500 rpm",
-        "materials": {"steel": steel},
-        "shafts": shafts,
-        "bearings": bearings,
-        "meshes": meshes,
-        "unbalances": unbalances,
-        "probes": [{"name": "p0", "shaft": "s0", "node": mid, "angle": "0 deg"}],
-    }
 
 
 def _timed(fn) -> float:
@@ -161,7 +111,9 @@ def main() -> None:
         f"{os.getloadavg()[0]:.2f}" + ("; next to one busy process" if args.busy else "")
     )
     # compile the transient kernels outside the timings
-    transient(model_from_dict(chain(2, 4)), t_end=1e-3, integrator=ModalRK4())
+    transient(
+        model_from_dict(chain(2, 4, unbalance_every_shaft=True)), t_end=1e-3, integrator=ModalRK4()
+    )
     rows = []
     print(
         "skipped above: "
@@ -183,7 +135,7 @@ def main() -> None:
 def _rows(shafts, elements, cap, rows) -> None:
     for ns in shafts:
         for ne in elements:
-            train = model_from_dict(chain(ns, ne))
+            train = model_from_dict(chain(ns, ne, unbalance_every_shaft=True))
             asm = assemble(train)
             n = asm.n_dof
             speeds = np.linspace(0, 12000, 10) * RPM

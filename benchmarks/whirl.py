@@ -1,7 +1,8 @@
 """Benchmark: speed × whirl tables in the eigenproblem (issue 24) — the cost of the fits and of
 the augmented eigensolve, and what the classical per-mode iteration would cost and miss.
 
-A rotor on two 4-pad tilting-pad bearings (6000 rpm) in three forms: pad DOFs in the train
+A rotor on two 4-pad tilting-pad bearings (6000 rpm; the model of tests/pads, its bearing
+``examples/bearings/tilting_4pad_pads.toml``) in three forms: pad DOFs in the train
 (the reference), the same bearings as their condensed speed × whirl table (fitted, states in
 the eigenproblem), and a per-mode iteration on that table that reads the coefficients at each
 mode's own frequency ω = Im λ (re-solving the synchronous-form eigenproblem until
@@ -26,8 +27,10 @@ import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "src"))
+sys.path += [str(ROOT / "tests"), str(ROOT / "tests" / "pads")]  # the pad tests' model
 
 from _machine import cpu_name  # noqa: E402
+from pad_models import write  # noqa: E402
 
 from gearrotor.analyses.lateral.modal import modal  # noqa: E402
 from gearrotor.assembly import _assemble, _solve_seal_whirl_table, assemble  # noqa: E402
@@ -39,50 +42,6 @@ from gearrotor.model import Train  # noqa: E402
 
 RPM = math.pi / 30
 TOP = 40000 * RPM
-
-BEARING = """[bearing]
-name = "4-pad"
-type = "tilting_pad"
-diameter = "100 mm"
-length = "50 mm"
-clearance = "80 um"
-pivots = ["45 deg", "135 deg", "225 deg", "315 deg"]
-arc = "70 deg"
-preload = 0.3
-offset = 0.5
-pad_inertia = "2e-4 kg*m^2"
-pad_mass = "0.4 kg"
-pad_thickness = "15 mm"
-viscosity = "0.02 Pa*s"
-[bearing.grid]
-n_theta = 16
-n_z = 4
-[[bearing.loads]]
-fx = 0.0
-fy = "-2500 N"
-"""
-
-MODEL = """speed = "6000 rpm"
-[materials.steel]
-E = "206 GPa"
-poisson = 0.3
-density = "7850 kg/m^3"
-[[shafts]]
-name = "rotor"
-material = "steel"
-sections = [{ length = "0.8 m", outer_diameter = "0.1 m", elements = 6 }]
-disks = [{ node = 3, mass = "60 kg", polar = "1.2 kg*m^2", transverse = "0.7 kg*m^2" }]
-[[bearings]]
-shaft = "rotor"
-node = 0
-fluid_film = { file = "pad.toml", speeds = ["3000 rpm", "6000 rpm", "9000 rpm"], \
-pad_dynamics = true }
-[[bearings]]
-shaft = "rotor"
-node = 6
-fluid_film = { file = "pad.toml", speeds = ["3000 rpm", "6000 rpm", "9000 rpm"], \
-pad_dynamics = true }
-"""
 
 
 def best(fn, repeat: int):
@@ -136,9 +95,8 @@ def main(argv: list[str] | None = None) -> int:
         f"Python {platform.python_version()}\n"
     )
     tmp = Path(tempfile.mkdtemp())
-    (tmp / "pad.toml").write_text(BEARING)
-    (tmp / "m.toml").write_text(MODEL)
-    pad_train = load_model(tmp / "m.toml")
+    # the rotor on two examples/bearings/tilting_4pad_pads.toml of the pad tests, no unbalance
+    pad_train = write(tmp, unbalance=False)
     pad_asm = assemble(pad_train)
     case = load_bearing(tmp / "pad.toml")
     whirls = [0.0, 3000.0, 6000.0, 9000.0, 20000.0, 40000.0]

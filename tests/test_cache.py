@@ -23,7 +23,7 @@ import pytest
 from gearrotor import cache
 from gearrotor.assembly import assemble
 from gearrotor.io import load_model
-from test_fluid_film_rotor import MODEL
+from test_fluid_film_rotor import _model as rotor_model
 
 
 @pytest.fixture
@@ -143,7 +143,7 @@ def _model(tmp_path: Path, bearing_text: str, sub: str) -> Path:
     where.mkdir()
     (where / "b.toml").write_text(bearing_text)
     ff = 'fluid_film = { file = "b.toml", load_case = 0, speeds = ["3000 rpm", "6000 rpm"] }'
-    (where / "m.toml").write_text(MODEL.format(speed=4500, source=ff))
+    (where / "m.toml").write_text(rotor_model(4500, ff))
     return where / "m.toml"
 
 

@@ -14,52 +14,7 @@ from gearrotor.analyses.transient import reduction, transient
 from gearrotor.analyses.transient.equations import build_system
 from gearrotor.io import model_from_dict
 from gearrotor.threads import scope
-
-
-def chain(n_shafts: int, elements: int) -> dict:
-    """A row of SPEC 6.1 shafts, shaft k meshing with shaft k+1 at mid-span (as
-    benchmarks/scaling.py builds them)."""
-    mid = elements // 2
-    shafts, bearings, meshes = [], [], []
-    for k in range(n_shafts):
-        name = f"s{k}"
-        shafts.append(
-            {
-                "name": name,
-                "material": "steel",
-                "speed": f"{6500 * (-1) ** k} rpm",
-                "sections": [
-                    {"length": "1.02 m", "outer_diameter": "0.06 m", "elements": elements}
-                ],
-                **({"position": ["0 m", "0 m"]} if k == 0 else {}),
-            }
-        )
-        bearings += [
-            {"name": f"{name}-b{n}", "shaft": name, "node": n, "k": "1e7 N/m", "c": "1.75e4 N*s/m"}
-            for n in (0, elements)
-        ]
-        if k + 1 < n_shafts:
-            meshes.append(
-                {
-                    "name": f"m{k}",
-                    "gear": {"shaft": name, "node": mid, "teeth": 30, "radius": "0.11 m"},
-                    "mate": {"shaft": f"s{k + 1}", "node": mid, "teeth": 30, "radius": "0.11 m"},
-                    "radius_type": "pitch",
-                    "pressure_angle": "0.349 rad",
-                    "stiffness": "3.0e7 N/m",
-                }
-            )
-    return {
-        "name": "chain",
-        "reference_shaft": "s0",
-        "speed": "6500 rpm",
-        "materials": {"steel": {"E": "211 GPa", "poisson": 0.3, "density": "7890 kg/m^3"}},
-        "shafts": shafts,
-        "bearings": bearings,
-        "meshes": meshes,
-        "unbalances": [{"shaft": "s0", "node": mid, "amount": "720 g*mm", "phase": "0 deg"}],
-        "probes": [{"name": "p0", "shaft": "s0", "node": mid, "angle": "0 deg"}],
-    }
+from helpers import chain
 
 
 @pytest.fixture(scope="module")

@@ -8,19 +8,11 @@ from typer.testing import CliRunner
 from gearrotor.assembly import assemble
 from gearrotor.cli import app
 from gearrotor.io import load_model
+from helpers import rotor_toml
 
-MODEL = """
-speed = "6000 rpm"
-[materials.steel]
-E = "206 GPa"
-poisson = 0.3
-density = "7850 kg/m^3"
-[[shafts]]
-name = "rotor"
-material = "steel"
-sections = [{{ length = "0.8 m", outer_diameter = "0.1 m", elements = 4 }}]
-disks = [{{ node = 2, mass = "60 kg", polar = "1.2 kg*m^2", transverse = "0.7 kg*m^2" }}]
-[[bearings]]
+#: the rotor of the tilting-pad tests on a 4-element mesh, a plain bearing at node 0 and the
+#: bearing under test at node 4
+BEARINGS = """[[bearings]]
 shaft = "rotor"
 node = 0
 k = "2e7 N/m"
@@ -28,8 +20,12 @@ c = "2e4 N*s/m"
 [[bearings]]
 shaft = "rotor"
 node = 4
-{bearing}
 """
+
+
+def _model(bearing: str) -> str:
+    return rotor_toml(elements=4, disk_node=2) + BEARINGS + bearing + "\n"
+
 
 #: a valid 2 speeds × 3 whirl frequencies table, stiffening with whirl; three whirl frequencies
 #: allow one pole: its fit misfits the table by 1.5 %, which the model accepts
@@ -49,7 +45,7 @@ table.cyy = [[2e4, 1.8e4, 1.5e4], [2e4, 1.8e4, 1.5e4]]
 
 def _write(tmp_path, bearing: str):
     p = tmp_path / "m.toml"
-    p.write_text(MODEL.format(bearing=bearing))
+    p.write_text(_model(bearing))
     return p
 
 
@@ -119,7 +115,7 @@ def test_fit_tolerance_only_with_a_table(tmp_path):
 def test_seal_whirls_need_a_seal_file(tmp_path):
     seal = '[[seals]]\nshaft = "rotor"\nnode = 2\nk = "1e6 N/m"\nwhirls = ["0 rpm", "9000 rpm"]\n'
     p = tmp_path / "m.toml"
-    p.write_text(MODEL.format(bearing='k = "2e7 N/m"') + seal)
+    p.write_text(_model('k = "2e7 N/m"') + seal)
     r = CliRunner().invoke(app, ["modal", str(p)])
     assert r.exit_code == 2 and "seals[0]" in r.stderr and "whirls" in r.stderr, r.stderr
 
@@ -167,9 +163,7 @@ def test_a_seal_takes_a_whirl_table_with_negative_direct_terms(tmp_path):
     )
     p = tmp_path / "m.toml"
     p.write_text(
-        MODEL.format(bearing='k = "2e7 N/m"\nc = "2e4 N*s/m"')
-        + '[[seals]]\nshaft = "rotor"\nnode = 2\n'
-        + seal
+        _model('k = "2e7 N/m"\nc = "2e4 N*s/m"') + '[[seals]]\nshaft = "rotor"\nnode = 2\n' + seal
     )
     asm = assemble(load_model(p))
     info = asm.bearings[-1]

@@ -402,8 +402,19 @@ def _mode_summary(res: ModalResult, i: int) -> dict:
     }
 
 
+class _Verdict:
+    """What the stability results share: a ``verdict``, one of :data:`VERDICTS`, and whether it
+    is ``"pass"``."""
+
+    verdict: str
+
+    @property
+    def passed(self) -> bool:
+        return self.verdict == "pass"
+
+
 @dataclass(frozen=True)
-class Level1Result:
+class Level1Result(_Verdict):
     """API 617 Level I stability (see the module docstring). Speeds rad/s, Q in N/m."""
 
     edition: str
@@ -441,10 +452,6 @@ class Level1Result:
     def ratio(self) -> float | None:
         """Q_0 / Q_A (None when Q_0 lies beyond ``q_max``)."""
         return None if self.threshold_q is None else self.threshold_q / self.qa
-
-    @property
-    def passed(self) -> bool:
-        return self.verdict == "pass"
 
     def to_dict(self) -> dict:
         return {
@@ -559,7 +566,7 @@ class Level2Evaluation:
 
 
 @dataclass(frozen=True)
-class Level2Result:
+class Level2Result(_Verdict):
     """API 617 Level II: damped modes with every modelled destabiliser at each speed."""
 
     edition: str
@@ -569,10 +576,6 @@ class Level2Result:
     min_lateral: float
     verdict: str  # "pass" or "fail"
     criterion_log_dec: float = LOG_DEC_MIN
-
-    @property
-    def passed(self) -> bool:
-        return self.verdict == "pass"
 
     def to_dict(self) -> dict:
         return {

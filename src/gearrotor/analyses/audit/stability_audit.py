@@ -36,6 +36,7 @@ from .stability import (
     Level2Result,
     Site,
     Stage,
+    _Verdict,
     level1,
     level2,
     mid_span,
@@ -46,7 +47,7 @@ __all__ = ["StabilityAudit", "level1_inputs", "level2_speeds", "stability_audit"
 
 
 @dataclass(frozen=True)
-class StabilityAudit:
+class StabilityAudit(_Verdict):
     """Level I and Level II of a train and the audit's verdict (``"pass"`` or ``"fail"``,
     ``decided_by`` ``"Level I"`` or ``"Level II"``)."""
 
@@ -54,10 +55,6 @@ class StabilityAudit:
     level2: Level2Result
     verdict: str
     decided_by: str
-
-    @property
-    def passed(self) -> bool:
-        return self.verdict == "pass"
 
     def to_dict(self) -> dict:
         """The Level I headline numbers at the top (``threshold_q_N_per_m`` = Q_0,

@@ -234,27 +234,31 @@ def campbell(
     that frequency. ``frequency_weight`` scales the relative-frequency-jump penalty added to
     1 − MAC.
 
-    ``reduced=True`` (default) solves the first speed on the full model and every later one
-    by a two-sided Rayleigh–Ritz step (:class:`_Subspace`): trial space the real and imaginary
-    parts of the tracked modes' right eigenvectors and of their first derivatives in speed at
-    the last speed solved on the full model, test space those of their left eigenvectors and
-    derivatives (:func:`_speed_vectors`: one sparse LU per mode at the full solve). The Ritz
-    pairs that continue the tracked modes (the same MAC assignment as for the full solve) are
-    checked a posteriori on the full model by their relative residual
-    ``‖P(λ)φ‖ / (|λ|²‖Mφ‖ + |λ|‖(C+G)φ‖ + ‖Kφ‖)``, ``P(λ) = λ²M + λ(C+G) + K``; when one
-    exceeds ``residual_tol`` that speed is solved on the full model instead and its vectors
-    replace the subspaces. The residual is second order in the speed change (the derivatives),
-    and with the left eigenvectors in the test space a Ritz value's error is second order in
-    the residual (with the right ones alone it was first order where fluid-film cross-coupling
-    makes the model far from symmetric: the steam turbine's log decs erred 0.024 × the
-    residual). The default tolerance 3e-4 keeps the frequencies and log decrements within
-    1e-6 (relative) of the full solve (tests/perf; measured within 1.5e-8 and 8e-8 on the
-    three example machines with 1–3 full solves). The reduced speeds' ``modal_results`` hold
-    the tracked modes only; the residuals and the solver used at each speed are in the result
-    (``residual``, ``solver``, ``full_solves``). Cost per reduced speed: one dense
-    eigenproblem of twice the subspace's dimension (104 states for the flagship's 13 tracked
-    modes) and O(n·m) work; subspaces beyond half the model's DOFs are not used (every speed
-    is then solved on the full model).
+    ``reduced=True`` (default) solves the first speed on the full model and every later one by a
+    two-sided Rayleigh–Ritz step (:class:`_Subspace`): trial space the real and imaginary parts
+    of the tracked modes' right eigenvectors and of their first derivatives in speed at the last
+    speed solved on the full model, test space those of their left eigenvectors and derivatives
+    (:func:`_speed_vectors`: one sparse LU per mode at the full solve). Each candidate Ritz pair
+    is checked on the full model by its relative residual ``‖P(λ)φ‖ / (|λ|²‖Mφ‖ + |λ|‖(C+G)φ‖ +
+    ‖Kφ‖)``, ``P(λ) = λ²M + λ(C+G) + K``, and only those within ``residual_tol`` may continue a
+    track (the same MAC assignment as for the full solve; a spurious Ritz pair in a multiple
+    mode's subspace can resemble one of its copies); when fewer remain than there are tracks, or
+    a track finds no continuation, that speed is solved on the full model instead and its
+    vectors replace the subspaces. The residual is second order in the speed change (the
+    derivatives), and with the left eigenvectors in the test space a Ritz value's error is
+    second order in the residual (with the right ones alone it was first order where fluid-film
+    cross-coupling makes the model far from symmetric: the steam turbine's log decs erred 0.024
+    × the residual). The default tolerance 3e-4 keeps the frequencies and log decrements within
+    1e-6 (relative) of the full solve (tests/perf; measured within 1.5e-8 and 8e-8 on the three
+    example machines with 1–3 full solves). The reduced speeds' ``modal_results`` hold the
+    tracked modes only; the residuals and the solver used at each speed are in the result
+    (``residual``, ``solver``, ``full_solves``). Cost per reduced speed: the eigenvalues of a
+    dense first-order problem of twice the subspace's dimension (LAPACK geev without vectors,
+    100 states for the flagship's 13 tracked modes), the vectors of the candidates by one
+    batched inverse-iteration step (:meth:`_Subspace.ritz_vectors`) and O(n·m) work; subspaces
+    beyond half the model's DOFs are not used (every speed is then solved on the full model).
+    The first sparse solve asks for as many eigenvalues as the circle is expected to hold
+    (:func:`_expected_count`).
 
     With speed × whirl tables (:mod:`gearrotor.analyses.lateral.whirl`) every speed is one
     eigensolve of the model with the tables' states and ``reduced`` does not apply; the
@@ -320,11 +324,13 @@ def campbell(
         report(sweep, i / len(speeds), f"speed {i + 1}/{len(speeds)}")
         r = None
         if space is not None and space.ready:
-            out = space.tracked_modes(w, radius, n_track, include_overdamped, assign)
+            out = space.tracked_modes(w, radius, n_track, include_overdamped, assign, residual_tol)
             if out is not None and np.max(out[2]) <= residual_tol:
                 r, chosen, res = out
                 solver.append("reduced")
         if r is None:
+            if k_hint is None and full_method == "sparse":
+                k_hint = _expected_count(asm, w, radius)
             r = modal(asm, speed=w, max_frequency=radius, method=full_method, sparse_k=k_hint)
             k_hint = r.n_eigenvalues + 8  # those inside 1.5×max_frequency, and a margin
             if method == "auto":
@@ -417,6 +423,35 @@ def _candidates(r: ModalResult, include_overdamped: bool, radius: float) -> NDAr
     if r.state_mode is not None:
         keep &= ~r.state_mode
     return np.flatnonzero(keep & (np.abs(r.eigenvalues) <= radius))
+
+
+def _expected_count(asm: Assembly, speed: float, radius: float) -> int | None:
+    """How many eigenvalues the sparse solver should first ask for to enclose |λ| ≤ ``radius``:
+    twice the number of undamped modes below it (Sylvester's inertia: the negative pivots of a
+    symmetric LDLᵀ of Kₛ − radius²M, Kₛ the symmetric part of K; SuperLU without row pivoting,
+    ~0.4 ms for the flagship) and 8 more, as after a full solve. The damping moves eigenvalues
+    across the circle, so this is a first guess: the solver asks for more if it falls short.
+    Measured: 52 of the flagship's 52 eigenvalues within 1.5 × 80,000 cpm, 62 for the steam
+    turbine's 60; without it the first ARPACK run asked for 20, then for enough (two runs, a
+    quarter of the first speed's solve). None when the factorisation fails."""
+    try:
+        M, _, _, K = asm.matrices(speed)
+    except ModelError:  # e.g. a speed outside a bearing table: the full solve says so
+        return None
+    A = sp.csc_array((K + K.T) * 0.5 - (radius * radius) * M)
+    try:
+        lu = spla.splu(
+            A,
+            permc_spec="MMD_AT_PLUS_A",
+            diag_pivot_thresh=0.0,
+            options={"SymmetricMode": True},
+        )
+    except RuntimeError:  # a zero pivot: no estimate
+        return None
+    d = lu.U.diagonal()
+    if not np.all(np.isfinite(d)):
+        return None
+    return 2 * int(np.sum(d < 0)) + 8
 
 
 def _residuals(asm: Assembly, speed: float, lam: NDArray, phi: NDArray) -> NDArray:
@@ -517,6 +552,10 @@ class _Subspace:
 
     def __init__(self, asm: Assembly):
         self.asm = asm
+        # K changes with speed: bearing coefficients, rotating material damping (kept: the
+        # Assembly works them out on every call)
+        self.bearings_vary = asm.speed_dependent
+        self.varies = self.bearings_vary or asm.rotating_damping
         self.sets: list[tuple[NDArray, NDArray]] = []
         self.ready = False
 
@@ -550,21 +589,25 @@ class _Subspace:
         self.K0Q = asm.K0 @ Q
         self.GQ = [g @ Q if g.nnz else None for g in asm.G_shaft]
         self.KcQ = [k @ Q if k.nnz else None for k in asm.Kc_shaft]
-        WT = W.T
-        self.C0r, self.K0r = WT @ self.C0Q, WT @ self.K0Q
-        self.Gr = [None if g is None else WT @ g for g in self.GQ]
-        self.Kcr = [None if k is None else WT @ k for k in self.KcQ]
-        Mr = WT @ self.MQ
+        Mr = W.T @ self.MQ
         # the test space must see the mass on the trial space (a well-conditioned Mr)
         sv = np.linalg.svd(Mr, compute_uv=False)
         if not sv[-1] > 1e-8 * sv[0]:
             return
-        self.lu = la.lu_factor(Mr, check_finite=False)
+        # the reductions Mr⁻¹Wᵀ A Q, formed once: a speed's first-order matrix is then sums of
+        # them (no solve with Mr per speed)
+        self.WT = WT = la.lu_solve(la.lu_factor(Mr, check_finite=False), W.T, check_finite=False)
+        self.C0r, self.K0r = WT @ self.C0Q, WT @ self.K0Q
+        self.Gr = [None if g is None else WT @ g for g in self.GQ]
+        self.Kcr = [None if k is None else WT @ k for k in self.KcQ]
+        # the fixed start vectors of ritz_vectors' inverse-iteration step
+        rng = np.random.default_rng(20261128)
+        self.start = rng.standard_normal((m, m)) + 1j * rng.standard_normal((m, m))
         self.ready = True
 
     def applied(self, speed: float):
-        """(C+G)Q, KQ (n, m) and their reductions Wᵀ(C+G)Q, WᵀKQ (m, m) at ``speed``, and K
-        (sparse) when it changes with speed."""
+        """(C+G)Q, KQ (n, m) and their reductions Mr⁻¹Wᵀ(C+G)Q, Mr⁻¹WᵀKQ (m, m) at ``speed``
+        (Mr = WᵀMQ), and K (sparse) when it changes with speed."""
         asm = self.asm
         speeds = asm.shaft_speeds(speed)
         CQ, KQ = self.C0Q.copy(), self.K0Q.copy()
@@ -578,42 +621,70 @@ class _Subspace:
                     KQ += s * kq
                     Kr += s * kr
         K = None
-        if asm.speed_dependent or asm.rotating_damping:
+        if self.varies:
             _, C, _, K = asm.matrices(speed)
-        if asm.speed_dependent:  # the bearings' speed-dependent parts
+        if self.bearings_vary:  # the bearings' speed-dependent parts
             dCQ = (C - asm.C0) @ self.Q
             KQ = K @ self.Q
             CQ += dCQ
-            Cr += self.W.T @ dCQ
-            Kr = self.W.T @ KQ
+            Cr += self.WT @ dCQ
+            Kr = self.WT @ KQ
         return CQ, KQ, Cr, Kr, K
 
     def geev(self, n: int):
-        """LAPACK's real geev and its workspace size for order ``n`` (kept per order)."""
+        """LAPACK's real geev (eigenvalues only) and its workspace size for order ``n`` (kept
+        per order)."""
         got = getattr(self, "_geev", None)
         if got is None or got[0] != n:
             geev, geev_lwork = la.get_lapack_funcs(("geev", "geev_lwork"), (np.zeros(1),))
-            lwork = la.lapack._compute_lwork(geev_lwork, n, compute_vl=0, compute_vr=1)
+            lwork = la.lapack._compute_lwork(geev_lwork, n, compute_vl=0, compute_vr=0)
             self._geev = got = (n, geev, lwork)
         return got[1], got[2]
 
-    def tracked_modes(self, speed, radius, n_track, include_overdamped, assign):
+    def ritz_vectors(self, lam: NDArray, Kt: NDArray, Ct: NDArray) -> NDArray | None:
+        """(m, k) reduced vectors z_j of the Ritz values λ_j: (λ_j² I + λ_j C̃ + K̃) z_j = 0
+        with C̃ = Mr⁻¹Cr, K̃ = Mr⁻¹Kr (the pencil whose first-order form geev solved), by one
+        step of inverse iteration at λ_j from a fixed generic vector, its own for each λ_j (the
+        copies of a multiple Ritz value then span its eigenspace), all k in one batched LU.
+        λ_j is an eigenvalue to round-off, so the step amplifies its eigen-direction by
+        ~1/round-off against 1/gap for the others: the vector is as accurate as geev's own
+        (geev computed all 2m vectors, 40 % of its time, for the ~13 of 100 wanted). None if
+        the solve fails."""
+        m, k = len(Kt), len(lam)
+        d = np.arange(m)
+        N = np.multiply.outer(lam, Ct)
+        N += Kt
+        N[:, d, d] += (lam * lam)[:, None]
+        start = self.start[:k, :, None]  # k ≤ m: the Ritz values with Im λ > 0
+        for _ in range(2):
+            try:
+                z = np.linalg.solve(N, start)[..., 0]
+            except np.linalg.LinAlgError:  # an exactly zero pivot: off λ_j by round-off
+                N[:, d, d] += 1e-13 * np.abs(lam)[:, None] ** 2
+                continue
+            return z.T if np.isfinite(z).all() else None
+        return None
+
+    def tracked_modes(
+        self, speed, radius, n_track, include_overdamped, assign, residual_tol=np.inf
+    ):
         """(result holding the tracked modes, their indices in it, their relative residuals on
         the full model) at ``speed``, or None when the projection offers fewer Ritz pairs than
-        tracked modes (the caller then solves the full model)."""
+        tracked modes whose residual is within ``residual_tol`` (the caller then solves the
+        full model)."""
         asm, Q = self.asm, self.Q
-        CQ, KQ, Cr, Kr, K = self.applied(speed)
+        CQ, KQ, Ct, Kt, K = self.applied(speed)
         m = Q.shape[1]
         A = np.zeros((2 * m, 2 * m))
         A[:m, m:] = np.eye(m)
-        A[m:, :m] = -la.lu_solve(self.lu, Kr, check_finite=False)
-        A[m:, m:] = -la.lu_solve(self.lu, Cr, check_finite=False)
+        A[m:, :m] = -Kt
+        A[m:, m:] = -Ct
         if not np.isfinite(A).all():
             return None
-        # LAPACK geev as la.eig calls it, the complex vectors made only for the chosen pairs
-        # (columns j, j+1 of a pair with Im λ_j > 0: x = v_j + i v_j+1, as la.eig makes them)
+        # LAPACK geev as la.eig calls it, eigenvalues only; the vectors of the candidates by
+        # inverse iteration (ritz_vectors)
         geev, lwork = self.geev(2 * m)
-        wr, wi, _, V, info = geev(A, lwork=lwork, compute_vl=0, compute_vr=1, overwrite_a=1)
+        wr, wi, _, _, info = geev(A, lwork=lwork, compute_vl=0, compute_vr=0, overwrite_a=1)
         if info != 0:
             return None
         lam = wr + 1j * wi
@@ -624,18 +695,33 @@ class _Subspace:
         if len(sel) < n_track:
             return None
         lam = lam[sel]
-        Y = np.empty((m, len(sel)), complex)
-        Y.real, Y.imag = V[:m, sel], V[:m, sel + 1]
-        pick = assign((Q @ Y).T, lam.imag)
+        Y = self.ritz_vectors(lam, Kt, Ct)
+        if Y is None:
+            return None
+        # a Ritz pair whose residual fails the check continues no track (a spurious pair in a
+        # multiple mode's subspace may look like one of its copies)
+        k = len(lam)
+        YY = np.hstack([Y.real, Y.imag])  # real products (a real matrix times complex Y)
+
+        def times(A: NDArray) -> NDArray:
+            P = A @ YY
+            return P[:, :k] + 1j * P[:, k:]
+
+        res = _relative_residual(lam, times(self.MQ), times(CQ), times(KQ))
+        ok = np.flatnonzero(res <= residual_tol)
+        if len(ok) < n_track:
+            return None
+        X = times(Q)[:, ok]  # the Ritz vectors on the full model
+        lam, res = lam[ok], res[ok]
+        pick = assign(X.T, lam.imag)
         if np.any(pick < 0):  # a track ends here: the full solve decides
             return None
-        lam, Y = lam[pick], Y[:, pick]
-        res = _relative_residual(lam, self.MQ @ Y, CQ @ Y, KQ @ Y)
+        lam, X, res = lam[pick], X[:, pick], res[pick]
         order = np.argsort(lam.imag, kind="stable")
         w = float(speed)
         out = _classify(
             lam[order],
-            Q @ Y[:, order],
+            X[:, order],
             asm,
             asm.shaft_speeds(w),
             asm.K0 if K is None else K,

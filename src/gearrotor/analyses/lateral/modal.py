@@ -669,7 +669,7 @@ def _split(X: NDArray) -> tuple[NDArray, NDArray]:
 def _quadratic(A, a: NDArray, b: NDArray) -> NDArray:
     """xᴴ A x (complex) for each column x = a + ib of X (n, m), A real (sparse), a and b as
     :func:`_split` gives them."""
-    Aa, Ab = A @ a, A @ b
+    Aa, Ab = _times_both(A, a, b)
     return (
         np.einsum("ij,ij->j", a, Aa)
         + np.einsum("ij,ij->j", b, Ab)
@@ -677,11 +677,20 @@ def _quadratic(A, a: NDArray, b: NDArray) -> NDArray:
     )
 
 
+def _times_both(A, a: NDArray, b: NDArray) -> tuple[NDArray, NDArray]:
+    """(A a, A b) by one product with [a, b] (a sparse product's fixed cost, ~10 µs, is most of
+    it for the few columns of a classification; every column's sums are the same)."""
+    AB = A @ np.hstack([a, b])
+    k = a.shape[1]
+    return AB[:, :k], AB[:, k:]
+
+
 def _by_kind(data: _KindData, A, X: NDArray) -> NDArray:
     """(m, 3): Re Σ_{i∈k} conj(x_i) (A_kk x_k)_i for each column x of X (n, m) and kind k, with
     A real and kind-diagonal (the kind blocks' quadratic forms Re x_kᴴ A_kk x_k)."""
     a, b = _split(X)
-    return (data.indicator @ (a * (A @ a) + b * (A @ b))).T
+    Aa, Ab = _times_both(A, a, b)
+    return (data.indicator @ (a * Aa + b * Ab)).T
 
 
 def _scale_vector(asm: Assembly) -> NDArray:
@@ -749,11 +758,18 @@ def _energy_shares(phi: NDArray, asm: Assembly, K, kin: NDArray | None = None) -
 def shares_to_types(shares: NDArray, threshold: float = TYPE_THRESHOLD) -> tuple[str, ...]:
     """Mode types from energy shares (columns L, A, T): the groups at or above the threshold
     (the largest alone when none is)."""
-    types = []
-    for f in shares:
-        groups = {k for k in range(3) if f[k] >= threshold} or {int(np.argmax(f[:3]))}
-        types.append("-".join(KIND_NAMES[k] for k in (0, 2, 1) if k in groups))
-    return tuple(types)
+    shares = np.asarray(shares)
+    on = shares[:, :3] >= threshold
+    none = ~on.any(axis=1)
+    on[none, np.argmax(shares[none, :3], axis=1)] = True
+    return tuple(_TYPE_NAMES[i] for i in on @ np.array([1, 2, 4]))
+
+
+# the type of each set of groups at or above the threshold, by bits L = 1, A = 2, T = 4 (named
+# in the order L, T, A)
+_TYPE_NAMES = tuple(
+    "-".join(KIND_NAMES[k] for k in (0, 2, 1) if bits >> k & 1) for bits in range(8)
+)
 
 
 def _classify(
@@ -773,7 +789,8 @@ def _classify(
     mag = np.abs(lam)
     Vr, Vi = _split(V)
     strain = np.abs(_quadratic(K, Vr, Vi))
-    kinetic = np.einsum("ij,ij->j", Vr, asm.M @ Vr) + np.einsum("ij,ij->j", Vi, asm.M @ Vi)
+    MVr, MVi = _times_both(asm.M, Vr, Vi)
+    kinetic = np.einsum("ij,ij->j", Vr, MVr) + np.einsum("ij,ij->j", Vi, MVi)
     # strain-free and not growing faster than rigid_tol: a positive real eigenvalue beyond the
     # tolerance is an instability, never a rigid-body mode
     rigid = (np.sqrt(strain / np.maximum(kinetic, 1e-300)) < rigid_tol) & (lam.real < rigid_tol)
@@ -844,7 +861,7 @@ def _classify(
         spin = np.sign(speeds[si]) if speeds[si] != 0 else np.sign(nominal[si]) or 1.0
         sense[:, si] = ccw * spin
     letters = np.where(amp < 1e-12, "-", np.where(sense > 0, "F", "B"))
-    whirl_ps = [tuple(str(c) for c in row) for row in letters]
+    whirl_ps = [tuple(row) for row in letters.tolist()]
     whirl = [row[int(j)] for row, j in zip(whirl_ps, np.argmax(amp, axis=1), strict=True)]
 
     zeta = -lam_m.real / np.abs(lam_m)

@@ -353,7 +353,7 @@ def _law_torque(j, t, th, om, state, par, t_ptr, t_x, t_y, t_z, v_ptr, v_t, v_f,
     return out * factor
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def drive_torques(t, q, v, drives, advance, force):
     """Every law's torque at time t from the state (q, v) into ``drives.torque``, and
     ``gain · sign · T`` added to ``force`` at its coordinate. ``advance``: a synchronous motor

@@ -469,7 +469,7 @@ def _state_of(delta, b):
     return 0
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _deflection(k, x, mi, mj, wi, wj):
     """δ (or δ̇) of mesh k for the angles (or speeds) x (the :class:`Meshes` arrays)."""
     return wi[k] * x[mi[k]] + wj[k] * x[mj[k]]

@@ -350,7 +350,7 @@ def _interp(x, xp, fp, lo, hi):
     return fp[a] + f * (fp[b] - fp[a])
 
 
-@njit(cache=_CACHE)
+@njit(cache=_CACHE, inline="always")
 def mesh_deflections(k, qs, vs, meshes):
     """Mesh k: (δ, δ̇, δ_b, δ̇_b, φ_m): the deflections and rates along the drive line w
     (δ = w·q) and the back-flank line w_b, with the transmission error (δ → δ − e on the drive
@@ -385,7 +385,7 @@ def mesh_deflections(k, qs, vs, meshes):
     return delta, ddelta, db, ddb, phi
 
 
-@njit(cache=_CACHE)
+@njit(cache=_CACHE, inline="always")
 def mesh_eval(k, qs, vs, meshes):
     """Mesh k: returns (F_d, F_b, stiffness, δ_e, δ̇_e, state, φ_m).
 
@@ -435,7 +435,7 @@ def _along(k, line, x, dofs, w):
     return d
 
 
-@njit(cache=_CACHE)
+@njit(cache=_CACHE, inline="always")
 def mesh_forces(qs, vs, meshes, fs):
     """The meshes' generalised forces added to fs, minus the linear part the integrator
     already holds (kg_linear δ on the drive line, kg_back_linear δ_b on the back line, with
@@ -454,7 +454,7 @@ def mesh_forces(qs, vs, meshes, fs):
                 fs[i] -= Fd * w[k, 0, j] + Fb * w[k, 1, j]
 
 
-@njit(cache=_CACHE)
+@njit(cache=_CACHE, inline="always")
 def unbalance_forces(qs, vs, unbalances, fs):
     """The unbalances' centrifugal part m e θ̇² r_u added to fs (the θ̈ part is implicit)."""
     dofs, me, phase = unbalances
@@ -466,7 +466,7 @@ def unbalance_forces(qs, vs, unbalances, fs):
         fs[dofs[u, 1]] += w2 * np.sin(th)
 
 
-@njit(cache=_CACHE)
+@njit(cache=_CACHE, inline="always")
 def torque_forces(t, vs, torques, fs):
     """External torques (a value or a time table, times the speed law) added to fs."""
     dof, value, exponent, reference, ptr, time, values = torques
@@ -479,7 +479,7 @@ def torque_forces(t, vs, torques, fs):
         fs[dof[j]] += val
 
 
-@njit(cache=_CACHE)
+@njit(cache=_CACHE, inline="always")
 def bearing_forces(qs, vs, Om, bearings, fs):
     """Speed-dependent bearings: the coefficients at the speed of their shaft minus those in
     the linear part, on the journal's motion relative to its pedestal, added to fs."""
@@ -511,7 +511,7 @@ def bearing_forces(qs, vs, Om, bearings, fs):
             fs[dofs[j, 3]] -= fy
 
 
-@njit(cache=_CACHE)
+@njit(cache=_CACHE, fastmath=False)
 def nonlinear_forces(t, qs, vs, Om, forces, fs):
     """Generalised forces on the force DOFs (fs overwritten): meshes, unbalances, torques,
     speed-dependent bearings, drives and loads (:class:`Forces`).
@@ -961,7 +961,7 @@ def rk4_modal(t0, dt, n_steps, e, de, save_every, row0, rec, P, W, k):
 # ------------------------------------------------------------------------------------------
 # outputs from recorded states
 # ------------------------------------------------------------------------------------------
-@njit(cache=_CACHE)
+@njit(cache=_CACHE, fastmath=False)
 def outputs_kernel(rec_q, rec_v, meshes, mesh_out):
     """Per record and mesh: F = F_d − F_b (N), k (N/m), δ_e (m), δ̇_e, state, φ_m, F_d, F_b
     into mesh_out (nt, nm, 8). ``meshes.dofs`` index the recorded output DOFs here."""
@@ -981,24 +981,32 @@ def outputs_kernel(rec_q, rec_v, meshes, mesh_out):
 # ------------------------------------------------------------------------------------------
 # modal coordinates, linear part exact (integrating factor), contact changes located
 # ------------------------------------------------------------------------------------------
-@njit(cache=_CACHE)
-def mesh_gaps(k, qs, vs, meshes, g):
-    """Gap functions of mesh k into g[0:4]: δ − b, δ̇ (drive line), δ_b − b, δ̇_b (back line),
-    with the transmission error, as :func:`mesh_eval` forms them (> 0: that flank touches)."""
-    delta, ddelta, db, ddb, _ = mesh_deflections(k, qs, vs, meshes)
-    b = meshes.backlash[k]
-    g[0] = delta - b
-    g[1] = ddelta
-    g[2] = db - b
-    g[3] = ddb
+@njit(cache=_CACHE, fastmath=False)
+def _gap_deflections(k, qs, vs, meshes):
+    """:func:`mesh_deflections` for :func:`mesh_gaps`, compiled on its own without fastmath
+    (as in :func:`mesh_eval`; inlined into mesh_gaps it would take that function's flags)."""
+    return mesh_deflections(k, qs, vs, meshes)
+
+
+@njit(cache=_CACHE, fastmath=_FAST)
+def mesh_gaps(qs, vs, meshes, G):
+    """Gap functions of every mesh k into G[k, 0:4]: δ − b, δ̇ (drive line), δ_b − b, δ̇_b
+    (back line), with the transmission error, as :func:`mesh_eval` forms them (> 0: that flank
+    touches)."""
+    backlash = meshes.backlash
+    for k in range(backlash.shape[0]):
+        delta, ddelta, db, ddb, _ = _gap_deflections(k, qs, vs, meshes)
+        G[k, 0] = delta - backlash[k]
+        G[k, 1] = ddelta
+        G[k, 2] = db - backlash[k]
+        G[k, 3] = ddb
 
 
 @njit(cache=_CACHE, fastmath=_FAST)
 def _gaps_of(e, de, Phi_sel, qs, vs, meshes, G):
     """G[k, 0:4] = :func:`mesh_gaps` of every mesh at the modal state (e, de)."""
     _matvec2(Phi_sel, e, de, qs, vs)
-    for k in range(meshes.dofs.shape[0]):
-        mesh_gaps(k, qs, vs, meshes, G[k])
+    mesh_gaps(qs, vs, meshes, G)
 
 
 @njit(cache=_CACHE)
