@@ -7,13 +7,14 @@ of DOFs that carry nonlinear forces (gathered from q, or from Φ_sel η); ``−1
 inactive DOF.
 
 Cost of a pack: numba counts a reference (an atomic increment, and a decrement later) for
-every array read out of a named tuple, also out of a nested one when the inner tuple is bound
-to a name, while arrays passed as arguments are borrowed. So a function reads each array it
-needs once, at its top; a function called per mesh or per law in a loop takes the arrays
-(:func:`~..torsional.drive_laws.drive_torques` unpacks the laws once for all of them). Against
-the former flat argument lists the reads still cost the small flagship's classical modal RK4
-run some 13 % (the others 0-6 %), and compiling the kernels some 25 % more CPU
-(``benchmarks/kernels.py``, ``--cold``).
+every array of a named tuple a compiled function is passed, used or not, and again when an
+inlined function binds the pack to its own name; only some pairs are pruned. So the packs cross
+few compiled calls per step: the force laws are inlined into :func:`nonlinear_forces` (one
+compiled call per evaluation), the functions called per mesh take arrays. A compiled function
+called from several kernels states its fastmath flags: numba compiles a callee without them
+with the flags of its first caller, so results depended on which kernel was compiled first.
+Against the former flat argument lists the runs cost the same (``benchmarks/kernels.py``;
+compiling from an empty cache takes some 20 % more CPU: docs/performance.md).
 
 The packs (built in Python by :mod:`.forces` and :mod:`.prepare`), one per law, each evaluated
 by one function here:
@@ -555,7 +556,7 @@ def nonlinear_forces(t, qs, vs, Om, forces, fs):
         drive_torques(t, qs, vs, drives, True, fs)
 
 
-@njit(cache=_CACHE)
+@njit(cache=_CACHE, fastmath=False)
 def _lu_solve(A, b, piv):
     """Solve A x = b in place (b ← x) by Gaussian elimination with partial pivoting; A is
     overwritten. Returns False when A is singular."""
