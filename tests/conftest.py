@@ -30,6 +30,64 @@ def _one_thread_per_worker() -> None:
 
 _one_thread_per_worker()
 
+
+def pytest_configure(config) -> None:
+    """One results cache (``gearrotor.cache``: the fluid-film tables) for the whole run, fresh
+    and shared: set by the controlling process before pytest-xdist starts its workers, so that
+    they and every command line a test runs use the same folder, and a table solved by one is
+    read by the others; removed when the run ends. A cache directory set by the caller (or
+    ``GEARROTOR_CACHE=off``) is kept."""
+    if os.environ.get("PYTEST_XDIST_WORKER") or os.environ.get("GEARROTOR_CACHE_DIR"):
+        return
+    import tempfile
+
+    folder = tempfile.mkdtemp(prefix="gearrotor-test-cache-")
+    os.environ["GEARROTOR_CACHE_DIR"] = folder
+    config._gearrotor_cache = folder
+
+
+#: Module- and session-scoped fixtures too cheap to keep their tests on one worker.
+_CHEAP_FIXTURES = {"examples", "doc_workspaces", "make_gearbox"}
+_SCOPE_RANK = {"session": 0, "package": 1, "module": 2, "class": 3}
+
+
+@pytest.hookimpl(tryfirst=True)
+def pytest_collection_modifyitems(config, items) -> None:
+    """The tests that share a module- or session-scoped fixture of this suite (a computed
+    report, an example's doc commands, a solved model) go to one pytest-xdist worker
+    (``--dist loadgroup`` in pyproject's addopts): spread over two workers, each worker computed
+    the fixture again. The group is the widest such fixture a test uses; tests without one are
+    distributed freely. Runs before pytest-xdist's own hook reads the groups."""
+    for item in items:
+        if item.get_closest_marker("xdist_group"):
+            continue
+        info = getattr(item, "_fixtureinfo", None)
+        if info is None:
+            continue
+        best = None
+        for name in info.names_closure:
+            defs = info.name2fixturedefs.get(name)
+            if not defs or name in _CHEAP_FIXTURES:
+                continue
+            fd = defs[-1]
+            scope = str(getattr(fd, "scope", "function"))
+            if scope not in _SCOPE_RANK or not fd.baseid:  # function scope, pytest's own
+                continue
+            key = (_SCOPE_RANK[scope], f"{fd.baseid}::{name}")
+            best = key if best is None else min(best, key)
+        if best is not None:
+            item.add_marker(pytest.mark.xdist_group(best[1]))
+
+
+def pytest_unconfigure(config) -> None:
+    import shutil
+
+    folder = getattr(config, "_gearrotor_cache", None)
+    if folder:
+        shutil.rmtree(folder, ignore_errors=True)
+        os.environ.pop("GEARROTOR_CACHE_DIR", None)
+
+
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLES = ROOT / "examples"
 

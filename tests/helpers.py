@@ -36,10 +36,19 @@ def single_shaft(
     return Train.model_validate(data)
 
 
-def rotor_toml(*, speed: float = 6000, elements: int = 6, disk_node: int = 3) -> str:
-    """A model file's rotor without bearings (they follow): a 0.8 m steel shaft of 100 mm in
-    ``elements`` elements with a 60 kg disk at ``disk_node``, at ``speed`` rpm; the rotor of the
-    tilting-pad tests (``tests/pads/pad_models.py``) and of the whirl-table input tests."""
+def rotor_toml(
+    *, speed: float = 6000, length: float = 0.8, elements: int = 6, disk_node: int | None = 3
+) -> str:
+    """A model file's rotor without bearings (they follow): a steel shaft ``rotor`` of 100 mm,
+    ``length`` m in ``elements`` elements, with a 60 kg disk at ``disk_node`` (None: none), at
+    ``speed`` rpm; the rotor of the tilting-pad tests (``tests/pads/pad_models.py``), of the
+    whirl-table input tests and of the fluid-film rotor test."""
+    disk = (
+        ""
+        if disk_node is None
+        else f'disks = [{{ node = {disk_node}, mass = "60 kg", polar = "1.2 kg*m^2", '
+        'transverse = "0.7 kg*m^2" }]\n'
+    )
     return f"""
 speed = "{speed} rpm"
 [materials.steel]
@@ -49,9 +58,8 @@ density = "7850 kg/m^3"
 [[shafts]]
 name = "rotor"
 material = "steel"
-sections = [{{ length = "0.8 m", outer_diameter = "0.1 m", elements = {elements} }}]
-disks = [{{ node = {disk_node}, mass = "60 kg", polar = "1.2 kg*m^2", transverse = "0.7 kg*m^2" }}]
-"""
+sections = [{{ length = "{length} m", outer_diameter = "0.1 m", elements = {elements} }}]
+{disk}"""
 
 
 def chain(n_shafts: int, elements: int, *, unbalance_every_shaft: bool = False) -> dict:

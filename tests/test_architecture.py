@@ -181,6 +181,7 @@ LAYERS = {
     "progress": 0,
     "model": 1,
     "bearings": 2,
+    "cache": 2,
     "seals": 2,
     "gears": 2,
     "io": 2,

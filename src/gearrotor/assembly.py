@@ -33,6 +33,7 @@ from .elements import (
     DiskElement,
     MeshGeometry,
     PadBearing,
+    PadTable,
     RadialBearing,
     ShaftElement,
     ThrustBearing,
@@ -393,24 +394,47 @@ def _film_case(file: str, pads: tuple, field: str, pad_dynamics: bool):
     return case
 
 
+#: The code a fluid-film table comes from (:mod:`gearrotor.cache` fingerprints it).
+_FILM_SOURCES = ("bearings", "elements")
+
+
+def _case_key(case) -> tuple:
+    """What a bearing file's table depends on, as parsed: the bearing without its name, the
+    solver options, the lubricant (not the file's path, name or notes, nor its load cases:
+    the loads are part of the key on their own)."""
+    return (
+        replace(case.bearing, name=""),
+        case.options,
+        case.lubricant,
+        case.temperature,
+    )
+
+
 @functools.lru_cache(maxsize=64)
 def _solve_film_table(file: str, mtime_ns: int, loads: tuple, rpm: tuple, pads: tuple, field: str):
     """Solve a fluid-film table once per (file version, loads, speeds, pad overrides):
     re-assembling a model that only changes elsewhere (a destabiliser sweep, an override)
     reuses it. The synchronously reduced coefficients (:func:`gearrotor.bearings.coefficients`)
     at each speed's load."""
+    from . import cache
     from .bearings import coefficients_table
 
     case = _film_case(file, pads, field, False)
-    rows = []
-    if len(set(loads)) == 1:
-        t = coefficients_table(case.bearing, loads[0], list(rpm), options=case.options)
-        rows = [t.values()]
-    else:
-        for load, n in zip(loads, rpm, strict=True):
-            rows.append(coefficients_table(case.bearing, load, [n], options=case.options).values())
+
+    def solve() -> dict:
+        if len(set(loads)) == 1:
+            t = coefficients_table(case.bearing, loads[0], list(rpm), options=case.options)
+            return {"values": t.values()}
+        rows = [
+            coefficients_table(case.bearing, load, [n], options=case.options).values()
+            for load, n in zip(loads, rpm, strict=True)
+        ]
+        return {"values": np.vstack(rows)}
+
+    vals = cache.arrays(
+        "film-table", ("synchronous", _case_key(case), loads, rpm), solve, sources=_FILM_SOURCES
+    )["values"]
     speed = np.abs(np.asarray(rpm)) * np.pi / 30
-    vals = np.vstack(rows)
     speed.setflags(write=False)
     vals.setflags(write=False)
     return speed, vals
@@ -420,24 +444,34 @@ def _solve_film_table(file: str, mtime_ns: int, loads: tuple, rpm: tuple, pads: 
 def _solve_pad_table(file: str, mtime_ns: int, loads: tuple, rpm: tuple, pads: tuple, field: str):
     """The full coefficients of a tilting-pad file (:func:`gearrotor.bearings.pads.pad_table`)
     once per (file version, loads, speeds, pad overrides)."""
+    from . import cache
     from .bearings import equilibrium
     from .bearings.pads import pad_table_from_equilibria
 
     case = _film_case(file, pads, field, True)
 
-    eqs, prev = [], None
-    for load, n in zip(loads, rpm, strict=True):
-        w = n * np.pi / 30
-        eq = equilibrium(
-            case.bearing,
-            load,
-            w,
-            options=case.options,
-            start=prev,
-        )
-        eqs.append(eq)
-        prev = eq
-    return pad_table_from_equilibria(case.bearing, eqs, options=case.options)
+    def solve() -> dict:
+        eqs, prev = [], None
+        for load, n in zip(loads, rpm, strict=True):
+            eq = equilibrium(case.bearing, load, n * np.pi / 30, options=case.options, start=prev)
+            eqs.append(eq)
+            prev = eq
+        t = pad_table_from_equilibria(case.bearing, eqs, options=case.options)
+        return {
+            "speed": t.speed,
+            "K": t.K,
+            "C": t.C,
+            "M": t.M,
+            "lever": t.lever,
+            "dofs": np.array(t.dofs, dtype=str),
+        }
+
+    a = cache.arrays(
+        "film-table", ("pads", _case_key(case), loads, rpm), solve, sources=_FILM_SOURCES
+    )
+    return PadTable(
+        a["speed"], a["K"], a["C"], a["M"], tuple(str(d) for d in a["dofs"]), a["lever"]
+    )
 
 
 def _seal_file_state(sl, shaft, train_speed: float) -> tuple[int, float]:

@@ -24,13 +24,12 @@ import os
 import re
 import shutil
 import subprocess
-import sys
 from pathlib import Path
 
 import pytest
 import typer.main
 
-from doc_examples import ENV, ROOT, PrintedCommand, printed_commands
+from doc_examples import ENV, ROOT, PrintedCommand, printed_commands, run_gearrotor
 from gearrotor.cli import app
 
 COMMANDS, SYNOPSES = printed_commands()
@@ -239,14 +238,7 @@ _DONE: dict[tuple[str, str], Path] = {}
 
 def _run(cmd: PrintedCommand, where: Path) -> subprocess.CompletedProcess:
     env = dict(ENV, PYTHONPATH=os.pathsep.join([str(ROOT / "src"), ENV.get("PYTHONPATH", "")]))
-    return subprocess.run(
-        [sys.executable, "-m", "gearrotor", *cmd.argv],
-        cwd=where,
-        env=env,
-        capture_output=True,
-        text=True,
-        timeout=1800,
-    )
+    return run_gearrotor(cmd.argv, where, env, timeout=1800)
 
 
 @pytest.fixture(scope="module")
@@ -262,10 +254,41 @@ def doc_workspaces(tmp_path_factory):
     return get
 
 
+def _chains() -> dict[int, str]:
+    """Commands linked by the files they write and read, one name per chain (the first
+    command's): a chain runs on one pytest-xdist worker (``--dist loadgroup``), where the
+    files its first commands wrote are already there (``_DONE``) instead of being written
+    again by the worker that runs a later command."""
+    root = list(range(len(COMMANDS)))
+
+    def find(i: int) -> int:
+        while root[i] != i:
+            root[i] = root[root[i]]
+            i = root[i]
+        return i
+
+    index = {id(c): k for k, c in enumerate(COMMANDS)}
+    for k, cmd in enumerate(COMMANDS):
+        for dep in depends_on(cmd):
+            a, b = sorted((find(k), find(index[id(dep)])))
+            root[b] = a
+    sizes: dict[int, int] = {}
+    for k in range(len(COMMANDS)):
+        sizes[find(k)] = sizes.get(find(k), 0) + 1
+    return {
+        k: f"doc-chain:{COMMANDS[find(k)].doc}:{COMMANDS[find(k)].line}"
+        for k in range(len(COMMANDS))
+        if sizes[find(k)] > 1
+    }
+
+
 def _params():
     out = []
-    for cmd, id_ in zip(COMMANDS, _ids(COMMANDS), strict=True):
+    chains = _chains()
+    for k, (cmd, id_) in enumerate(zip(COMMANDS, _ids(COMMANDS), strict=True)):
         marks = [] if is_fast(cmd) else [pytest.mark.slow]
+        if k in chains:
+            marks.append(pytest.mark.xdist_group(chains[k]))
         out.append(pytest.param(cmd, id=id_, marks=marks))
     return out
 

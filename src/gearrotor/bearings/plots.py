@@ -37,6 +37,35 @@ def _save(fig, path: str | Path | None):
     return fig
 
 
+def _pad_maps(films, values, length: float, *, low, high, cmap, extend, label):
+    """The figure of a pad-map plot: a row of contour maps, one per pad, of ``values`` (one
+    array per pad over its half-length grid, mirrored here to the full ``length``, m) over
+    angle (deg) and axial position (mm), with round contour levels from ``low`` to ``high``
+    (0.5, 1, 1.5 ... rather than (high - low)/20 steps, so that the colour bar's ticks are
+    round numbers) and one colour bar; below it a free row (the figure's grid spec ``[1, :]``)
+    for the mid-plane curves. Returns ``(figure, grid spec)``."""
+    from matplotlib.ticker import MaxNLocator
+
+    n = len(films)
+    fig = _figure(figsize=(max(8.0, 2.6 * n), 6.4), layout="constrained")
+    gs = fig.add_gridspec(2, n, height_ratios=[1.2, 1.0])
+    levels = MaxNLocator(nbins=20).tick_values(low, high)
+    im = None
+    for k, (film, v) in enumerate(zip(films, values, strict=True)):
+        ax = fig.add_subplot(gs[0, k])
+        z = np.concatenate([film.z, length - film.z[-2::-1]]) * 1e3
+        v = np.concatenate([v, v[:, -2::-1]], axis=1)
+        th = np.degrees(film.theta)
+        im = ax.contourf(th, z, v.T, levels=levels, cmap=cmap, extend=extend)
+        ax.set_title(f"pad {k + 1}: {th[0]:.0f}°–{th[-1]:.0f}°", fontsize=9)
+        ax.set_xlabel("θ (deg)")
+        if k == 0:
+            ax.set_ylabel("z (mm)")
+    if im is not None:
+        fig.colorbar(im, ax=fig.axes, label=label, shrink=0.9)
+    return fig, gs
+
+
 def plot_pressure(eq: Equilibrium, bearing: Bearing, path: str | Path | None = None):
     """Pressure map (MPa) of every pad over angle (deg) and axial position (mm).
 
@@ -44,28 +73,17 @@ def plot_pressure(eq: Equilibrium, bearing: Bearing, path: str | Path | None = N
     unrolled mid-plane pressure and film thickness over the circumference.
     """
     films = eq.film.pads
-    n = len(films)
-    fig = _figure(figsize=(max(8.0, 2.6 * n), 6.4), layout="constrained")
-    gs = fig.add_gridspec(2, n, height_ratios=[1.2, 1.0])
     pmax = max(float(f.pressure.max()) for f in films) / 1e6 or 1.0
-    from matplotlib.ticker import MaxNLocator
-
-    # round contour levels (0.5, 1, 1.5 MPa ...), so the colour bar's ticks are round numbers,
-    # not pmax/20 steps like 0.457/0.914/1.372
-    levels = MaxNLocator(nbins=20).tick_values(0.0, pmax)
-    im = None
-    for k, film in enumerate(films):
-        ax = fig.add_subplot(gs[0, k])
-        z = np.concatenate([film.z, bearing.length - film.z[-2::-1]]) * 1e3
-        p = np.concatenate([film.pressure, film.pressure[:, -2::-1]], axis=1) / 1e6
-        th = np.degrees(film.theta)
-        im = ax.contourf(th, z, p.T, levels=levels, cmap="viridis", extend="neither")
-        ax.set_title(f"pad {k + 1}: {th[0]:.0f}°–{th[-1]:.0f}°", fontsize=9)
-        ax.set_xlabel("θ (deg)")
-        if k == 0:
-            ax.set_ylabel("z (mm)")
-    if im is not None:
-        fig.colorbar(im, ax=fig.axes, label="pressure (MPa)", shrink=0.9)
+    fig, gs = _pad_maps(
+        films,
+        [f.pressure / 1e6 for f in films],
+        bearing.length,
+        low=0.0,
+        high=pmax,
+        cmap="viridis",
+        extend="neither",
+        label="pressure (MPa)",
+    )
     ax = fig.add_subplot(gs[1, :])
     ax2 = ax.twinx()
     for k, film in enumerate(films):
@@ -101,27 +119,18 @@ def plot_temperature(eq: Equilibrium, bearing: Bearing, path: str | Path | None 
         raise ValueError("plot_temperature needs a THD equilibrium (thermal model 'thd')")
     films = eq.film.pads
     n = len(films)
-    fig = _figure(figsize=(max(8.0, 2.6 * n), 6.4), layout="constrained")
-    gs = fig.add_gridspec(2, n, height_ratios=[1.2, 1.0])
     t_s = th.supply_temperature - 273.15
     t_hi = max(float(p.temperature.max()) for p in th.pads) - 273.15
-    from matplotlib.ticker import MaxNLocator
-
-    levels = MaxNLocator(nbins=20).tick_values(t_s, t_hi)
-    im = None
-    for k, (film, pt) in enumerate(zip(films, th.pads, strict=True)):
-        ax = fig.add_subplot(gs[0, k])
-        z = np.concatenate([film.z, bearing.length - film.z[-2::-1]]) * 1e3
-        t = pt.temperature - 273.15
-        t = np.concatenate([t, t[:, -2::-1]], axis=1)
-        ang = np.degrees(film.theta)
-        im = ax.contourf(ang, z, t.T, levels=levels, cmap="inferno", extend="both")
-        ax.set_title(f"pad {k + 1}: {ang[0]:.0f}°–{ang[-1]:.0f}°", fontsize=9)
-        ax.set_xlabel("θ (deg)")
-        if k == 0:
-            ax.set_ylabel("z (mm)")
-    if im is not None:
-        fig.colorbar(im, ax=fig.axes, label="film temperature, mean across it (°C)", shrink=0.9)
+    fig, gs = _pad_maps(
+        films,
+        [p.temperature - 273.15 for p in th.pads],
+        bearing.length,
+        low=t_s,
+        high=t_hi,
+        cmap="inferno",
+        extend="both",
+        label="film temperature, mean across it (°C)",
+    )
     ax = fig.add_subplot(gs[1, :])
     surface = any(
         p.surface_temperature is not None

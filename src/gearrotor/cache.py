@@ -1,0 +1,180 @@
+"""Solved results kept on disk between runs: the fluid-film and seal coefficient tables.
+
+A model with fluid-film bearings solves the Reynolds equation at every table speed each time it
+is assembled (4 bearings × 20 speeds: seconds to tens of seconds), although the bearing file,
+its load and its speeds rarely change between two runs of ``modal``, ``campbell``, ``report``
+or a study. :func:`arrays` keeps such a result as an ``.npz`` file in
+``<user cache dir>/gearrotor/results/<kind>/<fingerprint>/<key>.npz`` (``~/.cache/gearrotor``
+on Linux, from ``platformdirs``):
+
+* **key**: SHA-256 of the ``repr`` of everything the result depends on, as parsed (the
+  bearing's geometry, lubricant, solver options, loads and speeds; not the file's name, path
+  or time stamp): the same bearing in another folder or file is the same entry, a changed
+  number a new one.
+* **fingerprint**: a hash of the solver's sources (the modules that compute the result), the
+  package version and NumPy's and SciPy's versions: a changed solver never reads an old
+  result.
+* A hit returns exactly the stored float64 arrays (bit for bit what the solver returned).
+* Two processes that need the same entry at the same time (study workers, ``pytest -n``) take
+  a lock on it (``fcntl.flock``): one solves, the other reads its result.
+* The cache never stops an analysis: an unreadable or damaged entry is solved again and
+  replaced, a cache folder that cannot be written is skipped. Entries are written to a
+  temporary and renamed into place (``.tmp-PID-TOKEN``, removed if the write fails; those of a
+  killed process are removed by the next writer in that folder).
+
+``GEARROTOR_CACHE_DIR`` moves the cache; ``GEARROTOR_CACHE=off`` turns it off (every result
+solved, nothing read or written). Entries are a few kilobytes; deleting the folder is always
+safe.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import hashlib
+import io
+import os
+import secrets
+import sys
+from collections.abc import Callable, Iterable, Iterator, Mapping
+from pathlib import Path
+
+__all__ = ["arrays", "cache_root", "enabled"]
+
+_OFF = ("0", "off", "false", "no")
+
+
+def enabled() -> bool:
+    """False when ``GEARROTOR_CACHE`` is ``off`` (or 0/false/no)."""
+    return os.environ.get("GEARROTOR_CACHE", "on").strip().lower() not in _OFF
+
+
+def cache_root() -> Path:
+    """``GEARROTOR_CACHE_DIR``, or ``<user cache dir>/gearrotor/results``."""
+    if os.environ.get("GEARROTOR_CACHE_DIR"):
+        return Path(os.environ["GEARROTOR_CACHE_DIR"])
+    import platformdirs
+
+    return Path(platformdirs.user_cache_dir("gearrotor", appauthor=False)) / "results"
+
+
+_FINGERPRINTS: dict[tuple[str, ...], str] = {}
+
+
+def _fingerprint(sources: tuple[str, ...]) -> str:
+    """Hash of the source files under ``gearrotor/<source>`` (a module or a folder), the
+    package version and NumPy's and SciPy's versions."""
+    if sources not in _FINGERPRINTS:
+        import numpy
+        import scipy
+
+        from . import __version__
+
+        root = Path(__file__).parent
+        h = hashlib.sha256()
+        h.update(f"{__version__} numpy {numpy.__version__} scipy {scipy.__version__}".encode())
+        for source in sources:
+            path = root / source
+            files = sorted(path.rglob("*.py")) if path.is_dir() else [path]
+            for f in files:
+                h.update(f.relative_to(root).as_posix().encode())
+                h.update(f.read_bytes())
+        _FINGERPRINTS[sources] = h.hexdigest()[:16]
+    return _FINGERPRINTS[sources]
+
+
+def _key(parts: Iterable[object]) -> str:
+    h = hashlib.sha256()
+    for part in parts:
+        h.update(repr(part).encode())
+        h.update(b"\0")
+    return h.hexdigest()[:32]
+
+
+@contextlib.contextmanager
+def _locked(path: Path) -> Iterator[None]:
+    """An exclusive lock on ``path`` (created if needed) while the block runs; no lock where
+    ``fcntl`` does not exist."""
+    try:
+        import fcntl
+    except ImportError:  # pragma: no cover - Windows
+        yield
+        return
+    with open(path, "a") as fh:
+        fcntl.flock(fh, fcntl.LOCK_EX)
+        try:
+            yield
+        finally:
+            fcntl.flock(fh, fcntl.LOCK_UN)
+
+
+def _read(path: Path) -> dict | None:
+    import numpy as np
+
+    try:
+        raw = path.read_bytes()  # whole (a few kB): no file left open by a failed parse
+    except OSError:
+        return None
+    try:
+        with np.load(io.BytesIO(raw), allow_pickle=False) as data:
+            return {name: data[name] for name in data.files}
+    except Exception:  # a damaged entry (a disk error, a foreign file): solved again
+        return None
+
+
+def _write(path: Path, values: Mapping) -> None:
+    import numpy as np
+
+    from .files import remove_stale_temporaries
+
+    buf = io.BytesIO()
+    np.savez(buf, **values)
+    tmp = path.with_name(f"{path.name}.tmp-{os.getpid()}-{secrets.token_hex(3)}")
+    try:
+        remove_stale_temporaries(path.parent, token=True)
+        tmp.write_bytes(buf.getbuffer())
+        os.replace(tmp, path)
+    except BaseException:
+        with contextlib.suppress(OSError):
+            tmp.unlink()
+        if not isinstance(sys.exc_info()[1], OSError):
+            raise
+
+
+def arrays(
+    kind: str,
+    parts: Iterable[object],
+    solve: Callable[[], Mapping],
+    *,
+    sources: tuple[str, ...],
+) -> dict:
+    """The arrays ``solve()`` returns (a mapping of names to NumPy arrays), from the cache when
+    an entry of ``kind`` for ``parts`` exists, else solved and stored.
+
+    ``parts`` is everything the result depends on (its ``repr`` is hashed: give parsed values,
+    not file names); ``sources`` the modules or folders under ``gearrotor/`` whose code
+    computes it (their content is part of the entry's folder name)."""
+    if not enabled():
+        return dict(solve())
+    folder = cache_root() / kind / _fingerprint(tuple(sources))
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+    except OSError:
+        return dict(solve())
+    path = folder / f"{_key(parts)}.npz"
+    hit = _read(path)
+    if hit is not None:
+        return hit
+    try:
+        lock = _locked(folder / f"{path.stem}.lock")
+        lock.__enter__()
+    except OSError:
+        return dict(solve())
+    try:
+        hit = _read(path)  # solved by another process while this one waited
+        if hit is not None:
+            return hit
+        values = dict(solve())
+        _write(path, values)
+        return values
+    finally:
+        lock.__exit__(None, None, None)
