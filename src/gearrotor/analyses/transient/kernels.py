@@ -7,13 +7,14 @@ of DOFs that carry nonlinear forces (gathered from q, or from Φ_sel η); ``−1
 inactive DOF.
 
 Cost of a pack: numba counts a reference (an atomic increment, and a decrement later) for
-every array read out of a named tuple, also out of a nested one when the inner tuple is bound
-to a name, while arrays passed as arguments are borrowed. So a function reads each array it
-needs once, at its top; a function called per mesh or per law in a loop takes the arrays
-(:func:`~..torsional.drive_laws.drive_torques` unpacks the laws once for all of them). Against
-the former flat argument lists the reads still cost the small flagship's classical modal RK4
-run some 13 % (the others 0-6 %), and compiling the kernels some 25 % more CPU
-(``benchmarks/kernels.py``, ``--cold``).
+every array of a named tuple a compiled function is passed, used or not, and again when an
+inlined function binds the pack to its own name; only some pairs are pruned. So the packs cross
+few compiled calls per step: the force laws are inlined into :func:`nonlinear_forces` (one
+compiled call per evaluation), the functions called per mesh take arrays. A compiled function
+called from several kernels states its fastmath flags: numba compiles a callee without them
+with the flags of its first caller, so results depended on which kernel was compiled first.
+Against the former flat argument lists the runs cost the same (``benchmarks/kernels.py``;
+compiling from an empty cache takes some 20 % more CPU: docs/performance.md).
 
 The packs (built in Python by :mod:`.forces` and :mod:`.prepare`), one per law, each evaluated
 by one function here:
@@ -351,11 +352,11 @@ def _interp(x, xp, fp, lo, hi):
 
 
 @njit(cache=_CACHE, inline="always")
-def mesh_deflections(k, qs, vs, meshes):
+def mesh_deflections(k, qs, vs, dofs, w, teeth, te, n_te):
     """Mesh k: (δ, δ̇, δ_b, δ̇_b, φ_m): the deflections and rates along the drive line w
     (δ = w·q) and the back-flank line w_b, with the transmission error (δ → δ − e on the drive
-    line, δ_b → δ_b + e on the back line), and the mesh angle φ_m = N θz of the pinion node."""
-    dofs, w = meshes.dofs, meshes.lines
+    line, δ_b → δ_b + e on the back line), and the mesh angle φ_m = N θz of the pinion node
+    (the :class:`MeshLaws` arrays dofs, lines, teeth, te, n_te)."""
     delta = 0.0
     ddelta = 0.0
     db = 0.0
@@ -367,13 +368,11 @@ def mesh_deflections(k, qs, vs, meshes):
             ddelta += w[k, 0, j] * vs[i]
             db += w[k, 1, j] * qs[i]
             ddb += w[k, 1, j] * vs[i]
-    teeth = meshes.teeth[k]
     it = dofs[k, 5]
-    phi = teeth * qs[it] if it >= 0 else 0.0
-    dphi = teeth * vs[it] if it >= 0 else 0.0
+    phi = teeth[k] * qs[it] if it >= 0 else 0.0
+    dphi = teeth[k] * vs[it] if it >= 0 else 0.0
     # transmission error: δ → δ − e on the drive line, δ_b → δ_b + e on the back line
-    te, n_te = meshes.te, meshes.n_te[k]
-    for s in range(n_te):
+    for s in range(n_te[k]):
         sp = (s + 1) * phi
         c, sn = np.cos(sp), np.sin(sp)
         e = te[k, s, 0] * c + te[k, s, 1] * sn
@@ -386,31 +385,30 @@ def mesh_deflections(k, qs, vs, meshes):
 
 
 @njit(cache=_CACHE, inline="always")
-def mesh_eval(k, qs, vs, meshes):
-    """Mesh k: returns (F_d, F_b, stiffness, δ_e, δ̇_e, state, φ_m).
-
-    ``meshes.lines[k, 0]`` is the drive line w (δ = w·q), ``meshes.lines[k, 1]`` the
-    back-flank line w_b (``−w`` for SPEC 2.4's law, the mirrored line of action otherwise).
-    F_d ≥ 0 acts along −w, F_b ≥ 0 along −w_b (both N, damping included while in contact);
-    state +1 drive, −1 back, +2 both flanks, 0 separated."""
-    delta, ddelta, db, ddb, phi = mesh_deflections(k, qs, vs, meshes)
-    lo, hi = meshes.table_ptr[k], meshes.table_ptr[k + 1]
+def mesh_stiffness(k, phi, kg, ka, fourier, n_fourier, table_ptr, table_phi, table_k):
+    """Mesh k's stiffness at the mesh angle φ_m: the table k(φ_m) where it has one, else
+    kg + 2 ka Σ (a_s sin sφ + b_s cos sφ) (the :class:`MeshLaws` arrays)."""
+    lo, hi = table_ptr[k], table_ptr[k + 1]
     if hi > lo:
         ph = phi - 2.0 * np.pi * np.floor(phi / (2.0 * np.pi))
-        stiff = _interp(ph, meshes.table_phi, meshes.table_k, lo, hi)
-    else:
-        stiff = meshes.kg[k]
-        ka2 = 2.0 * meshes.ka[k]
-        ns = meshes.n_fourier[k]
-        if ns > 0:
-            ab = meshes.fourier
-            s1, c1 = np.sin(phi), np.cos(phi)
-            sn, cn = s1, c1
-            for s in range(ns):
-                stiff += ka2 * (ab[k, s, 0] * sn + ab[k, s, 1] * cn)
-                sn, cn = sn * c1 + cn * s1, cn * c1 - sn * s1
-    b = meshes.backlash[k]
-    c = meshes.damping[k]
+        return _interp(ph, table_phi, table_k, lo, hi)
+    stiff = kg[k]
+    ka2 = 2.0 * ka[k]
+    ns = n_fourier[k]
+    if ns > 0:
+        s1, c1 = np.sin(phi), np.cos(phi)
+        sn, cn = s1, c1
+        for s in range(ns):
+            stiff += ka2 * (fourier[k, s, 0] * sn + fourier[k, s, 1] * cn)
+            sn, cn = sn * c1 + cn * s1, cn * c1 - sn * s1
+    return stiff
+
+
+@njit(cache=_CACHE, inline="always")
+def mesh_contact(delta, ddelta, db, ddb, stiff, b, c):
+    """SPEC 2.4's contact law: (F_d, F_b, state) from the deflections on the drive and back
+    lines, the stiffness, the backlash b and the damping c (state +1 drive, −1 back, +2 both
+    flanks, 0 separated)."""
     state = 0
     Fd = 0.0
     Fb = 0.0
@@ -420,6 +418,26 @@ def mesh_eval(k, qs, vs, meshes):
     if db > b:
         state = 2 if state == 1 else -1
         Fb = stiff * (db - b) + c * ddb
+    return Fd, Fb, state
+
+
+@njit(cache=_CACHE, inline="always")
+def mesh_eval(k, qs, vs, meshes):
+    """Mesh k: returns (F_d, F_b, stiffness, δ_e, δ̇_e, state, φ_m): :func:`mesh_deflections`,
+    :func:`mesh_stiffness`, :func:`mesh_contact` (:func:`mesh_forces` calls the three with
+    the arrays it reads once for all meshes).
+
+    ``meshes.lines[k, 0]`` is the drive line w (δ = w·q), ``meshes.lines[k, 1]`` the
+    back-flank line w_b (``−w`` for SPEC 2.4's law, the mirrored line of action otherwise).
+    F_d ≥ 0 acts along −w, F_b ≥ 0 along −w_b (both N, damping included while in contact)."""
+    m = meshes
+    delta, ddelta, db, ddb, phi = mesh_deflections(
+        k, qs, vs, m.dofs, m.lines, m.teeth, m.te, m.n_te
+    )
+    stiff = mesh_stiffness(
+        k, phi, m.kg, m.ka, m.fourier, m.n_fourier, m.table_ptr, m.table_phi, m.table_k
+    )
+    Fd, Fb, state = mesh_contact(delta, ddelta, db, ddb, stiff, m.backlash[k], m.damping[k])
     return Fd, Fb, stiff, delta, ddelta, state, phi
 
 
@@ -437,13 +455,16 @@ def _along(k, line, x, dofs, w):
 
 @njit(cache=_CACHE, inline="always")
 def mesh_forces(qs, vs, meshes, fs):
-    """The meshes' generalised forces added to fs, minus the linear part the integrator
-    already holds (kg_linear δ on the drive line, kg_back_linear δ_b on the back line, with
-    the geometric δ: no transmission error)."""
-    dofs, w = meshes.dofs, meshes.lines
-    kg_linear, kg_back_linear = meshes.kg_linear, meshes.kg_back_linear
+    """The meshes' generalised forces added to fs (:func:`mesh_eval`'s law), minus the linear
+    part the integrator already holds (kg_linear δ on the drive line, kg_back_linear δ_b on
+    the back line, with the geometric δ: no transmission error). Every array read once, here:
+    the per-mesh functions take arrays (module docstring)."""
+    (dofs, w, kg, ka, backlash, damping, teeth, kg_linear, kg_back_linear, fourier, n_fourier,
+     table_ptr, table_phi, table_k, te, n_te) = meshes  # fmt: skip
     for k in range(dofs.shape[0]):
-        Fd, Fb, stiff, delta, ddelta, state, phi = mesh_eval(k, qs, vs, meshes)
+        delta, ddelta, db, ddb, phi = mesh_deflections(k, qs, vs, dofs, w, teeth, te, n_te)
+        stiff = mesh_stiffness(k, phi, kg, ka, fourier, n_fourier, table_ptr, table_phi, table_k)
+        Fd, Fb, _ = mesh_contact(delta, ddelta, db, ddb, stiff, backlash[k], damping[k])
         # the linear part kept in the modal basis uses the geometric δ (no TE)
         Fd -= kg_linear[k] * _along(k, 0, qs, dofs, w)
         if kg_back_linear[k] != 0.0:
@@ -535,7 +556,7 @@ def nonlinear_forces(t, qs, vs, Om, forces, fs):
         drive_torques(t, qs, vs, drives, True, fs)
 
 
-@njit(cache=_CACHE)
+@njit(cache=_CACHE, fastmath=False)
 def _lu_solve(A, b, piv):
     """Solve A x = b in place (b ← x) by Gaussian elimination with partial pivoting; A is
     overwritten. Returns False when A is singular."""
@@ -654,7 +675,14 @@ def _accel_physical(t, q, v, a, P, W):
 
     The low-rank implicit part M + P Qᵀ is solved by Woodbury: a = y − Z (I + QᵀZ)⁻¹ Qᵀ y with
     y = M⁻¹F and the rows of Zᵀ = (M⁻¹P)ᵀ, each nonzero only on its support (z_ptr/z_idx)."""
-    K, C, G, row_shaft, mass, speed_rows = P.K, P.C, P.G, P.row_shaft, P.mass, P.speed_rows
+    K, C, G, row_shaft, mass, speed_rows = (
+        P.K,
+        P.C,
+        P.G,
+        P.row_shaft,
+        P.mass,
+        P.speed_rows,
+    )
     torsion, frozen, reactions, sel = P.torsion, P.frozen, P.reactions, P.sel
     F, gq, zq, qs, vs, fs, Om, y = W.F, W.gq, W.zq, W.qs, W.vs, W.fs, W.Om, W.y
     Z, S, rhs, piv = W.wb.Z, W.wb.S, W.wb.rhs, W.wb.piv
@@ -814,7 +842,19 @@ def rk4_physical(t0, dt, n_steps, q, v, save_every, row0, rec, P, W, k):
     :func:`_rk4_steps`), recording the DOFs ``rec.out`` (:class:`Record`) every
     ``save_every`` steps at rows ``row0``, … Returns (status, steps done)."""
     return _rk4_steps(
-        _accel_physical, _record_physical, t0, dt, n_steps, q, v, save_every, row0, rec, P, W, k
+        _accel_physical,
+        _record_physical,
+        t0,
+        dt,
+        n_steps,
+        q,
+        v,
+        save_every,
+        row0,
+        rec,
+        P,
+        W,
+        k,
     )
 
 
@@ -954,7 +994,19 @@ def rk4_modal(t0, dt, n_steps, e, de, save_every, row0, rec, P, W, k):
     :func:`_rk4_steps`); records the physical output DOFs Φ_out η (``rec.out``) as
     :func:`rk4_physical`."""
     return _rk4_steps(
-        _accel_modal, _record_modal, t0, dt, n_steps, e, de, save_every, row0, rec, P, W, k
+        _accel_modal,
+        _record_modal,
+        t0,
+        dt,
+        n_steps,
+        e,
+        de,
+        save_every,
+        row0,
+        rec,
+        P,
+        W,
+        k,
     )
 
 
@@ -982,10 +1034,10 @@ def outputs_kernel(rec_q, rec_v, meshes, mesh_out):
 # modal coordinates, linear part exact (integrating factor), contact changes located
 # ------------------------------------------------------------------------------------------
 @njit(cache=_CACHE, fastmath=False)
-def _gap_deflections(k, qs, vs, meshes):
+def _gap_deflections(k, qs, vs, dofs, w, teeth, te, n_te):
     """:func:`mesh_deflections` for :func:`mesh_gaps`, compiled on its own without fastmath
     (as in :func:`mesh_eval`; inlined into mesh_gaps it would take that function's flags)."""
-    return mesh_deflections(k, qs, vs, meshes)
+    return mesh_deflections(k, qs, vs, dofs, w, teeth, te, n_te)
 
 
 @njit(cache=_CACHE, fastmath=_FAST)
@@ -993,9 +1045,16 @@ def mesh_gaps(qs, vs, meshes, G):
     """Gap functions of every mesh k into G[k, 0:4]: δ − b, δ̇ (drive line), δ_b − b, δ̇_b
     (back line), with the transmission error, as :func:`mesh_eval` forms them (> 0: that flank
     touches)."""
-    backlash = meshes.backlash
+    dofs, w, teeth, te, n_te, backlash = (
+        meshes.dofs,
+        meshes.lines,
+        meshes.teeth,
+        meshes.te,
+        meshes.n_te,
+        meshes.backlash,
+    )
     for k in range(backlash.shape[0]):
-        delta, ddelta, db, ddb, _ = _gap_deflections(k, qs, vs, meshes)
+        delta, ddelta, db, ddb, _ = _gap_deflections(k, qs, vs, dofs, w, teeth, te, n_te)
         G[k, 0] = delta - backlash[k]
         G[k, 1] = ddelta
         G[k, 2] = db - backlash[k]
@@ -1286,7 +1345,18 @@ def etd_modal(t0, dt, n_steps, e, de, save_every, row0, rec, P, W, K1, X):
     n_probe, max_sub, Phis = X.n_probe, X.max_sub, X.Phis
     Phi_outs, alphas = X.Phi_outs, X.alphas
     m = e.shape[0]
-    L = (K1.k1q, K1.k1v, K1.k2q, K1.k2v, K1.k3q, K1.k3v, K1.k4q, K1.k4v, K1.qt, np.zeros((12, m)))
+    L = (
+        K1.k1q,
+        K1.k1v,
+        K1.k2q,
+        K1.k2v,
+        K1.k3q,
+        K1.k3v,
+        K1.k4q,
+        K1.k4v,
+        K1.qt,
+        np.zeros((12, m)),
+    )
     none = np.zeros((0, m))
     meshes = P.forces.meshes
     qs, vs = W.qs, W.vs
