@@ -37,6 +37,8 @@ def pytest_configure(config) -> None:
     they and every command line a test runs use the same folder, and a table solved by one is
     read by the others; removed when the run ends. A cache directory set by the caller (or
     ``GEARROTOR_CACHE=off``) is kept."""
+    if getattr(config.option, "dist", None) == "load":  # `-n N` without a --dist of its own
+        config.option.dist = "loadgroup"  # the groups of pytest_collection_modifyitems
     if os.environ.get("PYTEST_XDIST_WORKER") or os.environ.get("GEARROTOR_CACHE_DIR"):
         return
     import tempfile
@@ -55,7 +57,7 @@ _SCOPE_RANK = {"session": 0, "package": 1, "module": 2, "class": 3}
 def pytest_collection_modifyitems(config, items) -> None:
     """The tests that share a module- or session-scoped fixture of this suite (a computed
     report, an example's doc commands, a solved model) go to one pytest-xdist worker
-    (``--dist loadgroup`` in pyproject's addopts): spread over two workers, each worker computed
+    (``-n N`` runs as ``--dist loadgroup``: :func:`pytest_configure`): spread over two workers, each worker computed
     the fixture again. The group is the widest such fixture a test uses; tests without one are
     distributed freely. Runs before pytest-xdist's own hook reads the groups."""
     for item in items:

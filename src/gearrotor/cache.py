@@ -29,13 +29,10 @@ safe.
 
 from __future__ import annotations
 
-import contextlib
 import hashlib
 import io
 import os
-import secrets
-import sys
-from collections.abc import Callable, Iterable, Iterator, Mapping
+from collections.abc import Callable, Iterable, Mapping
 from pathlib import Path
 
 __all__ = ["arrays", "cache_root", "enabled"]
@@ -90,23 +87,6 @@ def _key(parts: Iterable[object]) -> str:
     return h.hexdigest()[:32]
 
 
-@contextlib.contextmanager
-def _locked(path: Path) -> Iterator[None]:
-    """An exclusive lock on ``path`` (created if needed) while the block runs; no lock where
-    ``fcntl`` does not exist."""
-    try:
-        import fcntl
-    except ImportError:  # pragma: no cover - Windows
-        yield
-        return
-    with open(path, "a") as fh:
-        fcntl.flock(fh, fcntl.LOCK_EX)
-        try:
-            yield
-        finally:
-            fcntl.flock(fh, fcntl.LOCK_UN)
-
-
 def _read(path: Path) -> dict | None:
     import numpy as np
 
@@ -119,25 +99,6 @@ def _read(path: Path) -> dict | None:
             return {name: data[name] for name in data.files}
     except Exception:  # a damaged entry (a disk error, a foreign file): solved again
         return None
-
-
-def _write(path: Path, values: Mapping) -> None:
-    import numpy as np
-
-    from .files import remove_stale_temporaries
-
-    buf = io.BytesIO()
-    np.savez(buf, **values)
-    tmp = path.with_name(f"{path.name}.tmp-{os.getpid()}-{secrets.token_hex(3)}")
-    try:
-        remove_stale_temporaries(path.parent, token=True)
-        tmp.write_bytes(buf.getbuffer())
-        os.replace(tmp, path)
-    except BaseException:
-        with contextlib.suppress(OSError):
-            tmp.unlink()
-        if not isinstance(sys.exc_info()[1], OSError):
-            raise
 
 
 def arrays(
@@ -153,6 +114,8 @@ def arrays(
     ``parts`` is everything the result depends on (its ``repr`` is hashed: give parsed values,
     not file names); ``sources`` the modules or folders under ``gearrotor/`` whose code
     computes it (their content is part of the entry's folder name)."""
+    from . import files
+
     if not enabled():
         return dict(solve())
     folder = cache_root() / kind / _fingerprint(tuple(sources))
@@ -164,8 +127,8 @@ def arrays(
     hit = _read(path)
     if hit is not None:
         return hit
+    lock = files.locked(folder / f"{path.stem}.lock")
     try:
-        lock = _locked(folder / f"{path.stem}.lock")
         lock.__enter__()
     except OSError:
         return dict(solve())
@@ -174,7 +137,7 @@ def arrays(
         if hit is not None:
             return hit
         values = dict(solve())
-        _write(path, values)
+        files.write_cache_entry(path, **values)
         return values
     finally:
         lock.__exit__(None, None, None)

@@ -302,6 +302,49 @@ def write_npz(path: str | os.PathLike, **arrays) -> Path:
     return write_bytes(path, buf.getbuffer())
 
 
+def write_cache_entry(path: str | os.PathLike, **arrays) -> bool:
+    """A cache entry (:mod:`gearrotor.cache`): ``numpy.savez`` of ``arrays`` put in place with
+    one rename, at once (outside any :func:`output_set`: a cache entry is not one of a command's
+    outputs, nor listed by :func:`written`), not synced (a damaged entry is solved again).
+    Removes the temporaries killed writers left in its folder first. Returns False, having
+    written nothing, when the folder cannot be written (an ``OSError``)."""
+    import numpy as np
+
+    path = Path(path)
+    buf = io.BytesIO()
+    np.savez(buf, **arrays)
+    tmp = _temporary(path)
+    try:
+        remove_stale_temporaries(path.parent, token=True)
+        with open(tmp, "wb") as fh:
+            fh.write(buf.getbuffer())
+        os.replace(tmp, path)
+    except OSError:
+        _discard(tmp)
+        return False
+    except BaseException:
+        _discard(tmp)
+        raise
+    return True
+
+
+@contextlib.contextmanager
+def locked(path: str | os.PathLike) -> Iterator[None]:
+    """An exclusive ``fcntl.flock`` on ``path`` (created empty if needed) while the block runs;
+    no lock where ``fcntl`` does not exist. An ``OSError`` opening the file propagates."""
+    try:
+        import fcntl
+    except ImportError:  # pragma: no cover - Windows
+        yield
+        return
+    with open(path, "a") as fh:
+        fcntl.flock(fh, fcntl.LOCK_EX)
+        try:
+            yield
+        finally:
+            fcntl.flock(fh, fcntl.LOCK_UN)
+
+
 # ---- output locations ----------------------------------------------------------------------
 def _probe(directory: Path, field: str | None, value: Path, expected: str) -> None:
     """Create and remove a file in ``directory``: the only reliable test that it can be written."""
