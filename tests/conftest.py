@@ -32,13 +32,17 @@ _one_thread_per_worker()
 
 
 def pytest_configure(config) -> None:
-    """One results cache (``gearrotor.cache``: the fluid-film tables) for the whole run, fresh
+    """``-n N`` distributes by the groups of :func:`pytest_collection_modifyitems`
+    (``--dist loadgroup``; an explicit ``--dist`` is kept).
+
+    One results cache (``gearrotor.cache``: the fluid-film tables) for the whole run, fresh
     and shared: set by the controlling process before pytest-xdist starts its workers, so that
     they and every command line a test runs use the same folder, and a table solved by one is
     read by the others; removed when the run ends. A cache directory set by the caller (or
     ``GEARROTOR_CACHE=off``) is kept."""
     if getattr(config.option, "dist", None) == "load":  # `-n N` without a --dist of its own
         config.option.dist = "loadgroup"  # the groups of pytest_collection_modifyitems
+        os.environ["GEARROTOR_TEST_LOADGROUP"] = "1"  # for the workers, started after this
     if os.environ.get("PYTEST_XDIST_WORKER") or os.environ.get("GEARROTOR_CACHE_DIR"):
         return
     import tempfile
@@ -59,7 +63,10 @@ def pytest_collection_modifyitems(config, items) -> None:
     report, an example's doc commands, a solved model) go to one pytest-xdist worker
     (``-n N`` runs as ``--dist loadgroup``: :func:`pytest_configure`): spread over two workers, each worker computed
     the fixture again. The group is the widest such fixture a test uses; tests without one are
-    distributed freely. Runs before pytest-xdist's own hook reads the groups."""
+    distributed freely. Runs before pytest-xdist's own hook reads the groups (a worker is
+    told the controller's ``--dist`` only as "no": the variable says it is ``loadgroup``)."""
+    if os.environ.get("PYTEST_XDIST_WORKER") and os.environ.get("GEARROTOR_TEST_LOADGROUP"):
+        config.option.loadgroup = True
     for item in items:
         if item.get_closest_marker("xdist_group"):
             continue
