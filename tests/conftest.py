@@ -63,8 +63,9 @@ def pytest_collection_modifyitems(config, items) -> None:
     report, an example's doc commands, a solved model) go to one pytest-xdist worker (``-n N``
     runs as ``--dist loadgroup``: :func:`pytest_configure`): spread over two workers, each
     worker computed the fixture again. The group is the widest such fixture a test uses;
-    tests without one are distributed freely. Runs before pytest-xdist's own hook reads the groups (a worker is
-    told the controller's ``--dist`` only as "no": the variable says it is ``loadgroup``)."""
+    tests without one are distributed freely. Runs before pytest-xdist's own hook reads the
+    groups (a worker is told the controller's ``--dist`` only as "no": the variable says it is
+    ``loadgroup``)."""
     if os.environ.get("PYTEST_XDIST_WORKER") and os.environ.get("GEARROTOR_TEST_LOADGROUP"):
         config.option.loadgroup = True
     for item in items:
