@@ -224,7 +224,7 @@ def report_command(
         typer.echo(f"[{time.perf_counter() - t0:5.1f} s] {text}", err=True)
 
     progress(f"collecting the results of {st.name!r}")
-    collect(st)
+    collected = collect(st)  # also writes results.nc
     paths = report(
         st,
         output,
@@ -232,6 +232,7 @@ def report_command(
         probes=None if probes is None else [p.strip() for p in probes.split(",")],
         per_figure=per_figure,
         progress=progress,
+        results=collected,
     )
     for p in paths:
         typer.echo(str(p))

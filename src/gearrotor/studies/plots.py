@@ -226,13 +226,16 @@ def report(
     probes: Sequence[str] | None = None,
     per_figure: int = 7,
     progress=None,
+    results=None,
 ) -> list[Path]:
     """Write the study's figures as PNG into ``output`` (default ``<study folder>/report``):
     ``trend_<parameter>.png`` for every parameter, and for transient studies
     ``spectra_<probe>_<first>-<last>.png`` and ``spectra_speed_<shaft>_<first>-<last>.png``
     overlaying at most ``per_figure`` finished cases (``cases``: only these; ``probes``: only
     these probes). ``progress``: called with a line of text as each figure is written (the
-    command line prints it on stderr). Returns the paths written."""
+    command line prints it on stderr). ``results``: the study's collected metrics
+    (:func:`~gearrotor.studies.collection.collect`) when the caller has them already, else
+    collected here (each case's file read once either way). Returns the paths written."""
     plt = _pyplot()
 
     def note(text: str) -> None:
@@ -243,14 +246,14 @@ def report(
     check_output(out, "directory", field="--output")  # also removes a killed run's temporaries
     with output_set():  # the figures and figures.json appear together or not at all
         make_directory(out, field="--output")
-        written = _report_figures(study, out, cases, probes, per_figure, note, plt)
+        written = _report_figures(study, out, cases, probes, per_figure, note, plt, results)
         write_json(out / "figures.json", [p.name for p in written])
     return written
 
 
-def _report_figures(study, out, cases, probes, per_figure, note, plt) -> list[Path]:
+def _report_figures(study, out, cases, probes, per_figure, note, plt, results) -> list[Path]:
     planned = plan(study)
-    ds = collect(study, planned=planned, write=False)
+    ds = collect(study, planned=planned, write=False) if results is None else results
     params = list(study.parameters)
     written: list[Path] = []
     for p, stem in zip(params, unique_names(params), strict=True):
