@@ -283,6 +283,12 @@ def _chains() -> dict[int, str]:
     first: dict[tuple[str, ...], int] = {}
     for k in sorted(linked):
         join(k, first.setdefault(COMMANDS[k].argv, k))
+    # and another scheduler's `study run` of that study (docs/studies.md prints them one after
+    # the other: a reader who runs both finds the study done by the first)
+    for k, cmd in enumerate(COMMANDS):
+        plain = cmd.argv[:3]
+        if cmd.argv[:2] == ("study", "run") and plain != cmd.argv and plain in first:
+            join(k, first[plain])
     sizes: dict[int, int] = {}
     for k in range(len(COMMANDS)):
         sizes[find(k)] = sizes.get(find(k), 0) + 1
