@@ -12,14 +12,13 @@ from __future__ import annotations
 import multiprocessing
 import os
 import re
-import subprocess
-import sys
 import time
 from pathlib import Path
 
 import numpy as np
 import pytest
 
+from fault_helpers import dead_pid, leftovers
 from gearrotor import cache
 from gearrotor.assembly import assemble
 from gearrotor.io import load_model
@@ -97,17 +96,11 @@ def test_a_killed_writers_temporary_is_removed(folder):
     calls: list = []
     cache.arrays("t", ("a",), _counting(calls), sources=("cache.py",))
     (path,) = entries(folder)
-    dead = subprocess.run(
-        [sys.executable, "-c", "import os; print(os.getpid())"],
-        text=True,
-        capture_output=True,
-        check=True,
-    )
-    stale = path.with_name(f"x.npz.tmp-{int(dead.stdout)}-abc123")
+    stale = path.with_name(f"x.npz.tmp-{dead_pid()}-abc123")
     stale.write_bytes(b"half")
     cache.arrays("t", ("b",), _counting(calls), sources=("cache.py",))
     assert not stale.exists()
-    assert not [p for p in folder.rglob("*") if ".tmp-" in p.name]
+    assert leftovers(folder) == []
 
 
 def _slow_solver(marks: str):

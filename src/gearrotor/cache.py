@@ -29,6 +29,8 @@ safe.
 
 from __future__ import annotations
 
+import contextlib
+import functools
 import hashlib
 import io
 import os
@@ -54,29 +56,24 @@ def cache_root() -> Path:
     return Path(platformdirs.user_cache_dir("gearrotor", appauthor=False)) / "results"
 
 
-_FINGERPRINTS: dict[tuple[str, ...], str] = {}
-
-
+@functools.cache
 def _fingerprint(sources: tuple[str, ...]) -> str:
     """Hash of the source files under ``gearrotor/<source>`` (a module or a folder), the
-    package version and NumPy's and SciPy's versions."""
-    if sources not in _FINGERPRINTS:
-        import numpy
-        import scipy
+    package version and NumPy's and SciPy's versions (once per process)."""
+    import numpy
+    import scipy
 
-        from . import __version__
+    from . import __version__
 
-        root = Path(__file__).parent
-        h = hashlib.sha256()
-        h.update(f"{__version__} numpy {numpy.__version__} scipy {scipy.__version__}".encode())
-        for source in sources:
-            path = root / source
-            files = sorted(path.rglob("*.py")) if path.is_dir() else [path]
-            for f in files:
-                h.update(f.relative_to(root).as_posix().encode())
-                h.update(f.read_bytes())
-        _FINGERPRINTS[sources] = h.hexdigest()[:16]
-    return _FINGERPRINTS[sources]
+    root = Path(__file__).parent
+    h = hashlib.sha256()
+    h.update(f"{__version__} numpy {numpy.__version__} scipy {scipy.__version__}".encode())
+    for source in sources:
+        path = root / source
+        for f in sorted(path.rglob("*.py")) if path.is_dir() else [path]:
+            h.update(f.relative_to(root).as_posix().encode())
+            h.update(f.read_bytes())
+    return h.hexdigest()[:16]
 
 
 def _key(parts: Iterable[object]) -> str:
@@ -127,17 +124,14 @@ def arrays(
     hit = _read(path)
     if hit is not None:
         return hit
-    lock = files.locked(folder / f"{path.stem}.lock")
-    try:
-        lock.__enter__()
-    except OSError:
-        return dict(solve())
-    try:
+    with contextlib.ExitStack() as stack:
+        try:
+            stack.enter_context(files.locked(folder / f"{path.stem}.lock"))
+        except OSError:  # the lock file cannot be made: solve without the cache
+            return dict(solve())
         hit = _read(path)  # solved by another process while this one waited
         if hit is not None:
             return hit
         values = dict(solve())
         files.write_cache_entry(path, **values)
         return values
-    finally:
-        lock.__exit__(None, None, None)

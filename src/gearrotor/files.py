@@ -293,13 +293,18 @@ def write_netcdf(path: str | os.PathLike, dataset, *, engine: str = "h5netcdf") 
     return write_bytes(path, data)
 
 
-def write_npz(path: str | os.PathLike, **arrays) -> Path:
-    """``numpy.savez`` of ``arrays`` to ``path`` atomically (produced in memory first)."""
+def _npz(arrays) -> memoryview:
+    """``numpy.savez`` of ``arrays``, in memory."""
     import numpy as np
 
     buf = io.BytesIO()
     np.savez(buf, **arrays)
-    return write_bytes(path, buf.getbuffer())
+    return buf.getbuffer()
+
+
+def write_npz(path: str | os.PathLike, **arrays) -> Path:
+    """``numpy.savez`` of ``arrays`` to ``path`` atomically (produced in memory first)."""
+    return write_bytes(path, _npz(arrays))
 
 
 def write_cache_entry(path: str | os.PathLike, **arrays) -> bool:
@@ -308,16 +313,13 @@ def write_cache_entry(path: str | os.PathLike, **arrays) -> bool:
     outputs, nor listed by :func:`written`), not synced (a damaged entry is solved again).
     Removes the temporaries killed writers left in its folder first. Returns False, having
     written nothing, when the folder cannot be written (an ``OSError``)."""
-    import numpy as np
-
     path = Path(path)
-    buf = io.BytesIO()
-    np.savez(buf, **arrays)
+    data = _npz(arrays)
     tmp = _temporary(path)
     try:
         remove_stale_temporaries(path.parent, token=True)
         with open(tmp, "wb") as fh:
-            fh.write(buf.getbuffer())
+            fh.write(data)
         os.replace(tmp, path)
     except OSError:
         _discard(tmp)
