@@ -2,6 +2,11 @@
 
 from __future__ import annotations
 
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
 from gearrotor.model import Train
 
 
@@ -113,3 +118,18 @@ def chain(n_shafts: int, elements: int, *, unbalance_every_shaft: bool = False) 
         "unbalances": unbalances,
         "probes": [{"name": "p0", "shaft": "s0", "node": mid, "angle": "0 deg"}],
     }
+
+
+def start_view(folder: Path, examples: Path) -> tuple[Path, subprocess.Popen, str]:
+    """``gearrotor view`` started as a user starts it, on a copy of the flagship in ``folder``:
+    (the model file, the process, the first line it printed on stderr: "serving ... at
+    http://127.0.0.1:PORT/ (Ctrl-C to stop)")."""
+    model = folder / "model.toml"
+    shutil.copy(examples / "unity_gearbox.toml", model)
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "gearrotor", "view", str(model)],
+        stderr=subprocess.PIPE,
+        stdout=subprocess.PIPE,
+        text=True,
+    )
+    return model, proc, proc.stderr.readline()

@@ -9,7 +9,6 @@ on the loopback interface only and serves nothing from the network (plotly.js is
 from __future__ import annotations
 
 import re
-import shutil
 import signal
 import socket
 import subprocess
@@ -19,6 +18,7 @@ import pytest
 
 pytest.importorskip("plotly", reason="the view needs plotly (gearrotor[report])")
 pytest.importorskip("playwright.sync_api", reason="the browser test needs playwright")
+from helpers import start_view  # noqa: E402
 from report.test_report_browser import CHROMIUM, FLAGS  # noqa: E402
 
 pytestmark = pytest.mark.skipif(CHROMIUM is None, reason="no Chromium binary")
@@ -26,15 +26,7 @@ pytestmark = pytest.mark.skipif(CHROMIUM is None, reason="no Chromium binary")
 
 @pytest.fixture
 def served(tmp_path, examples):
-    model = tmp_path / "model.toml"
-    shutil.copy(examples / "unity_gearbox.toml", model)
-    proc = subprocess.Popen(
-        [sys.executable, "-m", "gearrotor", "view", str(model)],
-        stderr=subprocess.PIPE,
-        stdout=subprocess.PIPE,
-        text=True,
-    )
-    line = proc.stderr.readline()  # "serving ... at http://127.0.0.1:PORT/ (Ctrl-C to stop)"
+    model, proc, line = start_view(tmp_path, examples)
     m = re.search(r"http://(127\.0\.0\.1):(\d+)/", line)
     assert m, line
     yield model, f"http://127.0.0.1:{m.group(2)}/", int(m.group(2)), proc

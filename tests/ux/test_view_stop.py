@@ -5,28 +5,19 @@ machine to show; this guards the behaviour, three times."""
 
 from __future__ import annotations
 
-import shutil
 import signal
-import subprocess
-import sys
 
 import pytest
+
+from helpers import start_view
 
 pytest.importorskip("plotly", reason="the view needs plotly (gearrotor[report])")
 
 
 @pytest.mark.parametrize("attempt", range(3))
 def test_ctrl_c_right_after_the_address(tmp_path, examples, attempt):
-    model = tmp_path / "model.toml"
-    shutil.copy(examples / "unity_gearbox.toml", model)
-    proc = subprocess.Popen(
-        [sys.executable, "-m", "gearrotor", "view", str(model)],
-        stderr=subprocess.PIPE,
-        stdout=subprocess.PIPE,
-        text=True,
-    )
+    _, proc, line = start_view(tmp_path, examples)
     try:
-        line = proc.stderr.readline()
         assert "http://127.0.0.1:" in line, line
         proc.send_signal(signal.SIGINT)  # at once: the earliest a user could press it
         _, err = proc.communicate(timeout=60)
