@@ -18,6 +18,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import xarray as xr
 
 from fault_helpers import rewrite_netcdf
 
@@ -228,3 +229,111 @@ def test_genuine_cases_still_read(transient_study, modal_study):
         first = load_case(st, 0)
         for name in json.loads(first.attrs["metrics"]):
             np.testing.assert_array_equal(ds[name].values[0], first[name].values)
+
+
+# ``results.nc`` is the collection when it is up to date with the case files (the SHA-256 of
+# each, recorded when it was collected): it must never stand in for a case file changed since.
+
+
+@pytest.mark.parametrize("which", ["transient", "modal"])
+def test_results_nc_does_not_hide_a_replaced_case(transient_study, modal_study, tmp_path, which):
+    """Another case's file copied under this case's name (same size), its time stamps put back:
+    ``results.nc`` still names the old content, the file is read and refused (a modal report
+    reads no case file for its figures)."""
+    study, (case, other) = _copy(transient_study if which == "transient" else modal_study, tmp_path)
+    assert case.stat().st_size == other.stat().st_size
+    st = case.stat()
+    shutil.copyfile(other, case)
+    os.utime(case, ns=(st.st_atime_ns, st.st_mtime_ns))
+    r, _ = run("study", "report", study, "--output", tmp_path / "rep", "--cases", "1")
+    refused(r, str(case), "case_key", "not this case's result")
+
+
+def _collect(folder: Path):
+    from gearrotor.studies import collect, load_study
+
+    return collect(load_study(folder / "study.toml"))
+
+
+def test_up_to_date_results_nc_is_the_collection(
+    transient_study, modal_study, tmp_path, monkeypatch
+):
+    """Collected anew (no results.nc) and taken from results.nc: the same Dataset; the second
+    reads no case file."""
+    from gearrotor.studies import collection
+
+    for k, folder in enumerate((transient_study, modal_study)):
+        copy = tmp_path / str(k)
+        shutil.copytree(folder, copy)
+        (copy / "s.study" / "results.nc").unlink()
+        fresh = _collect(copy)
+        with monkeypatch.context() as m:
+            m.setattr(collection, "_read_case", lambda *a: pytest.fail("a case file was read"))
+            again = _collect(copy)
+        xr.testing.assert_identical(fresh, again)
+        assert json.loads(again.attrs["case_files_sha256"])["sha256"].keys() == {
+            c.stem for c in _cases(copy)
+        }
+
+
+@pytest.mark.parametrize("how", ["random-bytes", "infinite-metric", "other-settings", "older"])
+def test_damaged_or_stale_results_nc_is_collected_anew(transient_study, tmp_path, how):
+    """A results.nc that is not the collection of these files is never used: collected again
+    from the case files and rewritten (it is derived data, not an input)."""
+    study, _ = _copy(transient_study, tmp_path)
+    results = tmp_path / "s.study" / "results.nc"
+    genuine = _collect(tmp_path)
+    if how == "random-bytes":
+        results.write_bytes(os.urandom(2048))
+    elif how == "infinite-metric":  # recorded digests kept, a number changed
+        _rewrite(results, _set("amp_1x", np.inf))
+    elif how == "other-settings":
+        _rewrite(results, _attr("metric_window_s", 0.5))
+    else:  # written before the digests were recorded
+        _rewrite(results, _attr("case_files_sha256", None))
+    again = _collect(tmp_path)
+    xr.testing.assert_identical(genuine, again)
+    xr.testing.assert_identical(genuine, xr.open_dataset(results, engine="h5netcdf").load())
+    if how == "random-bytes":  # and the report of a model without meshes: no mesh panels
+        r, _ = run("study", "report", study, "--output", tmp_path / "rep")
+        assert r.exit_code == 0, (r.output, r.exception)
+        assert {p.name for p in (tmp_path / "rep").glob("trend_*.png")} == {"trend_unbalance.png"}
+
+
+def test_case_reader_reads_what_xarray_reads(transient_study, modal_study):
+    """The case files and results.nc that ``study run`` writes are read with h5py directly; the
+    Dataset is xarray's (``open_dataset(engine="h5netcdf")``): values, dtypes, attributes,
+    coordinates, order, and the encoding a collection writes back."""
+    from gearrotor.studies.collection import _plain_netcdf
+
+    files = [*_cases(transient_study), *_cases(modal_study)]
+    files += [f / "s.study" / "results.nc" for f in (transient_study, modal_study)]
+    for path in files:
+        fast = _plain_netcdf(path.read_bytes())
+        assert fast is not None, path
+        with xr.open_dataset(path, engine="h5netcdf") as ds:
+            ref = ds.load()
+        xr.testing.assert_identical(fast, ref)
+        assert list(fast.variables) == list(ref.variables)
+        for name, var in ref.variables.items():
+            assert fast[name].dtype == var.dtype, name
+            for key in ("dtype", "_FillValue"):
+                assert str(fast[name].encoding.get(key)) == str(var.encoding.get(key)), name
+
+
+def test_other_netcdf_layouts_are_read_by_xarray(transient_study, tmp_path):
+    """A layout the direct reader does not take (here a fill value that is not NaN: xarray
+    masks it) is read by xarray, as before."""
+    from gearrotor.studies.collection import _plain_netcdf, _read_netcdf
+
+    case = _cases(transient_study)[0]
+    with xr.open_dataset(case, engine="h5netcdf") as ds:
+        ds = ds.load()
+    x = ds["x"].values.copy()
+    x[0, 0] = -1.0
+    ds["x"] = (ds["x"].dims, x)
+    path = tmp_path / "fill.nc"
+    ds.to_netcdf(path, engine="h5netcdf", encoding={"x": {"_FillValue": -1.0}})
+    assert _plain_netcdf(path.read_bytes()) is None
+    got = _read_netcdf(path, "test")
+    assert np.isnan(got["x"].values[0, 0]) and np.isfinite(got["x"].values[1:]).all()

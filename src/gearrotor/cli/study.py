@@ -203,6 +203,7 @@ def report_command(
     per_figure: Annotated[int, typer.Option("--per-figure", help="cases per overlay figure")] = 7,
 ) -> None:
     """Overlay spectra (1x, 2x, mesh-frequency zooms) and trend plots of a study, as PNG."""
+    from ..studies.cases import plan
     from ..studies.collection import collect
     from ..studies.plots import report
     from ..studies.spec import load_study
@@ -224,7 +225,8 @@ def report_command(
         typer.echo(f"[{time.perf_counter() - t0:5.1f} s] {text}", err=True)
 
     progress(f"collecting the results of {st.name!r}")
-    collected = collect(st)  # also writes results.nc
+    planned = plan(st)
+    collected = collect(st, planned=planned)  # also writes results.nc when it is not up to date
     paths = report(
         st,
         output,
@@ -233,6 +235,7 @@ def report_command(
         per_figure=per_figure,
         progress=progress,
         results=collected,
+        planned=planned,
     )
     for p in paths:
         typer.echo(str(p))

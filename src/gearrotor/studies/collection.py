@@ -17,6 +17,8 @@ write to, and a damaged, truncated or foreign file is an input error (:class:`Mo
 
 from __future__ import annotations
 
+import hashlib
+import io
 import json
 from pathlib import Path
 
@@ -40,6 +42,12 @@ _READ_ERRORS = (OSError, ValueError, KeyError, TypeError, RecursionError, Attrib
 
 def _read_netcdf(path: Path, expected: str) -> xr.Dataset:
     """Open ``path`` and load it into memory; :class:`ModelError` naming the file otherwise."""
+    return _read_bytes(path, expected)[0]
+
+
+def _read_bytes(path: Path, expected: str) -> tuple[xr.Dataset, str]:
+    """The dataset of ``path`` loaded into memory and the SHA-256 of the bytes it was read from
+    (the file is read once: the digest is that of what was checked)."""
     if not path.exists():
         raise ModelError("file not found", file=str(path), expected=expected)
     if path.is_dir():
@@ -48,8 +56,18 @@ def _read_netcdf(path: Path, expected: str) -> xr.Dataset:
 
     check_sizes(path)  # a decompression bomb is refused from the header, before any read
     try:
-        with xr.open_dataset(path, engine="h5netcdf") as ds:
-            return ds.load()
+        data = path.read_bytes()
+    except OSError as exc:
+        raise ModelError(
+            f"cannot read the file ({type(exc).__name__})", file=str(path), expected=expected
+        ) from None
+    digest = hashlib.sha256(data).hexdigest()
+    ds = _plain_netcdf(data)
+    if ds is not None:
+        return ds, digest
+    try:
+        with xr.open_dataset(io.BytesIO(data), engine="h5netcdf") as ds:
+            return ds.load(), digest
     except _READ_ERRORS as exc:
         text = str(exc).splitlines()[0][:120] if str(exc) else ""
         raise ModelError(
@@ -59,13 +77,130 @@ def _read_netcdf(path: Path, expected: str) -> xr.Dataset:
         ) from None
 
 
+#: attributes of the NetCDF-4 layout (dimension scales), not of the variables
+_LAYOUT_ATTRS = frozenset(
+    ("CLASS", "NAME", "REFERENCE_LIST", "DIMENSION_LIST", "_Netcdf4Coordinates", "_Netcdf4Dimid")
+)
+_TIME_UNITS = frozenset(
+    ("days", "hours", "minutes", "seconds", "milliseconds", "microseconds", "nanoseconds")
+)
+_PHONY = b"This is a netCDF dimension but not a netCDF variable"
+
+
+def _plain_netcdf(data: bytes) -> xr.Dataset | None:
+    """The NetCDF-4 file image ``data`` as xarray reads it (``open_dataset(engine="h5netcdf")``
+    with its default decoding), read with h5py directly: 13x faster than xarray and h5netcdf for
+    a case file (8 against 107 ms), whose time goes to resolving the dimension scales' references
+    variable by variable. Only the layout that xarray writes and that decodes to the plain values
+    is taken (numbers and UTF-8 text in the root group, dimensions named by the NetCDF-4
+    dimension ids, NaN fill values, no scale/offset, no time units, scalar or text attributes);
+    anything else returns None and is read by xarray. The equivalence is tested on the files
+    ``study run`` writes (tests/studies/test_study_report.py)."""
+    import h5py
+
+    try:
+        with h5py.File(io.BytesIO(data), "r") as f:
+            return _plain_file(f, h5py)
+    except (OSError, ValueError, KeyError, TypeError, RecursionError, AttributeError):
+        return None
+
+
+def _attr_value(value):
+    """An attribute as h5netcdf returns it: text, or a number (stored as a 1-element array)."""
+    if isinstance(value, str):
+        return value
+    if isinstance(value, np.ndarray) and value.shape == (1,) and value.dtype.kind in "fiu":
+        return value[0]
+    raise TypeError("not a plain attribute")
+
+
+def _plain_file(f, h5py) -> xr.Dataset | None:
+    attrs = {}
+    for name in f.attrs:
+        if name == "_NCProperties":
+            continue
+        if name.startswith("_") or name == "coordinates":
+            return None
+        attrs[name] = _attr_value(f.attrs[name])
+    dsets = {}
+    for name in f:  # creation order (xarray writes it tracked), as xarray lists them
+        obj = f.get(name, getclass=True)
+        if obj is not h5py.Dataset:
+            return None
+        dsets[name] = f[name]
+    dim_names: dict[int, str] = {}
+    scales: set[str] = set()
+    for name, d in dsets.items():
+        if d.attrs.get("CLASS") == b"DIMENSION_SCALE":
+            dim_names[int(d.attrs["_Netcdf4Dimid"])] = name
+            scales.add(name)
+    variables: dict[str, xr.Variable] = {}
+    coord_names: set[str] = set()
+    for name, d in dsets.items():
+        keys = set(d.attrs.keys())
+        if name in scales and bytes(d.attrs.get("NAME", b"")).startswith(_PHONY):
+            continue  # a dimension without a variable
+        if d.ndim == 0:
+            dims: tuple[str, ...] = ()
+        elif "_Netcdf4Coordinates" in keys:
+            dims = tuple(dim_names[int(i)] for i in np.atleast_1d(d.attrs["_Netcdf4Coordinates"]))
+        elif name in scales and d.ndim == 1:
+            dims = (name,)
+        else:
+            return None
+        if len(dims) != d.ndim:
+            return None
+        vattrs, encoding = {}, {}
+        for key in keys - _LAYOUT_ATTRS:
+            value = d.attrs[key]
+            if key == "_FillValue":
+                fill = np.asarray(value)
+                if d.dtype.kind != "f" or fill.size != 1 or not np.isnan(fill).all():
+                    return None
+                encoding["_FillValue"] = d.dtype.type(np.nan)
+            elif key == "coordinates":
+                coord_names.update(str(_attr_value(value)).split())
+            elif key.startswith("_") or key in (
+                "scale_factor",
+                "add_offset",
+                "missing_value",
+                "calendar",
+                "dtype",
+            ):
+                return None
+            else:
+                vattrs[key] = _attr_value(value)
+        units = vattrs.get("units")
+        if isinstance(units, str) and (" since " in units or units.strip() in _TIME_UNITS):
+            return None
+        text = h5py.check_string_dtype(d.dtype)
+        if text is not None:
+            if text.length is not None or text.encoding != "utf-8":
+                return None
+            values = np.asarray(d.asstr()[()], dtype=object).astype(str)
+        elif d.dtype.kind in "fiu" and d.dtype.fields is None:
+            values = d[()]
+        else:
+            return None
+        encoding["dtype"] = values.dtype
+        variables[name] = xr.Variable(dims, values, vattrs, encoding=encoding)
+    coords = {n: v for n, v in variables.items() if n in scales or n in coord_names}
+    data_vars = {n: v for n, v in variables.items() if n not in coords}
+    return xr.Dataset(data_vars, coords=coords, attrs=attrs)
+
+
 def read_case(study: Study, p: PlannedCase) -> xr.Dataset:
     """The stored dataset of the finished case ``p``, loaded into memory and checked
     (:func:`check_case`)."""
+    return _read_case(study, p)[0]
+
+
+def _read_case(study: Study, p: PlannedCase) -> tuple[xr.Dataset, str]:
+    """:func:`read_case` and the SHA-256 of the bytes the dataset was read from."""
     path = case_path(study, p.key)
-    ds = _read_netcdf(path, _CASE)
+    ds, digest = _read_bytes(path, _CASE)
     check_case(ds, str(path), key=p.key, transient=isinstance(study.analysis, TransientSettings))
-    return ds
+    return ds, digest
 
 
 def _json_attr(ds: xr.Dataset, name: str, file: str, kind: type, default=None):
@@ -180,14 +315,28 @@ def collect(
     study: Study, *, planned: tuple[PlannedCase, ...] | None = None, write: bool = True
 ) -> xr.Dataset:
     """Gather the metrics of every case into one Dataset; write ``results.nc`` in the study
-    folder (atomically) when ``write``."""
+    folder (atomically) when ``write``.
+
+    ``results.nc`` records the SHA-256 of every case file it was collected from (attribute
+    ``case_files_sha256``). When the study folder's ``results.nc`` is up to date (the same
+    cases, states, errors, parameters and settings, and every finished case's file has the
+    digest recorded: each was read and checked when it was collected), it is the collection and
+    no case file is read (0.03 s against 4.7 s for the 27 cases of the seed study); a case file
+    replaced, damaged or added since is read, and checked, by collecting anew."""
     planned = plan(study) if planned is None else planned
     status = study_status(study, planned)
+    frame = _frame(study, planned, status)
+    done = [p for p, st in zip(planned, status, strict=True) if st.state == "done"]
+    digests = {p.key: _file_sha256(case_path(study, p.key)) for p in done}
+    cached = _up_to_date(study, frame, digests)
+    if cached is not None:
+        return cached
     parts = []
-    for p, st in zip(planned, status, strict=True):
-        if st.state != "done":
-            continue
-        ds = read_case(study, p)
+    read: dict[str, tuple[xr.Dataset, str]] = {}
+    for p in done:
+        if p.key not in read:  # identical rows share one file
+            read[p.key] = _read_case(study, p)
+        ds = read[p.key][0]
         names = json.loads(ds.attrs["metrics"])
         part = ds[names]
         part["wall_time"] = (
@@ -202,14 +351,46 @@ def collect(
                 part[f"solver_{k}"] = ((), v, {"units": unit})
         part.attrs = {}
         parts.append(part.expand_dims(case=[p.case.index]))
-    idx = np.array([p.case.index for p in planned], dtype=np.int64)
     if parts:
         res = xr.concat(
             parts, dim="case", join="outer", data_vars="all", coords="different", compat="equals"
         )
-        res = res.reindex(case=idx)
+        res = res.reindex(case=frame["case"].values)
     else:
-        res = xr.Dataset(coords={"case": idx})
+        res = xr.Dataset(coords={"case": frame["case"].values})
+    res = res.assign_coords(frame.coords)
+    res.attrs.update(frame.attrs)
+    res.attrs[_SOURCES] = _sources({k: d for k, (_, d) in read.items()})
+    if write:
+        study.folder.mkdir(parents=True, exist_ok=True)
+        path = study.folder / "results.nc"
+        write_netcdf(path, res)
+    return res
+
+
+#: attribute of results.nc: the SHA-256 of each case file it was collected from (JSON object,
+#: case key -> hex digest), with the version of the collection that read them
+_SOURCES = "case_files_sha256"
+_COLLECTION = 1  # a new version of the collection or its checks: results.nc is collected anew
+
+
+def _sources(digests: dict[str, str | None]) -> str:
+    return json.dumps({"collection": _COLLECTION, "sha256": dict(sorted(digests.items()))})
+
+
+def _file_sha256(path: Path) -> str | None:
+    """The SHA-256 of the file (1 ms for a 1.6 MB case file), None when it cannot be read (it
+    is then read, and its error reported, by the collection)."""
+    try:
+        with open(path, "rb") as fh:
+            return hashlib.file_digest(fh, "sha256").hexdigest()
+    except OSError:
+        return None
+
+
+def _frame(study: Study, planned, status) -> xr.Dataset:
+    """The collection without its metrics: the coordinates along ``case`` and the attributes."""
+    idx = np.array([p.case.index for p in planned], dtype=np.int64)
     coords = {
         "label": ("case", np.array([p.case.label for p in planned], dtype=object).astype(str)),
         "key": ("case", np.array([p.key for p in planned], dtype=object).astype(str)),
@@ -218,22 +399,47 @@ def collect(
     }
     for name in study.parameters:
         coords[name] = _param_coord(study, name, [p.case.values[name] for p in planned])
-    res = res.assign_coords(coords)
-    res.attrs.update(
-        {
-            "title": f"gearrotor study: {study.name}",
-            "study_file": str(study.file),
-            "model_file": str(study.model),
-            "analysis": json.dumps(study.analysis.model_dump()),
-            "metric_window_s": float(study.window),
-            "parameters": json.dumps(list(study.parameters)),
-        }
-    )
-    if write:
-        study.folder.mkdir(parents=True, exist_ok=True)
-        path = study.folder / "results.nc"
-        write_netcdf(path, res)
-    return res
+    attrs = {
+        "title": f"gearrotor study: {study.name}",
+        "study_file": str(study.file),
+        "model_file": str(study.model),
+        "analysis": json.dumps(study.analysis.model_dump()),
+        "metric_window_s": float(study.window),
+        "parameters": json.dumps(list(study.parameters)),
+    }
+    return xr.Dataset(coords={"case": idx, **coords}, attrs=attrs)
+
+
+def _up_to_date(study: Study, frame: xr.Dataset, digests: dict[str, str | None]):
+    """The study folder's ``results.nc`` when it is the collection of these case files (see
+    :func:`collect`), else None (absent, damaged, older, or of other files or settings)."""
+    path = study.folder / "results.nc"
+    if None in digests.values() or not path.is_file():
+        return None
+    try:
+        ds = _read_netcdf(path, "results.nc")
+    except ModelError:
+        return None
+    if ds.attrs.get(_SOURCES) != _sources(digests):
+        return None
+    if any(ds.attrs.get(k) != v for k, v in frame.attrs.items()):
+        return None
+    for name, var in frame.coords.items():
+        if name not in ds.coords or not ds[name].variable.identical(var.variable):
+            return None
+    transient = isinstance(study.analysis, TransientSettings)
+    allowed = set(TRANSIENT_METRICS if transient else MODAL_METRICS)
+    allowed |= {"wall_time"} | {f"solver_{k}" for k in ("dt", "steps", "n_modes", "harmonic_error")}
+    if digests and not set(TRANSIENT_METRICS if transient else MODAL_METRICS) <= set(ds.data_vars):
+        return None
+    for name, var in ds.data_vars.items():
+        text = name in ("mode_type", "whirl")
+        vals = np.asarray(var.values)
+        if name not in allowed or var.dims[:1] != ("case",) or text != (vals.dtype.kind == "U"):
+            return None
+        if not text and (vals.dtype.kind != "f" or np.isinf(vals).any()):
+            return None
+    return ds
 
 
 def open_results(study: Study | str | Path) -> xr.Dataset:

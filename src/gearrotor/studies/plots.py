@@ -176,7 +176,8 @@ def trend_figure(ds: xr.Dataset, parameter: str, parameters: Sequence[str]):
             ("log_dec", "log decrement", None, 1.0),
         ]
     else:
-        panels = [p for p in _AMP_METRICS if p[0] in ds]
+        # a model without meshes (or probes) has a metric of size 0: no panel for it
+        panels = [p for p in _AMP_METRICS if p[0] in ds and ds.sizes.get(p[2], 0) > 0]
     if not panels:
         return None
     ncol = 3 if len(panels) > 2 else 2
@@ -227,6 +228,7 @@ def report(
     per_figure: int = 7,
     progress=None,
     results=None,
+    planned=None,
 ) -> list[Path]:
     """Write the study's figures as PNG into ``output`` (default ``<study folder>/report``):
     ``trend_<parameter>.png`` for every parameter, and for transient studies
@@ -235,7 +237,9 @@ def report(
     these probes). ``progress``: called with a line of text as each figure is written (the
     command line prints it on stderr). ``results``: the study's collected metrics
     (:func:`~gearrotor.studies.collection.collect`) when the caller has them already, else
-    collected here (each case's file read once either way). Returns the paths written."""
+    collected here (each case's file read once either way); ``planned``: the study's
+    :func:`~gearrotor.studies.cases.plan` when the caller has it (27 models resolved: 0.3 s for
+    the seed study). Returns the paths written."""
     plt = _pyplot()
 
     def note(text: str) -> None:
@@ -246,13 +250,17 @@ def report(
     check_output(out, "directory", field="--output")  # also removes a killed run's temporaries
     with output_set():  # the figures and figures.json appear together or not at all
         make_directory(out, field="--output")
-        written = _report_figures(study, out, cases, probes, per_figure, note, plt, results)
+        written = _report_figures(
+            study, out, cases, probes, per_figure, note, plt, results, planned
+        )
         write_json(out / "figures.json", [p.name for p in written])
     return written
 
 
-def _report_figures(study, out, cases, probes, per_figure, note, plt, results) -> list[Path]:
-    planned = plan(study)
+def _report_figures(
+    study, out, cases, probes, per_figure, note, plt, results, planned
+) -> list[Path]:
+    planned = plan(study) if planned is None else planned
     ds = collect(study, planned=planned, write=False) if results is None else results
     params = list(study.parameters)
     written: list[Path] = []
