@@ -577,6 +577,54 @@ def test_numba_cache_outside_the_package(tmp_path, user_choice):
         assert cache.is_relative_to(expected) and not cache.is_relative_to(package), cache
 
 
+_COMPILE = (
+    "import numpy as np\n"
+    "from gearrotor.analyses.transient import kernels\n"
+    "kernels._interp(0.5, np.arange(3.0), np.arange(3.0), 0, 3)\n"
+    "s = kernels._interp.stats\n"
+    "print(sum(s.cache_hits.values()), sum(s.cache_misses.values()))\n"
+)
+
+
+@pytest.mark.parametrize("user_choice", [False, True])
+def test_numba_cache_shared_by_copies_of_the_same_sources(tmp_path, user_choice):
+    """A second checkout (another path, other time stamps) of the same sources loads the kernels
+    the first compiled instead of compiling them again (numba files a module's cache under a
+    hash of its absolute path; analyses/jit.py files gearrotor's by their place in the
+    package); a change to another kernel module (one that a kernel may inline) makes it compile
+    again, in the default folder and in one NUMBA_CACHE_DIR names. One small kernel compiled."""
+    import shutil
+
+    import gearrotor
+
+    environ = {k: v for k, v in os.environ.items() if k != "NUMBA_CACHE_DIR"}
+    environ["XDG_CACHE_HOME"] = str(tmp_path / "xdg")
+    if user_choice:
+        environ["NUMBA_CACHE_DIR"] = str(tmp_path / "mine")
+    trees = []
+    for name in ("a", "b", "c"):
+        shutil.copytree(
+            Path(gearrotor.__file__).parent,
+            tmp_path / name / "gearrotor",
+            ignore=shutil.ignore_patterns("__pycache__"),
+        )
+        trees.append(tmp_path / name)
+    with (trees[2] / "gearrotor" / "analyses" / "torsional" / "drive_laws.py").open("a") as f:
+        f.write("# changed\n")
+
+    def hits_misses(tree: Path) -> list[int]:
+        env = {**environ, "PYTHONPATH": str(tree)}
+        r = subprocess.run(
+            [sys.executable, "-c", _COMPILE], env=env, capture_output=True, text=True, cwd=tree
+        )
+        assert r.returncode == 0, r.stderr
+        return [int(v) for v in r.stdout.split()]
+
+    assert hits_misses(trees[0]) == [0, 1]  # compiled
+    assert hits_misses(trees[1]) == [1, 0]  # the same sources elsewhere: loaded
+    assert hits_misses(trees[2]) == [0, 1]  # another module changed: compiled again
+
+
 # ---- names used as file names ------------------------------------------------------------------
 @pytest.mark.slow
 def test_study_report_sanitises_probe_names(examples, tmp_path):

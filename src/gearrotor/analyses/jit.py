@@ -9,22 +9,35 @@ at run time. :func:`configure_cache` points numba at
 ``NUMBA_CACHE_DIR`` is already set, which then wins. The modules that compile kernels call it
 before their first ``@njit(cache=True)``: numba decides where a function's cache lives when it
 is decorated.
+
+Inside that folder numba would file each module's kernels under a hash of the module's absolute
+path, so every checkout, worktree or copy of the same sources compiled every kernel again
+(~45 s of CPU for the transient kernels; the test suite of a fresh clone paid it in each
+worker). :func:`configure_cache` also registers :class:`PackageCacheLocator`, which files
+gearrotor's kernels by their place in the package instead (``gearrotor/analyses/transient``);
+numba's own check still applies (a cached kernel is used only while its source file's content
+hash is the one it was compiled from), and the stamp also carries the hash of every kernel
+module, so a kernel that inlines another module's compiled function is compiled again when that
+module changes, whichever folder ``NUMBA_CACHE_DIR`` names.
 """
 
 from __future__ import annotations
 
+import functools
 import os
 import sys
 from pathlib import Path
 
-__all__ = ["cache_dir", "configure_cache"]
+from numba.core.caching import UserProvidedCacheLocator
+
+__all__ = ["PackageCacheLocator", "cache_dir", "configure_cache"]
 
 
 def cache_dir() -> Path:
     """``<user cache dir>/gearrotor/numba/src-DIGEST`` (``NUMBA_CACHE_DIR`` when it is set).
 
     DIGEST is a hash of the sources of every module that compiles kernels: numba keys a
-    cached kernel on its own file's time stamp only, so a kernel that calls a compiled
+    cached kernel on its own file's content only, so a kernel that calls a compiled
     function of another module (the transients call the drive laws of
     ``torsional/drive_laws.py``) would keep running the old callee after that module
     changed. One folder per version of the kernel sources avoids it."""
@@ -36,6 +49,7 @@ def cache_dir() -> Path:
     return base / f"src-{_kernel_sources_digest()}"
 
 
+@functools.cache
 def _kernel_sources_digest() -> str:
     """Hash of the modules under ``analyses/`` that define numba kernels (name and content)."""
     import hashlib
@@ -58,4 +72,44 @@ def configure_cache() -> Path:
     numba = sys.modules.get("numba")
     if numba is not None:
         numba.config.CACHE_DIR = str(path)
+    _register_locator()
     return path
+
+
+_PACKAGE = Path(__file__).resolve().parents[1]  # src/gearrotor (or site-packages/gearrotor)
+
+
+def _register_locator() -> None:
+    """Put :class:`PackageCacheLocator` first in numba's list of cache locators (once; a numba
+    without that list keeps its own locators: the kernels are then cached per checkout)."""
+    from numba.core import caching
+
+    classes = getattr(caching.CacheImpl, "_locator_classes", None)
+    if isinstance(classes, list) and PackageCacheLocator not in classes:
+        classes.insert(0, PackageCacheLocator)
+
+
+class PackageCacheLocator(UserProvidedCacheLocator):
+    """numba's locator for a user-provided cache folder, for gearrotor's own kernels only: the
+    kernels of ``<package>/analyses/transient/kernels.py`` go to
+    ``NUMBA_CACHE_DIR/gearrotor/analyses/transient`` whichever folder the package was loaded
+    from; the source stamp is numba's (the file's content hash) together with the hash of all
+    kernel modules (:func:`_kernel_sources_digest`)."""
+
+    def __init__(self, py_func, py_file):
+        super().__init__(py_func, py_file)
+        import numba
+
+        where = Path(py_file).resolve().parent.relative_to(_PACKAGE)
+        self._cache_path = os.path.join(numba.config.CACHE_DIR, "gearrotor", *where.parts)
+
+    def get_source_stamp(self):
+        return super().get_source_stamp(), _kernel_sources_digest()
+
+    @classmethod
+    def from_function(cls, py_func, py_file):
+        try:
+            Path(py_file).resolve().relative_to(_PACKAGE)
+        except (OSError, ValueError):
+            return None  # not a gearrotor module: numba's other locators decide
+        return super().from_function(py_func, py_file)
