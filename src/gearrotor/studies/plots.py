@@ -136,7 +136,7 @@ def overlay_spectra(
     bottom = (box.y1 + _SPECTRA_BELOW_AXES * fig.dpi / 72.0) / fig.bbox.height
     # y tick labels wider than those the margins were measured with ("10^-4"; "10^-10", or
     # "3x10^-5" on a panel spanning less than a decade) widen the margin left of their column
-    ref = _text_width(renderer, "$\\mathdefault{10^{-4}}$")
+    ref = _text_width(renderer, _REF_TICK)
     left = _SPECTRA_LEFT + max(0.0, _ytick_width(ax_full, ax2, renderer) - ref) / fig.bbox.width
     gap = _SPECTRA_WGAP + max(0.0, _ytick_width(ax1, axm, renderer) - ref) / fig.bbox.width
     height = (_SPECTRA_TOP - bottom - _SPECTRA_HGAP) / 2
@@ -161,9 +161,14 @@ def _text_width(renderer, text: str) -> float:
     return renderer.get_text_width_height_descent(text, prop, ismath="$" in text)[0]
 
 
+#: the widest y tick label of the panels the spectra layout was measured with
+_REF_TICK = "$\\mathdefault{10^{-4}}$"
+
+
 def _ytick_width(*axes_and_renderer) -> float:
-    """Width (pixels) of the widest y tick label the axes will draw, from their locators and
-    formatters (the tick objects are not made)."""
+    """Width (pixels) of the widest y tick label the axes will draw that is longer than
+    :data:`_REF_TICK` (0 if none), from their locators and formatters (the tick objects are not
+    made; a label is measured only when it is longer: mathtext takes milliseconds a label)."""
     *axes, renderer = axes_and_renderer
     widest = 0.0
     for ax in axes:
@@ -171,7 +176,7 @@ def _ytick_width(*axes_and_renderer) -> float:
         for which in (ax.yaxis.major, ax.yaxis.minor):
             locs = [v for v in which.locator() if lo <= v <= hi]
             for text in which.formatter.format_ticks(locs):
-                if text:
+                if len(text) > len(_REF_TICK):
                     widest = max(widest, _text_width(renderer, text))
     return widest
 
