@@ -79,3 +79,40 @@ def test_each_panel_draws_its_samples_and_one_beyond_each_edge():
                 assert x[0] <= lo and (x[-1] >= hi or x[-1] == f[-1])
     finally:
         plt.close(fig)
+
+
+def _results(scale: float = 1.0) -> xr.Dataset:
+    """A collection of three transient cases along one parameter (the layout of ``collect``)."""
+    amp = scale * np.array([[1e-6, 2e-6], [2e-6, 3e-6], [4e-6, 5e-6]])
+    return xr.Dataset(
+        {"amp_1x": (("case", "probe"), amp), "amp_2x": (("case", "probe"), amp / 10)},
+        coords={
+            "case": [0, 1, 2],
+            "label": ("case", ["a", "b", "c"]),
+            "unbalance": ("case", [360.0, 720.0, 1080.0], {"units": "g*mm"}),
+            "probe": ["p_x", "p_y"],
+        },
+        attrs={"title": "gearrotor study: t"},
+    )
+
+
+def test_trend_figures_from_the_results_cache(tmp_path, monkeypatch):
+    """The PNG is the one ``save_figure`` writes of ``trend_figure``; the second time it comes
+    from the cache, byte for byte, without drawing; other values draw again."""
+    from gearrotor.files import save_figure
+    from gearrotor.studies import plots
+
+    monkeypatch.setenv("GEARROTOR_CACHE_DIR", str(tmp_path / "cache"))
+    monkeypatch.setenv("GEARROTOR_CACHE", "on")
+    fig = plots.trend_figure(_results(), "unbalance", ["unbalance"])
+    save_figure(fig, tmp_path / "direct.png", dpi=110)
+    _pyplot().close(fig)
+    first = plots.trend_png(_results(), "unbalance", ["unbalance"])
+    assert first == (tmp_path / "direct.png").read_bytes()
+    drawn = []
+    real = plots.trend_figure
+    monkeypatch.setattr(plots, "trend_figure", lambda *a: drawn.append(1) or real(*a))
+    assert plots.trend_png(_results(), "unbalance", ["unbalance"]) == first
+    assert drawn == []
+    other = plots.trend_png(_results(2.0), "unbalance", ["unbalance"])
+    assert drawn == [1] and other != first

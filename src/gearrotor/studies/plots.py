@@ -7,6 +7,8 @@ rpm, in cpm) of each case's stored window (Hann window, linear trend removed).
 
 from __future__ import annotations
 
+import hashlib
+import io
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -20,6 +22,7 @@ from ..files import (
     output_set,
     save_figure,
     unique_names,
+    write_bytes,
     write_json,
 )
 from ..signals import padded_spectrum
@@ -27,7 +30,14 @@ from .cases import plan, study_status
 from .collection import collect, read_case
 from .spec import Study, TransientSettings
 
-__all__ = ["overlay_spectra", "padded_spectrum", "report", "trend_figure", "trend_groups"]
+__all__ = [
+    "overlay_spectra",
+    "padded_spectrum",
+    "report",
+    "trend_figure",
+    "trend_groups",
+    "trend_png",
+]
 
 RPM = 30.0 / np.pi
 _AMP_METRICS = (
@@ -281,6 +291,47 @@ def trend_figure(ds: xr.Dataset, parameter: str, parameters: Sequence[str]):
     return fig
 
 
+def trend_png(ds: xr.Dataset, parameter: str, parameters: Sequence[str]) -> bytes | None:
+    """:func:`trend_figure` as the PNG ``study report`` writes (110 dpi), None when there is no
+    trend. Kept in the results cache (:mod:`gearrotor.cache`, kind ``study-trend``), keyed by
+    the content of ``ds`` (its variables, coordinates and title), the parameters, matplotlib's
+    version and settings, and the sources of this module and of ``files.py``: a report of a
+    group of cases (``--cases``) draws the same trend figures as the full report before it
+    (0.4 s each for the seed study), and finds them there, byte for byte."""
+    import matplotlib
+
+    from .. import cache
+
+    def render() -> dict:
+        fig = trend_figure(ds, parameter, parameters)
+        if fig is None:
+            return {"png": np.zeros(0, np.uint8)}
+        buf = io.BytesIO()  # as files.save_figure writes a PNG
+        fig.savefig(buf, format="png", dpi=110, pil_kwargs={"compress_level": 3})
+        _pyplot().close(fig)
+        return {"png": np.frombuffer(buf.getvalue(), np.uint8)}
+
+    rc = hashlib.sha256(repr(sorted(matplotlib.rcParams.items())).encode()).hexdigest()
+    parts = ("trend", parameter, list(parameters), _content(ds), matplotlib.__version__, rc)
+    png = cache.arrays("study-trend", parts, render, sources=("studies/plots.py", "files.py"))
+    return bytes(png["png"]) if png["png"].size else None
+
+
+def _content(ds: xr.Dataset) -> str:
+    """SHA-256 of what a trend figure reads of ``ds``: every variable and coordinate (name,
+    dimensions, dtype, values, attributes) and the title."""
+    h = hashlib.sha256(repr(ds.attrs.get("title")).encode())
+    for name in sorted(map(str, ds.variables)):
+        var = ds.variables[name]
+        values = np.ascontiguousarray(var.values)
+        if values.dtype.kind == "O":  # text as objects: hash the text, not the pointers
+            values = values.astype(str)
+        h.update(repr((name, var.dims, values.dtype.str, values.shape)).encode())
+        h.update(repr(sorted(var.attrs.items())).encode())
+        h.update(values.tobytes())
+    return h.hexdigest()
+
+
 def report(
     study: Study,
     output: str | Path | None = None,
@@ -327,11 +378,10 @@ def _report_figures(
     params = list(study.parameters)
     written: list[Path] = []
     for p, stem in zip(params, unique_names(params), strict=True):
-        fig = trend_figure(ds, p, params)
-        if fig is not None:
+        png = trend_png(ds, p, params)
+        if png is not None:
             path = out / f"trend_{stem}.png"
-            save_figure(fig, path, dpi=110)
-            plt.close(fig)
+            write_bytes(path, png)
             written.append(path)
             note(f"{path.name} written")
     if not isinstance(study.analysis, TransientSettings):
