@@ -9,10 +9,18 @@ and the speed fluctuation (benchmarks/transient_app2.py); RK4 at the dissertatio
 unstable for this model. Goal: the 27 rows in ≤ 2 minutes on a 2-core machine.
 
     python benchmarks/study.py [--t-end 3.0] [--backend local|dask|both] [--workers N]
-                               [--folder DIR]
+                               [--folder DIR [--reuse]] [--report]
 
 The wall time includes starting the workers and loading the compiled kernels (numba's on-disk
 cache; the first run on a machine also compiles them: run twice for the steady figure).
+
+``--report`` then times ``study report`` on the finished study (the first back-end's folder):
+its parts in this process (the collection anew and from an up-to-date ``results.nc``, one case
+file read and checked, a trend figure, a spectra figure of 7 cases) and the whole command as a
+user runs it, the full report and a group report (``--cases 1,4-6 --probes gear1_y
+--per-figure 8``), with the trend figures drawn (an empty results cache) and found in the cache.
+With ``--folder DIR --reuse`` of a finished study (``DIR/local``) the run only finds every
+case done.
 """
 
 from __future__ import annotations
@@ -23,6 +31,8 @@ import json
 import os
 import platform
 import shutil
+import subprocess
+import sys
 import tempfile
 import time
 from pathlib import Path
@@ -50,6 +60,7 @@ def _run(study, backend: str, workers: int | None) -> tuple[dict, object]:
         "failed": len(summary.failed),
         "wall_s": wall,
         "load_before": load0,
+        "folder": study.folder.name,
     }, collect(study, write=False)
 
 
@@ -59,6 +70,10 @@ def main() -> None:
     ap.add_argument("--backend", choices=["local", "dask", "both"], default="both")
     ap.add_argument("--workers", type=int, default=None, help="default: all cores")
     ap.add_argument("--folder", type=Path, default=None, help="default: a temporary folder")
+    ap.add_argument("--report", action="store_true", help="then time 'study report'")
+    ap.add_argument(
+        "--reuse", action="store_true", help="keep the finished cases found in --folder"
+    )
     args = ap.parse_args()
     base = load_study(STUDY)
     if args.t_end != 3.0:
@@ -78,7 +93,8 @@ def main() -> None:
     rows, results = [], {}
     for backend in ("local", "dask") if args.backend == "both" else (args.backend,):
         folder = root / backend
-        shutil.rmtree(folder, ignore_errors=True)
+        if not args.reuse:
+            shutil.rmtree(folder, ignore_errors=True)
         st = dataclasses.replace(base, folder=folder)
         row, ds = _run(st, backend, args.workers)
         rows.append(row)
@@ -128,7 +144,79 @@ def main() -> None:
         ]
         same = not differ
         print(f"local and Dask metrics identical: {same} {differ or ''}")
-    print(json.dumps({"rows": rows, "folder": str(root)}))
+    report = _report_times(base, root / rows[0]["folder"], root) if args.report else None
+    print(json.dumps({"rows": rows, "folder": str(root), "report": report}))
+
+
+def _best(fn, repeat: int = 3) -> float:
+    times = []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - t0)
+    return min(times)
+
+
+def _report_times(base, folder: Path, root: Path) -> dict:
+    """Seconds of the parts of ``study report`` on the finished study in ``folder`` (best of 3,
+    in this process) and of the whole command (one run each, a new process); prints a table."""
+    from gearrotor.files import save_figure
+    from gearrotor.studies import collect, plan
+    from gearrotor.studies.collection import read_case
+    from gearrotor.studies.plots import _pyplot, overlay_spectra, trend_figure
+
+    text = STUDY.read_text()  # the study file of this folder, for the command
+    text = text.replace('model = "unity_gearbox.toml"', f'model = "{base.model.as_posix()}"')
+    text = text.replace('output = "unity_gearbox_study.study"', f'output = "{folder.as_posix()}"')
+    text = text.replace('t_end = "3.0 s"', f't_end = "{base.analysis.t_end} s"')
+    text = text.replace('window = "0.5 s"', f'window = "{base.window} s"')
+    (root / "study.toml").write_text(text)
+    st = load_study(root / "study.toml")
+    plt = _pyplot()
+    planned = plan(st)
+    results = st.folder / "results.nc"
+
+    def anew():
+        results.unlink(missing_ok=True)
+        collect(st, planned=planned)
+
+    parts = {"collect, results.nc absent (27 case files read)": _best(anew)}
+    parts["collect, results.nc up to date"] = _best(lambda: collect(st, planned=planned))
+    ds = collect(st, planned=planned)
+    parts["one case file read and checked"] = _best(lambda: read_case(st, planned[0]))
+    params = list(st.parameters)
+
+    def figure(make):
+        fig = make()
+        save_figure(fig, root / "bench.png", dpi=110)
+        plt.close(fig)
+
+    parts["one trend figure (drawn)"] = _best(
+        lambda: figure(lambda: trend_figure(ds, params[0], params))
+    )
+    data = {str(i): read_case(st, planned[i]) for i in range(7)}
+    parts["one spectra figure, 7 cases"] = _best(
+        lambda: figure(lambda: overlay_spectra(data, channel="probe", name="gear1_x"))
+    )
+    cache = root / "report-cache"
+    shutil.rmtree(cache, ignore_errors=True)
+    env = {**os.environ, "GEARROTOR_CACHE_DIR": str(cache)}
+    group = ["--cases", "1,4-6", "--probes", "gear1_y", "--per-figure", "8"]
+    for name, extra in (
+        ("study report (full), trend figures drawn", []),
+        ("study report (full), trend figures in the cache", []),
+        ("study report (group), trend figures in the cache", group),
+    ):
+        cmd = [sys.executable, "-m", "gearrotor", "study", "report", str(st.file)]
+        cmd += ["--output", str(root / "report"), *extra]
+        t0 = time.perf_counter()
+        subprocess.run(cmd, env=env, check=True, capture_output=True)
+        parts[name] = time.perf_counter() - t0
+    print()
+    print(f"{'study report: part':<52}{'s':>8}")
+    for name, t in parts.items():
+        print(f"{name:<52}{t:>8.2f}")
+    return parts
 
 
 if __name__ == "__main__":
