@@ -10,6 +10,8 @@ module at about ten seconds.
 
 from __future__ import annotations
 
+import io
+
 import numpy as np
 import pytest
 import xarray as xr
@@ -116,3 +118,34 @@ def test_trend_figures_from_the_results_cache(tmp_path, monkeypatch):
     assert drawn == []
     other = plots.trend_png(_results(2.0), "unbalance", ["unbalance"])
     assert drawn == [1] and other != first
+
+
+def test_a_figure_drawn_again_is_a_new_figure():
+    """The report draws its spectra figures on one figure (its tick objects made once): each PNG
+    is byte for byte that of a figure made for it, whatever came before (other channels, other
+    numbers of cases)."""
+    plt = _pyplot()
+
+    def png(fig) -> bytes:
+        buf = io.BytesIO()
+        fig.savefig(buf, format="png", dpi=110)
+        return buf.getvalue()
+
+    many = {f"{k}: {LABEL}": _case(k) for k in range(5)}
+    few = {f"{k}: {LABEL}": _case(k + 5) for k in range(2)}
+    figs = [
+        (many, "probe", "p_x"),
+        (many, "speed", "s1"),
+        (few, "probe", "p_x"),
+        (many, "probe", "p_x"),
+    ]
+    fig = None
+    try:
+        for cases, channel, name in figs:
+            fresh = overlay_spectra(cases, channel=channel, name=name, title="t")
+            expected = png(fresh)
+            plt.close(fresh)
+            fig = overlay_spectra(cases, channel=channel, name=name, title="t", figure=fig)
+            assert png(fig) == expected, (channel, len(cases))
+    finally:
+        plt.close(fig)
