@@ -7,6 +7,8 @@ rpm, in cpm) of each case's stored window (Hann window, linear trend removed).
 
 from __future__ import annotations
 
+import hashlib
+import io
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -20,6 +22,7 @@ from ..files import (
     output_set,
     save_figure,
     unique_names,
+    write_bytes,
     write_json,
 )
 from ..signals import padded_spectrum
@@ -27,7 +30,14 @@ from .cases import plan, study_status
 from .collection import collect, read_case
 from .spec import Study, TransientSettings
 
-__all__ = ["overlay_spectra", "padded_spectrum", "report", "trend_figure", "trend_groups"]
+__all__ = [
+    "overlay_spectra",
+    "padded_spectrum",
+    "report",
+    "trend_figure",
+    "trend_groups",
+    "trend_png",
+]
 
 RPM = 30.0 / np.pi
 _AMP_METRICS = (
@@ -49,6 +59,17 @@ def _pyplot():
     return plt
 
 
+#: Layout of the spectra figure (12 x 9.5 in), fixed: constrained layout measured every tick
+#: label of the four log axes twice more per figure (0.5 of its 0.85 s). These are the
+#: positions it found for the report's labels (figure fractions; column gap sized for the wider
+#: speed tick labels; on the right, room for half a 6-digit frequency label at the panel's
+#: edge), with the bottom margin set by the legend's rows.
+_SPECTRA_FIGSIZE = (12.0, 9.5)
+_SPECTRA_LEFT, _SPECTRA_RIGHT, _SPECTRA_TOP = 0.0551, 0.98, 0.947
+_SPECTRA_WGAP, _SPECTRA_HGAP = 0.0869, 0.0775  # between the panels, figure fractions
+_SPECTRA_BELOW_AXES = 35.6  # points from the legend's top to the lower panels (tick labels, label)
+
+
 def overlay_spectra(
     cases: dict[str, xr.Dataset],
     *,
@@ -62,9 +83,10 @@ def overlay_spectra(
     show the sidebands spaced at 1x). ``channel``: ``"probe"`` (probe ``name``, µm) or
     ``"speed"`` (shaft ``name``, rpm)."""
     plt = _pyplot()
-    fig, axes = plt.subplots(2, 2, figsize=(12, 9.5), constrained_layout=True)
+    fig, axes = plt.subplots(2, 2, figsize=_SPECTRA_FIGSIZE)
     ax_full, ax1, ax2, axm = axes.ravel()
     x1 = fmesh = None
+    curves = []
     for k, (label, ds) in enumerate(cases.items()):
         t = ds["time"].values
         if len(t) < 16:
@@ -81,27 +103,30 @@ def overlay_spectra(
         x1 = x1c if x1 is None else x1
         if "mesh_frequency" in ds and ds.sizes.get("mesh", 0):
             fmesh = float(ds["mesh_frequency"].values[0]) if fmesh is None else fmesh
-        color = f"C{k % 10}"
-        for ax in (ax_full, ax1, ax2, axm):
-            ax.semilogy(f, np.maximum(a, 1e-12), color=color, lw=1.0, label=label)
+        curves.append((label, f"C{k % 10}", f, np.maximum(a, 1e-12)))
     if x1 is None:
         plt.close(fig)
         raise ValueError("no case has stored time histories (outputs.histories = 'none'?)")
     top = 1.3 * fmesh if fmesh else 12 * x1
-    ax_full.set_xlim(0, top)
-    ax1.set_xlim(0.5 * x1, 1.5 * x1)
-    ax2.set_xlim(1.5 * x1, 2.5 * x1)
-    ax_full.set_title("full spectrum")
-    ax1.set_title(f"zoom at 1x ({x1:.0f} cpm)")
-    ax2.set_title(f"zoom at 2x ({2 * x1:.0f} cpm)")
+    limits = {ax_full: (0, top), ax1: (0.5 * x1, 1.5 * x1), ax2: (1.5 * x1, 2.5 * x1)}
+    limits[axm] = (fmesh - 6 * x1, fmesh + 6 * x1) if fmesh else (2.5 * x1, 10 * x1)
+    for ax, (lo, hi) in limits.items():
+        for label, color, f, a in curves:  # the samples in the panel and one beyond each edge
+            i0, i1 = np.searchsorted(f, lo, "right") - 1, np.searchsorted(f, hi, "left") + 1
+            sl = slice(max(i0, 0), i1)
+            ax.semilogy(f[sl], a[sl], color=color, lw=1.0, label=label)
+        ax.set_xlim(lo, hi)
+    # the titles at y = 1, where matplotlib would put them (no tick labels above the panels):
+    # placing them itself measures every y tick label of the panel at each draw (0.1 s a panel)
+    ax_full.set_title("full spectrum", y=1.0)
+    ax1.set_title(f"zoom at 1x ({x1:.0f} cpm)", y=1.0)
+    ax2.set_title(f"zoom at 2x ({2 * x1:.0f} cpm)", y=1.0)
     if fmesh:
-        axm.set_xlim(fmesh - 6 * x1, fmesh + 6 * x1)
-        axm.set_title(f"zoom at the mesh frequency ({fmesh:.0f} cpm) ± 6x")
+        axm.set_title(f"zoom at the mesh frequency ({fmesh:.0f} cpm) ± 6x", y=1.0)
         for j in range(-6, 7):
             axm.axvline(fmesh + j * x1, color="0.85", lw=0.6, zorder=0)
     else:
-        axm.set_xlim(2.5 * x1, 10 * x1)
-        axm.set_title("3x to 10x")
+        axm.set_title("3x to 10x", y=1.0)
     unit = "µm" if channel == "probe" else "rpm"
     for ax, dec in ((ax_full, 6.0), (ax1, 4.0), (ax2, 4.0), (axm, 4.0)):
         ax.set_xlabel("frequency (cpm)")
@@ -111,12 +136,59 @@ def overlay_spectra(
     for o in orders:
         for ax in (ax_full,):
             ax.axvline(o * x1, color="0.7", lw=0.6, ls="--", zorder=0)
-    fig.legend(
-        *ax_full.get_legend_handles_labels(), loc="outside lower center", ncols=2, fontsize=8
+    legend = fig.legend(
+        *ax_full.get_legend_handles_labels(), loc="lower center", ncols=2, fontsize=8
     )
     what = f"probe {name}" if channel == "probe" else f"speed of {name}"
-    fig.suptitle(f"{title}: {what}" if title else what)
+    fig.suptitle(f"{title}: {what}" if title else what, y=0.9956)
+    renderer = fig.canvas.get_renderer()  # text metrics only below: nothing is drawn
+    box = legend.get_window_extent(renderer)
+    bottom = (box.y1 + _SPECTRA_BELOW_AXES * fig.dpi / 72.0) / fig.bbox.height
+    # y tick labels wider than those the margins were measured with ("10^-4"; "10^-10", or
+    # "3x10^-5" on a panel spanning less than a decade) widen the margin left of their column
+    ref = _text_width(renderer, _REF_TICK)
+    left = _SPECTRA_LEFT + max(0.0, _ytick_width(ax_full, ax2, renderer) - ref) / fig.bbox.width
+    gap = _SPECTRA_WGAP + max(0.0, _ytick_width(ax1, axm, renderer) - ref) / fig.bbox.width
+    height = (_SPECTRA_TOP - bottom - _SPECTRA_HGAP) / 2
+    width = (_SPECTRA_RIGHT - left - gap) / 2
+    fig.subplots_adjust(
+        left=left,
+        right=_SPECTRA_RIGHT,
+        top=_SPECTRA_TOP,
+        bottom=bottom,
+        wspace=gap / width,
+        hspace=_SPECTRA_HGAP / height,
+    )
     return fig
+
+
+def _text_width(renderer, text: str) -> float:
+    """Width (pixels) of a y tick label ``text`` (mathtext when between $)."""
+    from matplotlib import rcParams
+    from matplotlib.font_manager import FontProperties
+
+    prop = FontProperties(size=rcParams["ytick.labelsize"])
+    return renderer.get_text_width_height_descent(text, prop, ismath="$" in text)[0]
+
+
+#: the widest y tick label of the panels the spectra layout was measured with
+_REF_TICK = "$\\mathdefault{10^{-4}}$"
+
+
+def _ytick_width(*axes_and_renderer) -> float:
+    """Width (pixels) of the widest y tick label the axes will draw that is longer than
+    :data:`_REF_TICK` (0 if none), from their locators and formatters (the tick objects are not
+    made; a label is measured only when it is longer: mathtext takes milliseconds a label)."""
+    *axes, renderer = axes_and_renderer
+    widest = 0.0
+    for ax in axes:
+        lo, hi = sorted(ax.get_ylim())
+        for which in (ax.yaxis.major, ax.yaxis.minor):
+            locs = [v for v in which.locator() if lo <= v <= hi]
+            for text in which.formatter.format_ticks(locs):
+                if len(text) > len(_REF_TICK):
+                    widest = max(widest, _text_width(renderer, text))
+    return widest
 
 
 def _autoscale_y(ax, decades: float = 4.0) -> None:
@@ -219,6 +291,47 @@ def trend_figure(ds: xr.Dataset, parameter: str, parameters: Sequence[str]):
     return fig
 
 
+def trend_png(ds: xr.Dataset, parameter: str, parameters: Sequence[str]) -> bytes | None:
+    """:func:`trend_figure` as the PNG ``study report`` writes (110 dpi), None when there is no
+    trend. Kept in the results cache (:mod:`gearrotor.cache`, kind ``study-trend``), keyed by
+    the content of ``ds`` (its variables, coordinates and title), the parameters, matplotlib's
+    version and settings, and the sources of this module and of ``files.py``: a report of a
+    group of cases (``--cases``) draws the same trend figures as the full report before it
+    (0.4 s each for the seed study), and finds them there, byte for byte."""
+    import matplotlib
+
+    from .. import cache
+
+    def render() -> dict:
+        fig = trend_figure(ds, parameter, parameters)
+        if fig is None:
+            return {"png": np.zeros(0, np.uint8)}
+        buf = io.BytesIO()  # as files.save_figure writes a PNG
+        fig.savefig(buf, format="png", dpi=110, pil_kwargs={"compress_level": 3})
+        _pyplot().close(fig)
+        return {"png": np.frombuffer(buf.getvalue(), np.uint8)}
+
+    rc = hashlib.sha256(repr(sorted(matplotlib.rcParams.items())).encode()).hexdigest()
+    parts = ("trend", parameter, list(parameters), _content(ds), matplotlib.__version__, rc)
+    png = cache.arrays("study-trend", parts, render, sources=("studies/plots.py", "files.py"))
+    return bytes(png["png"]) if png["png"].size else None
+
+
+def _content(ds: xr.Dataset) -> str:
+    """SHA-256 of what a trend figure reads of ``ds``: every variable and coordinate (name,
+    dimensions, dtype, values, attributes) and the title."""
+    h = hashlib.sha256(repr(ds.attrs.get("title")).encode())
+    for name in sorted(map(str, ds.variables)):
+        var = ds.variables[name]
+        values = np.ascontiguousarray(var.values)
+        if values.dtype.kind == "O":  # text as objects: hash the text, not the pointers
+            values = values.astype(str)
+        h.update(repr((name, var.dims, values.dtype.str, values.shape)).encode())
+        h.update(repr(sorted(var.attrs.items())).encode())
+        h.update(values.tobytes())
+    return h.hexdigest()
+
+
 def report(
     study: Study,
     output: str | Path | None = None,
@@ -265,11 +378,10 @@ def _report_figures(
     params = list(study.parameters)
     written: list[Path] = []
     for p, stem in zip(params, unique_names(params), strict=True):
-        fig = trend_figure(ds, p, params)
-        if fig is not None:
+        png = trend_png(ds, p, params)
+        if png is not None:
             path = out / f"trend_{stem}.png"
-            save_figure(fig, path, dpi=110)
-            plt.close(fig)
+            write_bytes(path, png)
             written.append(path)
             note(f"{path.name} written")
     if not isinstance(study.analysis, TransientSettings):
