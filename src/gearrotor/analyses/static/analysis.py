@@ -66,7 +66,11 @@ _MAX_OUTER = 50
 _JOURNAL_CACHE: dict = {}
 _LAST_EQ: dict = {}
 _LAST_K: dict = {}
+_BY_SPEED: dict = {}  # (file, version, pivot) -> {speed: the last equilibrium solved at it}
 _JOURNAL_CACHE_SIZE = 1024
+#: a journal solved at a speed within this ratio starts the Newton iteration at another speed
+#: (a speed sweep at an operating point: 0.6 % steps on the steam turbine's 161 speeds)
+_NEAR_SPEED = 1.25
 _counter = {"solves": 0}
 
 
@@ -120,10 +124,15 @@ def journal_equilibrium(
     last = (file, version, float(speed), pivot_stiffness)
     hit = _JOURNAL_CACHE.get(key)
     if hit is None:
+        solved = _BY_SPEED.setdefault((file, version, pivot_stiffness), {})
         if start is None:  # warm start from the last journal solved for this bearing and speed
-            start = _LAST_EQ.get(last)
+            start = _LAST_EQ.get(last) or _nearest_speed(solved, float(speed))
         eq = equilibrium(case.bearing, load, speed, options=case.options, start=start)
         _LAST_EQ[last] = eq
+        solved.pop(float(speed), None)
+        solved[float(speed)] = eq
+        if len(solved) > 64:
+            solved.pop(next(iter(solved)))
         _counter["solves"] += 1
         if len(_JOURNAL_CACHE) >= _JOURNAL_CACHE_SIZE:
             _JOURNAL_CACHE.pop(next(iter(_JOURNAL_CACHE)))
@@ -135,6 +144,18 @@ def journal_equilibrium(
         kb = hit[1] = static_stiffness(case.bearing, eq, options=case.options)
         _LAST_K[last] = kb
     return eq, kb
+
+
+def _nearest_speed(solved: dict, speed: float):
+    """The equilibrium solved at the speed nearest ``speed`` (same sense of rotation, within
+    the ratio ``_NEAR_SPEED``), or None."""
+    best, best_ratio = None, _NEAR_SPEED
+    for w, eq in solved.items():
+        if w * speed > 0:
+            ratio = max(w / speed, speed / w)
+            if ratio <= best_ratio:
+                best, best_ratio = eq, ratio
+    return best
 
 
 _RIGID_CACHE: dict = {}
