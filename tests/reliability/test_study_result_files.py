@@ -337,3 +337,19 @@ def test_other_netcdf_layouts_are_read_by_xarray(transient_study, tmp_path):
     assert _plain_netcdf(path.read_bytes()) is None
     got = _read_netcdf(path, "test")
     assert np.isnan(got["x"].values[0, 0]) and np.isfinite(got["x"].values[1:]).all()
+
+
+def test_a_huge_file_is_not_read_into_memory(transient_study, tmp_path, monkeypatch):
+    """A case file is read into memory whole (one read for its digest and its checks) only when
+    its header declares arrays of about its size: a 1 GiB file that is not HDF5 (sparse here)
+    is refused from its first bytes, as before."""
+    from gearrotor.errors import ModelError
+    from gearrotor.studies.collection import _read_netcdf
+
+    big = tmp_path / "big.nc"
+    with open(big, "wb") as fh:
+        fh.write(os.urandom(4096))
+        fh.truncate(1024**3)
+    monkeypatch.setattr(Path, "read_bytes", lambda self: pytest.fail(f"{self} read whole"))
+    with pytest.raises(ModelError, match="cannot read the file as NetCDF"):
+        _read_netcdf(big, "a case file")

@@ -20,6 +20,7 @@ from __future__ import annotations
 import hashlib
 import io
 import json
+import os
 from pathlib import Path
 
 import numpy as np
@@ -54,19 +55,29 @@ def _read_bytes(path: Path, expected: str) -> tuple[xr.Dataset, str]:
         raise ModelError("a directory, not a file", file=str(path), expected=expected)
     from ..analyses.transient.results import check_sizes
 
-    check_sizes(path)  # a decompression bomb is refused from the header, before any read
+    arrays = check_sizes(path)  # a decompression bomb is refused from the header, before any read
     try:
-        data = path.read_bytes()
+        size = path.stat().st_size
+        # into memory only a file of at most its arrays' bytes (and some): not one that is not
+        # HDF5 at all (its reader says what is wrong from the header), nor one of gigabytes
+        # around small arrays
+        whole = arrays is not None and size <= arrays + _SLACK
+        data = path.read_bytes() if whole else None
     except OSError as exc:
         raise ModelError(
             f"cannot read the file ({type(exc).__name__})", file=str(path), expected=expected
         ) from None
-    digest = hashlib.sha256(data).hexdigest()
-    ds = _plain_netcdf(data)
-    if ds is not None:
-        return ds, digest
+    if data is None:
+        digest = _file_sha256(path) or ""
+        source = path
+    else:
+        digest = hashlib.sha256(data).hexdigest()
+        ds = _plain_netcdf(data)
+        if ds is not None:
+            return ds, digest
+        source = io.BytesIO(data)
     try:
-        with xr.open_dataset(io.BytesIO(data), engine="h5netcdf") as ds:
+        with xr.open_dataset(source, engine="h5netcdf") as ds:
             return ds.load(), digest
     except _READ_ERRORS as exc:
         text = str(exc).splitlines()[0][:120] if str(exc) else ""
@@ -76,6 +87,8 @@ def _read_bytes(path: Path, expected: str) -> tuple[xr.Dataset, str]:
             expected=expected,
         ) from None
 
+
+_SLACK = 64 * 1024**2  # bytes of a NetCDF file besides its arrays (header, attributes, model)
 
 #: attributes of the NetCDF-4 layout (dimension scales), not of the variables
 _LAYOUT_ATTRS = frozenset(
@@ -381,8 +394,12 @@ def _sources(digests: dict[str, str | None]) -> str:
 def _file_sha256(path: Path) -> str | None:
     """The SHA-256 of the file (1 ms for a 1.6 MB case file), None when it cannot be read (it
     is then read, and its error reported, by the collection)."""
+    from ..analyses.transient.results import MAX_RESULT_BYTES
+
     try:
         with open(path, "rb") as fh:
+            if os.fstat(fh.fileno()).st_size > MAX_RESULT_BYTES:
+                return None  # not hashed: the collection refuses it from its header
             return hashlib.file_digest(fh, "sha256").hexdigest()
     except OSError:
         return None
