@@ -334,7 +334,7 @@ def collect(
     ``case_files_sha256``). When the study folder's ``results.nc`` is up to date (the same
     cases, states, errors, parameters and settings, and every finished case's file has the
     digest recorded: each was read and checked when it was collected), it is the collection and
-    no case file is read (0.03 s against 4.7 s for the 27 cases of the seed study); a case file
+    no case file is read (0.05 s against 0.9 s for the 27 cases of the seed study); a case file
     replaced, damaged or added since is read, and checked, by collecting anew."""
     planned = plan(study) if planned is None else planned
     status = study_status(study, planned)
