@@ -247,6 +247,30 @@ def test_report_on_a_full_disk_names_the_report_file(examples, tmp_path, monkeyp
     assert list(tmp_path.iterdir()) == []
 
 
+def test_stop_pool_returns_when_a_worker_dies_while_sending_its_result():
+    """Stopping the local pool (a full disk, Ctrl-C) kills the running workers; one killed
+    while it sent its result (a transient case's dataset is megabytes) left half a message in
+    the result pipe, and the pool's manager thread, which holds the pipe's write end too, waited
+    for the rest for ever: the study run below hung in a full suite run. The worker here returns
+    64 MB; the kill comes as its first bytes reach the pipe."""
+    import threading
+    from concurrent.futures import ProcessPoolExecutor
+    from multiprocessing import get_context
+
+    from gearrotor.studies.workers import stop_pool
+
+    pool = ProcessPoolExecutor(1, mp_context=get_context("spawn"))
+    pool.submit(os.urandom, 64 << 20)
+    reader = pool._result_queue._reader
+    deadline = time.monotonic() + 60
+    while not reader.poll(0.001):
+        assert time.monotonic() < deadline, "the worker never sent its result"
+    stopper = threading.Thread(target=stop_pool, args=(pool,), daemon=True)
+    stopper.start()
+    stopper.join(30)
+    assert not stopper.is_alive(), "stop_pool hung on a half-sent result"
+
+
 def test_study_run_on_a_full_disk(examples, tmp_path):
     """The case files (~100 kB each) fill a 128 kB file system: one line naming the case file,
     exit 2, no temporary left; the manifest written before is intact."""

@@ -196,12 +196,32 @@ class StopSignals:
 
 def stop_pool(pool) -> None:
     """Stop a ``ProcessPoolExecutor`` now: drop the queued calls and kill the running workers
-    (their results would be lost anyway; the study resumes from what is stored)."""
+    (their results would be lost anyway; the study resumes from what is stored).
+
+    A worker killed while it sends its result (a case's dataset: megabytes through a pipe)
+    leaves half a message in the pool's result pipe, and the pool's manager thread would wait
+    for the rest for ever: this process holds the pipe's write end as well, so the reader never
+    sees the end of the file. Once the workers are dead that end is closed here: the manager
+    thread's read then fails, it takes the pool for broken, and the shutdown completes."""
     procs = list((getattr(pool, "_processes", None) or {}).values())
     for p in procs:
         with contextlib.suppress(OSError, ValueError, AttributeError):
             p.kill()
+    for p in procs:
+        with contextlib.suppress(OSError, ValueError, AttributeError, AssertionError):
+            p.join(10)
+    if procs and not any(_alive(p) for p in procs):
+        writer = getattr(getattr(pool, "_result_queue", None), "_writer", None)
+        with contextlib.suppress(OSError, AttributeError):
+            writer.close()
     pool.shutdown(wait=True, cancel_futures=True)
+
+
+def _alive(process) -> bool:
+    try:
+        return process.is_alive()
+    except (ValueError, AssertionError):  # closed, or not a child of this process
+        return False
 
 
 def stop_local_cluster(cluster, close: Callable[[], None]) -> None:
