@@ -272,13 +272,19 @@ def save_figure(fig, path: str | os.PathLike, **savefig_kw) -> Path:
     suffix of ``path`` (PNG by default)."""
     path = Path(path)
     savefig_kw.setdefault("format", path.suffix.lstrip(".").lower() or "png")
+    return write_bytes(path, figure_bytes(fig, **savefig_kw))
+
+
+def figure_bytes(fig, **savefig_kw) -> bytes:
+    """The file :func:`save_figure` writes, in memory (``format`` PNG by default)."""
+    savefig_kw.setdefault("format", "png")
     if savefig_kw["format"] == "png":
         # zlib level 3 instead of Pillow's 6: 13 % less time for an 8-mode page of the report
         # (0.45 -> 0.39 s), 9 % larger file (the same pixels)
         savefig_kw.setdefault("pil_kwargs", {"compress_level": 3})
     buf = io.BytesIO()
     fig.savefig(buf, **savefig_kw)
-    return write_bytes(path, buf.getbuffer())
+    return buf.getvalue()
 
 
 def write_netcdf(path: str | os.PathLike, dataset, *, engine: str = "h5netcdf") -> Path:

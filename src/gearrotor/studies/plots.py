@@ -8,7 +8,6 @@ rpm, in cpm) of each case's stored window (Hann window, linear trend removed).
 from __future__ import annotations
 
 import hashlib
-import io
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -18,6 +17,7 @@ import xarray as xr
 from ..errors import ModelError
 from ..files import (
     check_output,
+    figure_bytes,
     make_directory,
     output_set,
     save_figure,
@@ -320,10 +320,9 @@ def trend_png(ds: xr.Dataset, parameter: str, parameters: Sequence[str]) -> byte
         fig = trend_figure(ds, parameter, parameters)
         if fig is None:
             return {"png": np.zeros(0, np.uint8)}
-        buf = io.BytesIO()  # as files.save_figure writes a PNG
-        fig.savefig(buf, format="png", dpi=110, pil_kwargs={"compress_level": 3})
+        png = figure_bytes(fig, dpi=110)  # the file save_figure writes
         _pyplot().close(fig)
-        return {"png": np.frombuffer(buf.getvalue(), np.uint8)}
+        return {"png": np.frombuffer(png, np.uint8)}
 
     rc = hashlib.sha256(repr(sorted(matplotlib.rcParams.items())).encode()).hexdigest()
     parts = ("trend", parameter, list(parameters), _content(ds), matplotlib.__version__, rc)
