@@ -28,7 +28,7 @@ import os
 import sys
 from pathlib import Path
 
-from numba.core.caching import UserProvidedCacheLocator
+from numba.core import caching, config
 
 __all__ = ["PackageCacheLocator", "cache_dir", "configure_cache"]
 
@@ -82,14 +82,12 @@ _PACKAGE = Path(__file__).resolve().parents[1]  # src/gearrotor (or site-package
 def _register_locator() -> None:
     """Put :class:`PackageCacheLocator` first in numba's list of cache locators (once; a numba
     without that list keeps its own locators: the kernels are then cached per checkout)."""
-    from numba.core import caching
-
     classes = getattr(caching.CacheImpl, "_locator_classes", None)
     if isinstance(classes, list) and PackageCacheLocator not in classes:
         classes.insert(0, PackageCacheLocator)
 
 
-class PackageCacheLocator(UserProvidedCacheLocator):
+class PackageCacheLocator(caching.UserProvidedCacheLocator):
     """numba's locator for a user-provided cache folder, for gearrotor's own kernels only: the
     kernels of ``<package>/analyses/transient/kernels.py`` go to
     ``NUMBA_CACHE_DIR/gearrotor/analyses/transient`` whichever folder the package was loaded
@@ -98,10 +96,8 @@ class PackageCacheLocator(UserProvidedCacheLocator):
 
     def __init__(self, py_func, py_file):
         super().__init__(py_func, py_file)
-        import numba
-
         where = Path(py_file).resolve().parent.relative_to(_PACKAGE)
-        self._cache_path = os.path.join(numba.config.CACHE_DIR, "gearrotor", *where.parts)
+        self._cache_path = os.path.join(config.CACHE_DIR, "gearrotor", *where.parts)
 
     def get_source_stamp(self):
         return super().get_source_stamp(), _kernel_sources_digest()

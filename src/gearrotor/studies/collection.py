@@ -39,6 +39,8 @@ _CASE = "a case file written by 'gearrotor study run' (delete it to run the case
 #: metrics and the histories :func:`check_result` checks
 _TRANSIENT_VARS = ("probe_shaft", "mesh_shaft", "mesh_teeth")
 _READ_ERRORS = (OSError, ValueError, KeyError, TypeError, RecursionError, AttributeError)
+#: the integrator's statistics a transient case records (``solver_<name>``), with their units
+_SOLVER_STATS = {"dt": "s", "steps": "1", "n_modes": "1", "harmonic_error": "1"}
 
 
 def _read_netcdf(path: Path, expected: str) -> xr.Dataset:
@@ -358,7 +360,7 @@ def collect(
             {"units": "s", "long_name": "wall time of the run"},
         )
         stats = json.loads(ds.attrs.get("solver_stats", "{}"))
-        for k, unit in (("dt", "s"), ("steps", "1"), ("n_modes", "1"), ("harmonic_error", "1")):
+        for k, unit in _SOLVER_STATS.items():
             if k in stats:
                 v = np.nan if stats[k] is None else float(stats[k])
                 part[f"solver_{k}"] = ((), v, {"units": unit})
@@ -445,9 +447,9 @@ def _up_to_date(study: Study, frame: xr.Dataset, digests: dict[str, str | None])
         if name not in ds.coords or not ds[name].variable.identical(var.variable):
             return None
     transient = isinstance(study.analysis, TransientSettings)
-    allowed = set(TRANSIENT_METRICS if transient else MODAL_METRICS)
-    allowed |= {"wall_time"} | {f"solver_{k}" for k in ("dt", "steps", "n_modes", "harmonic_error")}
-    if digests and not set(TRANSIENT_METRICS if transient else MODAL_METRICS) <= set(ds.data_vars):
+    metrics = set(TRANSIENT_METRICS if transient else MODAL_METRICS)
+    allowed = metrics | {"wall_time"} | {f"solver_{k}" for k in _SOLVER_STATS}
+    if digests and not metrics <= set(ds.data_vars):
         return None
     for name, var in ds.data_vars.items():
         text = name in ("mode_type", "whirl")

@@ -64,7 +64,6 @@ __all__ = ["static", "static_sweep", "resolve_operating_point", "journal_equilib
 
 _MAX_OUTER = 50
 _JOURNAL_CACHE: dict = {}
-_LAST_EQ: dict = {}
 _LAST_K: dict = {}
 _BY_SPEED: dict = {}  # (file, version, pivot) -> {speed: the last equilibrium solved at it}
 _JOURNAL_CACHE_SIZE = 1024
@@ -125,13 +124,12 @@ def journal_equilibrium(
     hit = _JOURNAL_CACHE.get(key)
     if hit is None:
         solved = _BY_SPEED.setdefault((file, version, pivot_stiffness), {})
-        if start is None:  # warm start from the last journal solved for this bearing and speed
-            start = _LAST_EQ.get(last) or _nearest_speed(solved, float(speed))
+        if start is None:  # warm start: the last journal of this bearing at this speed, or at
+            start = _nearest_speed(solved, float(speed))  # the nearest speed solved
         eq = equilibrium(case.bearing, load, speed, options=case.options, start=start)
-        _LAST_EQ[last] = eq
-        solved.pop(float(speed), None)
+        solved.pop(float(speed), None)  # the newest last: the oldest speed goes first
         solved[float(speed)] = eq
-        if len(solved) > 64:
+        if len(solved) > _JOURNAL_CACHE_SIZE:
             solved.pop(next(iter(solved)))
         _counter["solves"] += 1
         if len(_JOURNAL_CACHE) >= _JOURNAL_CACHE_SIZE:
@@ -147,8 +145,8 @@ def journal_equilibrium(
 
 
 def _nearest_speed(solved: dict, speed: float):
-    """The equilibrium solved at the speed nearest ``speed`` (same sense of rotation, within
-    the ratio ``_NEAR_SPEED``), or None."""
+    """The equilibrium solved at the speed nearest ``speed`` (that speed itself when it was
+    solved; else the same sense of rotation within the ratio ``_NEAR_SPEED``), or None."""
     best, best_ratio = None, _NEAR_SPEED
     for w, eq in solved.items():
         if w * speed > 0:
