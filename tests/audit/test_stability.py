@@ -553,20 +553,50 @@ def test_targeted_continuation_equals_the_full_solves(monkeypatch, case):
         assert f.n_every_mode > 0
 
 
-def test_targeted_continuation_falls_back_on_close_eigenvalues(monkeypatch):
-    """The Jeffcott rotor's forward and backward cylindrical modes are one double eigenvalue at
-    Q = 0 that Q splits (ω_n ± ~q/(2 m ω_n)), and its free axial and torsional motions give
-    pairs of eigenvalues at ~0 that round-off splits: inverse iteration cannot separate those,
-    so steps fall back to the full solve (and, once the fall-backs outnumber the targeted steps
-    by FALLBACK_LIMIT, every later step is solved in full). The followed mode is still the
-    forward cylindrical one: Q_0 is its closed-form onset c_total ω_n, as with full solves."""
-    from gearrotor.analyses.audit import stability
-
+def test_targeted_continuation_with_free_axial_and_torsional_motion(monkeypatch):
+    """The Jeffcott rotor's shaft is free axially and in torsion: two defective eigenvalue pairs
+    at 0 that round-off splits by ~1e-3 rad/s, whose eigenvectors inverse iteration cannot
+    separate. Their span is strain-free (rigid-body: no mode of the full solve either), so
+    every step after Q = 0 is still targeted; the followed mode is the forward cylindrical
+    one, Q_0 its closed-form onset c_total ω_n, as with full solves."""
     full, fast, f = _full_and_targeted(monkeypatch, jeffcott(), qa=Q_ONSET / 3, at=[("s", 2)])
     # the practically rigid shaft (bending stiffness ~3e10 N/m) makes the QR algorithm's
     # round-off on Re λ of the 130 rad/s mode ~1e-8 rad/s: 3e-10 on its log dec near Q_0
     _assert_same_level1(full, fast, atol=1e-9)
     assert fast.threshold_q == pytest.approx(Q_ONSET, rel=1e-3)
-    assert f.fallbacks.get("inverse iteration", 0) >= 1 and f.n_targeted >= 1
+    assert f.targeted and f.n_targeted == f.n_solves - 2 and not f.fallbacks
+
+
+def test_targeted_continuation_falls_back_when_every_mode_is_a_cluster(monkeypatch):
+    """Forced: with CLUSTER_GAP = 10 every mode a step reads counts as one of a cluster, so each
+    step falls back to the full solve until FALLBACK_LIMIT of them stop the targeted steps;
+    the path is the full solves' exactly (the same numbers: no step was targeted)."""
+    from gearrotor.analyses.audit import stability
+
+    monkeypatch.setattr(stability, "CLUSTER_GAP", 10.0)
+    full, fast, f = _full_and_targeted(monkeypatch, jeffcott(), qa=Q_ONSET / 3, at=[("s", 2)])
+    assert f.fallbacks == {"cluster": stability.FALLBACK_LIMIT} and f.n_targeted == 0
+    assert not f.targeted
+    assert fast.threshold_q == full.threshold_q
+    np.testing.assert_array_equal(fast.curve_log_dec, full.curve_log_dec)
+
+
+@pytest.mark.slow
+def test_targeted_continuation_falls_back_on_close_eigenvalues(monkeypatch):
+    """The unity gearbox's two identical shafts have repeated eigenvalues (within CLUSTER_GAP
+    relative), where an eigenvector is a choice of basis: such steps are solved in full, and
+    once the fall-backs outnumber the targeted steps by FALLBACK_LIMIT every later step is.
+    The followed mode (the first forward mode of the loaded shaft) and every number are those
+    of the full solves."""
+    from gearrotor.analyses.audit import stability
+    from gearrotor.io import load_model
+
+    t = load_model(ROOT / "examples" / "unity_gearbox.toml")
+    full, fast, f = _full_and_targeted(
+        monkeypatch, t, qa=1e7, at=[mid_span(t, "shaft1")], speed=1.05 * t.speed, n_curve=0
+    )
+    _assert_same_level1(full, fast, n_curve=0)
+    assert fast.mode_at_qa["shaft"] == full.mode_at_qa["shaft"]
+    assert f.fallbacks.get("cluster", 0) >= 1
     assert sum(f.fallbacks.values()) == f.n_targeted + stability.FALLBACK_LIMIT
     assert not f.targeted

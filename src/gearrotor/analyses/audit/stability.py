@@ -200,6 +200,9 @@ TARGETED_MODES = 40
 #: full solve more): e.g. a shaft free axially and in torsion, whose rigid-body eigenvalue
 #: pairs at ~0 are candidates of the least log dec that inverse iteration cannot separate
 FALLBACK_LIMIT = 4
+#: rad/s: eigenvalues this near 0 are taken together as free (rigid-body) motion when their
+#: span is strain-free (:meth:`_Pencil.strain_free`), as modal's dense solve classifies them
+RIGID_RADIUS = 1e-2
 _TARGETED = True  # the continuation steps by the targeted solve (False: every step in full)
 #: the outcomes of a check, in every table, JSON file and report
 VERDICTS = ("pass", "level II required", "fail", "not evaluated")
@@ -948,6 +951,32 @@ class _Pencil:
                 return x
         return None
 
+    def strain_free(self, q: float, count: int) -> bool:
+        """Whether the eigenvectors of the ``count`` eigenvalues within ``RIGID_RADIUS`` of 0 at
+        Q = ``q`` (free axial or torsional motion: defective pairs that round-off splits) are
+        all rigid-body as :func:`modal` classifies them (strain-energy frequency below its
+        ``rigid_tol``, 1e-2 rad/s): their displacements span the directions that P_Q(iσ)⁻¹,
+        σ = ``RIGID_RADIUS``, amplifies (block inverse iteration, three steps, the ones within
+        1e-6 of the largest), and every vector x of that span has √(|xᴴKx| / xᴴMx) below it."""
+        sigma = 1j * RIGID_RADIUS
+        try:
+            lu = spla.splu(
+                sp.csc_array(sigma * sigma * self.M + sigma * self.Cg + self.K + q * self.dK)
+            )
+        except RuntimeError:
+            return False
+        X = np.random.default_rng(20261128).standard_normal((self.asm.n_dof, count)) + 0j
+        for _ in range(3):
+            X = lu.solve(X)
+            if not np.all(np.isfinite(X)):
+                return False
+            U, sv, _ = la.svd(X, full_matrices=False)
+            X = U * (sv / sv[0])  # keep the amplification, scaled
+        Q = U[:, sv >= 1e-6 * sv[0]]
+        Kr = Q.conj().T @ ((self.K + q * self.dK) @ Q)
+        Mr = Q.conj().T @ (self.M @ Q)
+        return float(np.sqrt(la.norm(Kr, 2) / la.eigvalsh(Mr)[0])) < 1e-2
+
     def modes(self, q: float, lam: NDArray, vectors: NDArray, fmax: float) -> ModalResult:
         """The modal result of the eigenpairs (``lam``, columns of ``vectors``) at Q = ``q``,
         classified as :func:`modal` classifies them (its default tolerances)."""
@@ -1111,6 +1140,11 @@ class _Follower:
         # the eigenvalues the full solve lists as modes (over Im λ > 0 beyond round-off, up to
         # fmax); a rigid-body one among those read is found by the classification
         mu = lam[(lam.imag > ROUNDOFF * np.maximum(np.abs(lam), 1.0)) & (lam.imag <= fmax)]
+        free = np.abs(mu) <= RIGID_RADIUS
+        if free.any():  # free motion (its eigenvectors ill-defined): no mode if strain-free
+            if not pen.strain_free(qb, int(np.sum(np.abs(lam) <= RIGID_RADIUS))):
+                return self._fallback("free motion")
+            mu = mu[~free]
         if len(mu) < 2:
             return self._fallback("fewer than two modes")
         d = np.abs(mu - self._predict(qa, qb))
