@@ -99,7 +99,9 @@ class MeshLaws(NamedTuple):
     of the integrator (subtracted here); fourier (nm, S, 2), n_fourier (nm,): the variation's
     Fourier coefficients; table_ptr (nm + 1) into table_phi, table_k: a tabulated stiffness
     k(φ_m) (it replaces the series); te (nm, Se, 2), n_te (nm,): the transmission error's
-    harmonics in φ_m."""
+    harmonics in φ_m; last (nm, 2) work: F_d − F_b (N) and the contact state of the latest
+    evaluation (:func:`mesh_forces` writes it, the step envelope reads it at a step's start,
+    :func:`_envelope`)."""
 
     dofs: NDArray
     lines: NDArray
@@ -117,6 +119,7 @@ class MeshLaws(NamedTuple):
     table_k: NDArray
     te: NDArray
     n_te: NDArray
+    last: NDArray
 
 
 class Unbalances(NamedTuple):
@@ -465,11 +468,13 @@ def mesh_forces(qs, vs, meshes, fs):
     the back line, with the geometric δ: no transmission error). Every array read once, here:
     the per-mesh functions take arrays (module docstring)."""
     (dofs, w, kg, ka, backlash, damping, teeth, kg_linear, kg_back_linear, fourier, n_fourier,
-     table_ptr, table_phi, table_k, te, n_te) = meshes  # fmt: skip
+     table_ptr, table_phi, table_k, te, n_te, last) = meshes  # fmt: skip
     for k in range(dofs.shape[0]):
         delta, ddelta, db, ddb, phi = mesh_deflections(k, qs, vs, dofs, w, teeth, te, n_te)
         stiff = mesh_stiffness(k, phi, kg, ka, fourier, n_fourier, table_ptr, table_phi, table_k)
-        Fd, Fb, _ = mesh_contact(delta, ddelta, db, ddb, stiff, backlash[k], damping[k])
+        Fd, Fb, state = mesh_contact(delta, ddelta, db, ddb, stiff, backlash[k], damping[k])
+        last[k, 0] = Fd - Fb  # the normal force and state, for the step envelope
+        last[k, 1] = state
         # the linear part kept in the modal basis uses the geometric δ (no TE)
         Fd -= kg_linear[k] * _along(k, 0, qs, dofs, w)
         if kg_back_linear[k] != 0.0:
@@ -776,17 +781,17 @@ def _qdot(row, x, q, gq, ns, per_s, Q):
 
 
 @njit(cache=_CACHE, inline="always")
-def _envelope(row, first, h, qs, vs, meshes, env):
-    """The meshes' envelope (:class:`Record` ``env``) of recording interval ``row`` with the
-    state (qs, vs) on the force DOFs at the start of a step (or piece of a step) of length h:
-    the normal force F_d − F_b enters the least and the largest (``first``: the interval's
-    first step, which starts it), and h the time out of contact (state 0) or in back-flank
-    contact only (state −1), the contact state held over the step (a left Riemann sum: with a
-    record at every step it is the recorded samples' count times h). Inlined: the caller's
-    compile flags apply; it only reads the state, so nothing else a run computes changes."""
+def _envelope(row, first, h, last, env):
+    """The meshes' envelope (:class:`Record` ``env``) of recording interval ``row`` from the
+    meshes' normal force F_d − F_b and contact state at the start of a step of length h
+    (``last``, :class:`MeshLaws`, as the step's first force evaluation left it): F enters the
+    least and the largest (``first``: the interval's first step, which starts it), and h the
+    time out of contact (state 0) or in back-flank contact only (state −1), the contact state
+    held over the step (a left Riemann sum: with a record at every step it is the recorded
+    samples' count times h). It only reads, so nothing else a run computes changes."""
     for k in range(env.shape[1]):
-        Fd, Fb, _, _, _, state, _ = mesh_eval(k, qs, vs, meshes)
-        F = Fd - Fb
+        F = last[k, 0]
+        state = last[k, 1]
         if first:
             env[row, k, 0] = F
             env[row, k, 1] = F
@@ -816,16 +821,15 @@ def _rk4_steps(accel, record, t0, dt, n_steps, q, v, save_every, row0, rec, P, W
     :func:`rk4_modal`), so that each keeps its own compile flags."""
     k1q, k1v, k2q, k2v, k3q, k3v, k4q, k4v, qt, vt = k
     Om = W.Om
-    qs, vs = W.qs, W.vs
-    meshes = P.forces.meshes
+    last = P.forces.meshes.last
     env = rec.env
     j = row0
     for step in range(n_steps):
         t = t0 + step * dt
         accel(t, q, v, k1v, P, W)
         saved = step % save_every == 0
-        # the meshes at the step's start (the force DOFs' state accel just gathered)
-        _envelope(j if saved else j - 1, saved, dt, qs, vs, meshes, env)
+        # the meshes at the step's start, as its first force evaluation left them
+        _envelope(j if saved else j - 1, saved, dt, last, env)
         if saved:
             status = record(j, t, q, v, k1v, rec, Om)
             j += 1
@@ -1330,7 +1334,7 @@ def _op_system(P, X, op):
     meshes = MeshLaws(
         m.dofs, m.lines, m.kg, m.ka, m.backlash, m.damping, m.teeth, X.kg_linear[op],
         X.kg_back_linear[op], m.fourier, m.n_fourier, m.table_ptr, m.table_phi, m.table_k,
-        m.te, m.n_te,
+        m.te, m.n_te, m.last,
     )  # fmt: skip
     f = P.forces
     forces = Forces(meshes, f.unbalances, f.torques, f.bearings, f.drives)
