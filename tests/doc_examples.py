@@ -20,8 +20,24 @@ ENV = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1", MKL_NUM_TH
 
 #: What a command imports before it starts (1.3-1.8 s of CPU on the test machine, most of a
 #: quick command's time): imported once in a fork server, which forks one process per command.
+#: Every module of the package, not only the command line's: the analyses a command imports
+#: once it runs (the transient kernels, the audit, xarray, SciPy's optimisers, ...) cost the
+#: forked commands ~170 s of CPU in a ~1,100-s suite run (py-spy over the whole suite) when
+#: only the command line was preloaded; the server imports them once per test worker (~2 s).
 _PRELOAD = ["numpy", "scipy.linalg", "scipy.sparse", "pint", "matplotlib", "gearrotor.cli"]
 _CONTEXT = None
+
+
+def _package_modules() -> list[str]:
+    """The names of gearrotor's modules, from its source files (nothing imported here)."""
+    src = ROOT / "src"
+    names = []
+    for path in sorted((src / "gearrotor").rglob("*.py")):
+        parts = path.relative_to(src).with_suffix("").parts
+        if parts[-1] == "__main__":
+            continue
+        names.append(".".join(parts[:-1] if parts[-1] == "__init__" else parts))
+    return names
 
 
 def _context():
@@ -30,7 +46,7 @@ def _context():
         import multiprocessing
 
         _CONTEXT = multiprocessing.get_context("forkserver")
-        _CONTEXT.set_forkserver_preload(_PRELOAD)
+        _CONTEXT.set_forkserver_preload(_PRELOAD + _package_modules())
     return _CONTEXT
 
 

@@ -164,3 +164,38 @@ def test_a_model_reads_its_bearing_table_by_content(folder, tmp_path, examples, 
     assert len(entries(folder)) == 2 and not np.allclose(k3, k1)
     monkeypatch.setenv("GEARROTOR_CACHE", "off")
     assert _film_K(_model(tmp_path, text, "four")).tobytes() == k1.tobytes()
+
+
+def test_bounded_kinds_keep_the_most_recently_used(folder):
+    """``max_bytes``: a new entry that takes the kind over it removes the least recently used
+    (a hit counts as a use; the entry just written stays), across the kind's fingerprints."""
+    size = 20_000  # bytes of each entry's array (its .npz a little more)
+
+    def solve(k):
+        return lambda: {"png": np.full(size, k, np.uint8)}
+
+    def get(k, calls=None):
+        def counted():
+            if calls is not None:
+                calls.append(k)
+            return solve(k)()
+
+        return cache.arrays("fig", ("f", k), counted, sources=("cache.py",), max_bytes=2.5 * size)
+
+    get(0)
+    time.sleep(0.01)
+    get(1)
+    time.sleep(0.01)
+    get(0)  # a hit: 0 is now the most recently used
+    time.sleep(0.01)
+    get(2)  # over the bound: 1 goes
+    calls: list = []
+    for k in (0, 2, 1):
+        assert int(get(k, calls)["png"][0]) == k
+    assert calls == [1]  # 0 and 2 were kept, 1 solved again
+    entries = list((folder / "fig").glob("*/*.npz"))
+    assert sum(p.stat().st_size for p in entries) <= 2.5 * size + 2 * 1024
+    # unbounded kinds are never pruned
+    for k in range(4):
+        cache.arrays("table", ("t", k), solve(k), sources=("cache.py",))
+    assert len(list((folder / "table").glob("*/*.npz"))) == 4

@@ -24,7 +24,8 @@ on Linux, from ``platformdirs``):
 
 ``GEARROTOR_CACHE_DIR`` moves the cache; ``GEARROTOR_CACHE=off`` turns it off (every result
 solved, nothing read or written). Entries are a few kilobytes; deleting the folder is always
-safe.
+safe. Figures kept for ``study report`` (``study-trend``, ``study-spectra``: hundreds of
+kilobytes each) are bounded per kind (``max_bytes``), the least recently used removed first.
 """
 
 from __future__ import annotations
@@ -104,13 +105,16 @@ def arrays(
     solve: Callable[[], Mapping],
     *,
     sources: tuple[str, ...],
+    max_bytes: int | None = None,
 ) -> dict:
     """The arrays ``solve()`` returns (a mapping of names to NumPy arrays), from the cache when
     an entry of ``kind`` for ``parts`` exists, else solved and stored.
 
     ``parts`` is everything the result depends on (its ``repr`` is hashed: give parsed values,
     not file names); ``sources`` the modules or folders under ``gearrotor/`` whose code
-    computes it (their content is part of the entry's folder name)."""
+    computes it (their content is part of the entry's folder name). ``max_bytes``: the most
+    the entries of ``kind`` may take on disk (figures: hundreds of kilobytes each); when a new
+    entry takes them over it, the least recently used are removed (:func:`_prune`)."""
     from . import files
 
     if not enabled():
@@ -123,6 +127,8 @@ def arrays(
     path = folder / f"{_key(parts)}.npz"
     hit = _read(path)
     if hit is not None:
+        if max_bytes is not None:
+            _touch(path)
         return hit
     with contextlib.ExitStack() as stack:
         try:
@@ -133,5 +139,33 @@ def arrays(
         if hit is not None:
             return hit
         values = dict(solve())
-        files.write_cache_entry(path, **values)
+        if files.write_cache_entry(path, **values) and max_bytes is not None:
+            _prune(cache_root() / kind, max_bytes, keep=path)
         return values
+
+
+def _touch(path: Path) -> None:
+    """Mark an entry used now (its modification time: what :func:`_prune` orders by)."""
+    with contextlib.suppress(OSError):
+        os.utime(path)
+
+
+def _prune(folder: Path, max_bytes: int, keep: Path) -> None:
+    """Remove the least recently used entries under ``folder`` (every fingerprint of a kind,
+    so entries of replaced sources go first) until they take at most ``max_bytes``; ``keep``
+    (the entry just written) stays. Best effort: an entry another process removes meanwhile,
+    or one that cannot be removed, is passed over."""
+    entries = []
+    for path in folder.glob("*/*.npz"):
+        with contextlib.suppress(OSError):
+            st = path.stat()
+            entries.append((st.st_mtime, st.st_size, path))
+    total = sum(size for _, size, _ in entries)
+    for _, size, path in sorted(entries, key=lambda e: e[0]):
+        if total <= max_bytes:
+            break
+        if path == keep:
+            continue
+        with contextlib.suppress(OSError):
+            path.unlink()
+            total -= size

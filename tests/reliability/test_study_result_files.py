@@ -353,3 +353,36 @@ def test_a_huge_file_is_not_read_into_memory(transient_study, tmp_path, monkeypa
     monkeypatch.setattr(Path, "read_bytes", lambda self: pytest.fail(f"{self} read whole"))
     with pytest.raises(ModelError, match="cannot read the file as NetCDF"):
         _read_netcdf(big, "a case file")
+
+
+def test_spectra_figures_from_the_results_cache(transient_study, tmp_path, monkeypatch):
+    """``study report`` again into another folder: the spectra PNGs come from the results cache
+    (kind ``study-spectra``, keyed by each case file's SHA-256), byte for byte those drawn the
+    first time, without reading a case file; a case file whose content changed (still a valid
+    case) is read and drawn again, and only the figures of its cases change."""
+    from gearrotor.studies import plots
+
+    monkeypatch.setenv("GEARROTOR_CACHE_DIR", str(tmp_path / "cache"))
+    monkeypatch.setenv("GEARROTOR_CACHE", "on")
+    study, (case, _) = _copy(transient_study, tmp_path / "s")
+
+    def report(out: str) -> dict[str, bytes]:
+        r, _ = run("study", "report", study, "--output", tmp_path / out)
+        assert r.exit_code == 0, (r.output, r.exception)
+        return {p.name: p.read_bytes() for p in (tmp_path / out).glob("spectra_*.png")}
+
+    first = report("first")
+    assert len(first) >= 2  # the probes' and the shaft speed's
+    with monkeypatch.context() as m:
+        m.setattr(plots, "read_case", lambda *a: pytest.fail("a case file was read"))
+        assert report("again") == first
+
+    def louder(ds):
+        ds["probe_signal"] = ds["probe_signal"] * 2.0
+        return ds
+
+    _rewrite(case, louder)
+    changed = report("changed")
+    assert changed.keys() == first.keys()
+    assert all(changed[name] != first[name] for name in first if "speed" not in name)
+    assert all(changed[name] == first[name] for name in first if "speed" in name)

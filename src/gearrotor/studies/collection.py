@@ -70,7 +70,7 @@ def _read_bytes(path: Path, expected: str) -> tuple[xr.Dataset, str]:
             f"cannot read the file ({type(exc).__name__})", file=str(path), expected=expected
         ) from None
     if data is None:
-        digest = _file_sha256(path) or ""
+        digest = file_sha256(path) or ""
         source = path
     else:
         digest = hashlib.sha256(data).hexdigest()
@@ -342,7 +342,7 @@ def collect(
     status = study_status(study, planned)
     frame = _frame(study, planned, status)
     done = [p for p, st in zip(planned, status, strict=True) if st.state == "done"]
-    digests = {p.key: _file_sha256(case_path(study, p.key)) for p in done}
+    digests = {p.key: file_sha256(case_path(study, p.key)) for p in done}
     cached = _up_to_date(study, frame, digests)
     if cached is not None:
         return cached
@@ -393,7 +393,7 @@ def _sources(digests: dict[str, str | None]) -> str:
     return json.dumps({"collection": _COLLECTION, "sha256": dict(sorted(digests.items()))})
 
 
-def _file_sha256(path: Path) -> str | None:
+def file_sha256(path: Path) -> str | None:
     """The SHA-256 of the file (1 ms for a 1.6 MB case file), None when it cannot be read (it
     is then read, and its error reported, by the collection)."""
     from ..analyses.transient.results import MAX_RESULT_BYTES

@@ -20,14 +20,13 @@ from ..files import (
     figure_bytes,
     make_directory,
     output_set,
-    save_figure,
     unique_names,
     write_bytes,
     write_json,
 )
 from ..signals import padded_spectrum
-from .cases import plan, study_status
-from .collection import collect, read_case
+from .cases import case_path, plan, study_status
+from .collection import collect, file_sha256, read_case
 from .spec import Study, TransientSettings
 
 __all__ = [
@@ -326,7 +325,13 @@ def trend_png(ds: xr.Dataset, parameter: str, parameters: Sequence[str]) -> byte
 
     rc = hashlib.sha256(repr(sorted(matplotlib.rcParams.items())).encode()).hexdigest()
     parts = ("trend", parameter, list(parameters), _content(ds), matplotlib.__version__, rc)
-    png = cache.arrays("study-trend", parts, render, sources=("studies/plots.py", "files.py"))
+    png = cache.arrays(
+        "study-trend",
+        parts,
+        render,
+        sources=("studies/plots.py", "files.py"),
+        max_bytes=TREND_CACHE_BYTES,
+    )
     return bytes(png["png"]) if png["png"].size else None
 
 
@@ -410,45 +415,101 @@ def _report_figures(
             seen_keys.add(planned[i].key)
             uniq.append(i)
     note(f"spectra of {len(uniq)} cases, {per_figure} per figure")
-    fig = None  # one figure drawn again for each (overlay_spectra)
+    fig = [None]  # one figure drawn again for each (overlay_spectra)
     try:
         for start in range(0, len(uniq), per_figure):
             chunk = uniq[start : start + per_figure]
-            data = {}
-            for i in chunk:
-                data[f"{i}: {planned[i].case.label}"] = read_case(study, planned[i])
-            first = next(iter(data.values()))
-            if first.sizes.get("time", 0) < 16:
+            pngs = _spectra_pngs(study, planned, chunk, probes, fig)
+            if pngs is None:  # no stored time histories
                 break
-            tag = f"{chunk[0]:02d}-{chunk[-1]:02d}"
-            names = [str(p) for p in first["probe"].values]
-            if probes is not None:
-                unknown = sorted(set(probes) - set(names))
-                if unknown:
-                    raise ModelError(
-                        "unknown probe",
-                        field="--probes",
-                        value=unknown,
-                        expected=f"some of {names}",
-                    )
-                names = [p for p in names if p in set(probes)]
-            shafts = [str(s) for s in first["shaft"].values]
-            figures = [
-                ("probe", probe, f"spectra_{stem}_{tag}.png")
-                for probe, stem in zip(names, unique_names(names), strict=True)
-            ] + [
-                ("speed", shaft, f"spectra_speed_{stem}_{tag}.png")
-                for shaft, stem in zip(shafts, unique_names(shafts), strict=True)
-            ]
-            for channel, name, file in figures:
-                fig = overlay_spectra(
-                    data, channel=channel, name=name, title=study.name, figure=fig
-                )
+            for file, png in pngs:
                 path = out / file
-                save_figure(fig, path, dpi=110)
+                write_bytes(path, png)  # the file save_figure writes
                 written.append(path)
                 note(f"{path.name} written")
     finally:
-        if fig is not None:
-            plt.close(fig)
+        if fig[0] is not None:
+            plt.close(fig[0])
     return written
+
+
+#: The most the spectra figures kept in the results cache may take (the seed study's full
+#: report: 24 figures, 11 MB); the least recently used are removed first.
+SPECTRA_CACHE_BYTES = 256 * 2**20
+TREND_CACHE_BYTES = 64 * 2**20
+
+
+def _spectra_pngs(study, planned, chunk, probes, fig) -> list[tuple[str, bytes]] | None:
+    """The spectra PNGs (file name, bytes) of one figure's cases ``chunk`` (indices into
+    ``planned``): one per probe (or those of ``probes``) and one per shaft speed; None when the
+    cases have no stored time histories. ``fig``: a one-element list holding the figure drawn
+    again for each (made on first use).
+
+    Kept in the results cache (kind ``study-spectra``), keyed by the SHA-256 of each case file,
+    the cases' labels, ``probes``, the study's name, matplotlib's version and settings, and the
+    sources that read and draw the cases: a report of the same results again (another output
+    folder, a group of cases that fills a figure as the full report did) finds its figures,
+    byte for byte, without reading the case files (0.5 s a figure for the seed study). A case
+    file that cannot be hashed is read and drawn without the cache."""
+    import matplotlib
+
+    from .. import cache
+
+    labels = [f"{i}: {planned[i].case.label}" for i in chunk]
+    keys = [planned[i].key for i in chunk]
+
+    def render() -> dict:
+        data = {label: read_case(study, planned[i]) for label, i in zip(labels, chunk, strict=True)}
+        first = next(iter(data.values()))
+        if first.sizes.get("time", 0) < 16:
+            return {"none": np.zeros(0, np.uint8)}
+        tag = f"{chunk[0]:02d}-{chunk[-1]:02d}"
+        names = [str(p) for p in first["probe"].values]
+        if probes is not None:
+            unknown = sorted(set(probes) - set(names))
+            if unknown:
+                raise ModelError(
+                    "unknown probe", field="--probes", value=unknown, expected=f"some of {names}"
+                )
+            names = [p for p in names if p in set(probes)]
+        shafts = [str(s) for s in first["shaft"].values]
+        figures = [
+            ("probe", probe, f"spectra_{stem}_{tag}.png")
+            for probe, stem in zip(names, unique_names(names), strict=True)
+        ] + [
+            ("speed", shaft, f"spectra_speed_{stem}_{tag}.png")
+            for shaft, stem in zip(shafts, unique_names(shafts), strict=True)
+        ]
+        out = {"files": np.frombuffer("\n".join(f for *_, f in figures).encode(), np.uint8)}
+        for k, (channel, name, _) in enumerate(figures):
+            fig[0] = overlay_spectra(
+                data, channel=channel, name=name, title=study.name, figure=fig[0]
+            )
+            out[f"png{k}"] = np.frombuffer(figure_bytes(fig[0], dpi=110), np.uint8)
+        return out
+
+    digests = [file_sha256(case_path(study, key)) for key in keys]
+    if None in digests:
+        entry = render()
+    else:
+        rc = hashlib.sha256(repr(sorted(matplotlib.rcParams.items())).encode()).hexdigest()
+        parts = (
+            "spectra",
+            digests,
+            labels,
+            None if probes is None else sorted(set(probes)),
+            study.name,
+            matplotlib.__version__,
+            rc,
+        )
+        entry = cache.arrays(
+            "study-spectra",
+            parts,
+            render,
+            sources=("studies/plots.py", "studies/collection.py", "signals.py", "files.py"),
+            max_bytes=SPECTRA_CACHE_BYTES,
+        )
+    if "files" not in entry:
+        return None
+    files = bytes(entry["files"]).decode().split("\n")
+    return [(f, bytes(entry[f"png{k}"])) for k, f in enumerate(files)]
