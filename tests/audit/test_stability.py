@@ -458,3 +458,115 @@ def test_continuation_cost_is_bounded(monkeypatch):
         stability.MAX_HALVINGS < r.n_solves <= stability.SOLVE_BUDGET + 4 * stability.MAX_HALVINGS
     )
     assert r.threshold_q == pytest.approx(Q_ONSET, rel=1e-3)  # the nearest eigenvalue is right
+
+
+def _full_and_targeted(monkeypatch, model, **kw):
+    """Level I with every continuation step solved in full (``_TARGETED`` off) and with the
+    targeted step, and the targeted run's follower (its counts of targeted steps and
+    fall-backs)."""
+    from gearrotor.analyses.audit import stability
+
+    made = []
+    real_init = stability._Follower.__init__
+
+    def init(self, *args, **kwargs):
+        real_init(self, *args, **kwargs)
+        made.append(self)
+
+    monkeypatch.setattr(stability._Follower, "__init__", init)
+    out = []
+    for targeted in (False, True):
+        monkeypatch.setattr(stability, "_TARGETED", targeted)
+        out.append(level1(model, **kw))
+    return out[0], out[1], made[-1]
+
+
+def _assert_same_level1(full, fast, atol=1e-10, n_curve=11):
+    """The same Level I to round-off. The targeted step's eigenvalues come from the same QR
+    algorithm as the full solve's, without eigenvectors: they differ by round-off (observed
+    up to 4e-10 relative on a log dec, 3e-11 on Q_0); the tolerance is 1e-8, and 1e-10
+    absolute on a log dec near 0 (-2π Re λ / Im λ with Re λ's round-off, ~1e-13 |λ|: observed
+    9e-12 at Q_0) unless ``atol`` says otherwise."""
+    assert fast.verdict == full.verdict
+    assert [c.ok for c in fast.criteria] == [c.ok for c in full.criteria]
+    assert (fast.threshold_q is None) == (full.threshold_q is None)
+    if full.threshold_q is not None:
+        assert fast.threshold_q == pytest.approx(full.threshold_q, rel=1e-8)
+        assert fast.threshold_mode["frequency_rpm"] == pytest.approx(
+            full.threshold_mode["frequency_rpm"], rel=1e-8
+        )
+    assert fast.log_dec_at_qa == pytest.approx(full.log_dec_at_qa, rel=1e-8, abs=atol)
+    assert fast.least_log_dec_at_qa == pytest.approx(full.least_log_dec_at_qa, rel=1e-8, abs=atol)
+    assert fast.mode_at_qa["frequency_rpm"] == pytest.approx(
+        full.mode_at_qa["frequency_rpm"], rel=1e-8
+    )
+    assert fast.mode_at_qa["shaft"] == full.mode_at_qa["shaft"]
+    assert [(c["from"], c["to"]) for c in fast.mode_changes] == [
+        (c["from"], c["to"]) for c in full.mode_changes
+    ]
+    # the curve at the same Q (Brent's last iterates may differ by round-off): the n_curve
+    # points from 0 to beyond max(Q_A, Q_0) and the path's quarters are in both
+    j = np.array([np.argmin(np.abs(fast.curve_q - q)) for q in full.curve_q])
+    same_q = np.abs(fast.curve_q[j] - full.curve_q) <= 1e-8 * full.q_max
+    assert same_q.sum() >= max(n_curve, 5)
+    np.testing.assert_allclose(
+        fast.curve_log_dec[j[same_q]], full.curve_log_dec[same_q], rtol=1e-8, atol=atol
+    )
+    np.testing.assert_allclose(
+        fast.curve_least_log_dec[j[same_q]],
+        full.curve_least_log_dec[same_q],
+        rtol=1e-8,
+        atol=atol,
+    )
+
+
+@pytest.mark.parametrize(
+    "case",
+    [
+        ("steam_turbine_gearbox.toml", "pinion", 5.68e7, 11),
+        pytest.param(("steam_turbine_gearbox.toml", "pinion", 1e9, 0), marks=pytest.mark.slow),
+        ("motor_gearbox_compressor.toml", "compressor", 1e7, 11),
+    ],
+    ids=["steam-turbine", "steam-turbine-1e9", "flagship-compressor"],
+)
+def test_targeted_continuation_equals_the_full_solves(monkeypatch, case):
+    """The targeted continuation step (every eigenvalue, eigenvectors only of the modes the
+    step reads) follows the same mode to the same Q_0, log decs and verdict as the full solve
+    at every step; on these trains every step after Q = 0 is targeted (no fall-back). The
+    flagship's compressor at mid-span loses stability below Q_A (Q_0 found on the path), the
+    steam turbine beyond it (by secant extrapolation); with Q_A = 1e9 N/m the steam turbine's
+    followed mode passes close modes, where the nearest eigenvalue does not decide some steps
+    and the shapes of every mode do (read by inverse iteration too)."""
+    from gearrotor.io import load_model
+
+    name, shaft, qa, n_curve = case
+    t = load_model(ROOT / "examples" / name)
+    speed = None if t.max_continuous_speed is not None else 1.05 * abs(t.speed)
+    full, fast, f = _full_and_targeted(
+        monkeypatch, t, qa=qa, at=[mid_span(t, shaft)], speed=speed, n_curve=n_curve
+    )
+    _assert_same_level1(full, fast, n_curve=n_curve)
+    assert full.threshold_q is not None
+    assert f.targeted and f.n_targeted == f.n_solves - 2 and not f.fallbacks
+    assert fast.n_solves == f.n_solves
+    if qa == 1e9:
+        assert f.n_every_mode > 0
+
+
+def test_targeted_continuation_falls_back_on_close_eigenvalues(monkeypatch):
+    """The Jeffcott rotor's forward and backward cylindrical modes are one double eigenvalue at
+    Q = 0 that Q splits (ω_n ± ~q/(2 m ω_n)), and its free axial and torsional motions give
+    pairs of eigenvalues at ~0 that round-off splits: inverse iteration cannot separate those,
+    so steps fall back to the full solve (and, once the fall-backs outnumber the targeted steps
+    by FALLBACK_LIMIT, every later step is solved in full). The followed mode is still the
+    forward cylindrical one: Q_0 is its closed-form onset c_total ω_n, as with full solves."""
+    from gearrotor.analyses.audit import stability
+
+    full, fast, f = _full_and_targeted(monkeypatch, jeffcott(), qa=Q_ONSET / 3, at=[("s", 2)])
+    # the practically rigid shaft (bending stiffness ~3e10 N/m) makes the QR algorithm's
+    # round-off on Re λ of the 130 rad/s mode ~1e-8 rad/s: 3e-10 on its log dec near Q_0
+    _assert_same_level1(full, fast, atol=1e-9)
+    assert fast.threshold_q == pytest.approx(Q_ONSET, rel=1e-3)
+    assert f.fallbacks.get("inverse iteration", 0) >= 1 and f.n_targeted >= 1
+    assert sum(f.fallbacks.values()) == f.n_targeted + stability.FALLBACK_LIMIT
+    assert not f.targeted

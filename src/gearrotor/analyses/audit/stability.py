@@ -47,7 +47,17 @@ MAC ≥ ``MAC_MIN`` = 0.9, the runner-up at most ``MAC_MIN_GAP`` = 0.2 lower); w
 matches clearly, the step is halved. So the followed mode cannot leave the analysis as Q grows
 (no frequency window judges it) and no other mode is substituted for it. Where the followed
 mode's character changes along the way (its type, the shaft it mostly moves, its whirl on the
-loaded shaft), the result lists the change (``mode_changes``) and the chart marks it. The least
+loaded shaft), the result lists the change (``mode_changes``) and the chart marks it.
+*A continuation step* needs the followed mode and the least log dec of the forward lateral modes
+(below), not every eigenvector: it computes every eigenvalue (the dense QR algorithm without the
+eigenvectors, ~2/3 of the full solve's cost), then by inverse iteration the eigenvectors of only
+the two modes nearest the predicted eigenvalue and of the least-damped candidates, in order of
+log dec up to the first one judged, classified as :func:`modal` classifies them. Where that
+cannot decide as the full solve would (the nearest mode is not clearly nearest, so the shape
+rule, which reads every mode, decides; a mode read lies in a cluster or is rigid-body; inverse
+iteration does not converge), the step is solved in full (:func:`modal`, every eigenvector), as
+are the first-mode search at Q → 0+ and Q = 0; the two give the same followed mode and the same
+numbers to round-off (``tests/audit/test_stability.py`` compares them). The least
 log dec of every forward lateral mode below 3× the fastest shaft speed is reported beside it
 (``curve_least_log_dec``; an unstable one up to twice that too), and judged as a fourth
 criterion, gearrotor's addition to the standard's: another forward mode weaker than the
@@ -110,7 +120,9 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
+import scipy.linalg as la
 import scipy.sparse as sp
+import scipy.sparse.linalg as spla
 from numpy.typing import NDArray
 from scipy.optimize import brentq
 
@@ -118,9 +130,18 @@ from ...assembly import Assembly, assemble
 from ...errors import ModelError
 from ...model import NodeRef, Train
 from ...model.speed_range import model_max_continuous_speed
-from ...threads import managed
+from ...threads import limit, managed
 from ...units import to_si
-from ..lateral.modal import ROUNDOFF, ModalResult, modal
+from ..lateral.modal import (
+    ROUNDOFF,
+    TYPE_THRESHOLD,
+    ModalResult,
+    _check_mass,
+    _classify,
+    auto_method,
+    modal,
+)
+from ..lateral.whirl import frequency_dependent
 from .ucs import rigid_support_criticals
 
 __all__ = [
@@ -168,6 +189,18 @@ SOLVE_BUDGET = 200  # eigen-solves of one Level I after which every tie is taken
 START_FRACTION = 1e-3  # × Q_A: the small Q that splits a degenerate first forward mode
 TIE = 1e-6  # relative: a shaft moving as much as the most moved one, to round-off
 FIRST_MODE_REACH = (2.0, 4.0, 8.0)  # × the window: where the first forward mode is sought
+#: targeted step: an eigenvalue this close (relative) to another is a cluster, solved in full
+CLUSTER_GAP = 1e-4
+#: targeted step: inverse iteration has converged when an iterate turns by less than this (rad)
+VECTOR_TOL = 1e-10
+#: targeted step: most modes it reads by inverse iteration (~0.4 ms each on the steam turbine's
+#: 192 DOFs, where the full solve takes 55 ms and its eigenvalues alone 35 ms); beyond: in full
+TARGETED_MODES = 40
+#: targeted steps stop when the fall-backs outnumber them by this many (each costs ~2/3 of a
+#: full solve more): e.g. a shaft free axially and in torsion, whose rigid-body eigenvalue
+#: pairs at ~0 are candidates of the least log dec that inverse iteration cannot separate
+FALLBACK_LIMIT = 4
+_TARGETED = True  # the continuation steps by the targeted solve (False: every step in full)
 #: the outcomes of a check, in every table, JSON file and report
 VERDICTS = ("pass", "level II required", "fail", "not evaluated")
 
@@ -865,16 +898,102 @@ class _Point:
         return self.least_mode
 
 
+class _Pencil:
+    """The Level I eigenproblem at the analysis speed as a function of Q, built once for the
+    targeted continuation step (:meth:`_Follower._targeted`): the quadratic pencil
+    P_Q(λ) = λ²M + λ(C+G) + K + Q·ΔK and its first-order state matrix
+    A(Q) = [[0, I], [−M⁻¹(K + QΔK), −M⁻¹(C+G)]], whose blocks per unit Q are kept."""
+
+    def __init__(self, asm: Assembly, dK, speed: float):
+        M, C, G, K = asm.matrices(speed)
+        self.asm, self.speed = asm, speed
+        self.M, self.Cg, self.K = M.tocsc(), sp.csc_array(C + G), K.tocsc()
+        self.dK = sp.csc_array(dK)
+        cho = _check_mass(M.toarray(), asm)
+        n = asm.n_dof
+        self.A0 = np.zeros((2 * n, 2 * n))
+        self.A0[:n, n:] = np.eye(n)
+        self.A0[n:, :n] = -la.cho_solve(cho, K.toarray())
+        self.A0[n:, n:] = -la.cho_solve(cho, (C + G).toarray())
+        self.dA = -la.cho_solve(cho, self.dK.toarray())  # A's lower-left block per unit Q
+        # inverse iteration starts from a fixed generic vector (every mode's component non-zero)
+        self.start = np.random.default_rng(20261128).standard_normal(n) + 0j
+
+    def eigenvalues(self, q: float) -> NDArray:
+        """Every eigenvalue at Q = ``q`` (the dense QR algorithm of the full solve, without its
+        eigenvectors: about 2/3 of its cost)."""
+        n = self.asm.n_dof
+        A = self.A0.copy()
+        A[n:, :n] += q * self.dA
+        with limit(2 * n, "eig"):
+            return la.eigvals(A, overwrite_a=True, check_finite=False)
+
+    def vector(self, q: float, lam: complex) -> NDArray | None:
+        """The eigenvector (n_dof,) of the eigenvalue ``lam`` at Q = ``q`` by inverse iteration
+        on P_Q(lam) (one sparse LU): converged when an iterate turns by less than
+        ``VECTOR_TOL`` (radians) from the last; None when it does not within four steps."""
+        try:
+            lu = spla.splu(sp.csc_array(lam * lam * self.M + lam * self.Cg + self.K + q * self.dK))
+        except RuntimeError:  # P(lam) exactly singular: the full solve takes the step
+            return None
+        x = self.start / np.linalg.norm(self.start)
+        for _ in range(4):
+            y = lu.solve(x)
+            if not np.all(np.isfinite(y)):
+                return None
+            y /= np.linalg.norm(y)
+            turn = np.linalg.norm(y - (np.conj(x) @ y) * x)  # sine of the angle from x
+            x = y
+            if turn <= VECTOR_TOL:
+                return x
+        return None
+
+    def modes(self, q: float, lam: NDArray, vectors: NDArray, fmax: float) -> ModalResult:
+        """The modal result of the eigenpairs (``lam``, columns of ``vectors``) at Q = ``q``,
+        classified as :func:`modal` classifies them (its default tolerances)."""
+        res = _classify(
+            lam,
+            vectors,
+            self.asm,
+            self.asm.shaft_speeds(self.speed),
+            self.K + q * self.dK,
+            rigid_tol=1e-2,
+            overdamped_zeta=0.999,
+            type_threshold=TYPE_THRESHOLD,
+            max_frequency=fmax,
+        )
+        return ModalResult(
+            speed=self.speed,
+            shaft_speeds=self.asm.shaft_speeds(self.speed),
+            method="targeted",
+            n_eigenvalues=len(lam),
+            shaft_names=tuple(s.name for s in self.asm.train.shafts),
+            assembly=self.asm,
+            **res,
+        )
+
+
 class _Follower:
     """The first forward mode of the loaded shaft at Q = 0, followed over Q by continuation
-    (see the module docstring); every solve cached by Q."""
+    (see the module docstring); every solve cached by Q. ``targeted``: continuation steps by
+    the targeted solve (:meth:`_targeted`), falling back to the full solve when it cannot
+    decide; False: every step solved in full."""
 
-    def __init__(self, asm, dK, speed, window, shaft, min_lateral, q_scale):
+    def __init__(self, asm, dK, speed, window, shaft, min_lateral, q_scale, targeted=True):
         self.asm, self.dK, self.speed = asm, dK, speed
         self.window, self.shaft, self.min_lateral = window, shaft, min_lateral
         self.points: dict[float, _Point] = {}
         self.n_solves = 0
         self.n_unresolved = 0  # steps that stayed ambiguous after MAX_HALVINGS (degenerate)
+        self.n_targeted = 0  # steps taken by the targeted solve (the others: full solves)
+        self.n_every_mode = 0  # ... of which read every mode (the nearest did not decide)
+        # the targeted step reproduces modal's dense solve: not for speed × whirl tables (fitted
+        # states added to the eigenproblem) nor for models modal solves sparsely
+        self.targeted = (
+            targeted and not frequency_dependent(asm) and auto_method(asm.n_dof, 1.0) == "dense"
+        )
+        self._pencil: _Pencil | None = None
+        self.fallbacks: dict[str, int] = {}  # targeted steps solved in full, by reason
         # The first forward mode of the limit Q -> 0+, at whatever frequency (a stiff pinion's
         # may lie above 3x its speed: sought below 2, 4, then 8 times the window). It is chosen
         # at a small Q, q_s = START_FRACTION × Q_A, which splits degenerate eigenvalues (an
@@ -966,11 +1085,104 @@ class _Follower:
             return k1
         return None
 
+    def _targeted(self, qa: float, qb: float, fmax: float) -> ModalResult | None:
+        """The step's modal result at qb without the full solve's every eigenvector, as good as
+        the full solve's for :meth:`_match` and :meth:`_store`: every eigenvalue
+        (:meth:`_Pencil.eigenvalues`), then by inverse iteration the eigenvectors of only
+
+        * the two modes nearest the predicted eigenvalue, when the nearest decides the step by
+          :meth:`_match`'s first rule (4× nearer than the next, MAC ≥ 0.5), which reads no
+          other mode; else of every mode (up to ``TARGETED_MODES``), for its shape rule;
+        * the least-damped candidates of :meth:`_store`'s least log dec (damped frequency up
+          to the window, or growing), in order of log dec, up to the first one judged (with
+          any of the same log dec): no mode left out can have a lower log dec;
+
+        classified as the full solve classifies them (:meth:`_Pencil.modes`; a rigid-body
+        eigenvalue is no mode there either). None — the step is solved in full — when a mode it
+        reads is in a cluster (another eigenvalue within ``CLUSTER_GAP``·|λ|, where an
+        eigenvector is a choice), inverse iteration does not converge, or it would read more
+        than ``TARGETED_MODES`` modes."""
+        if self._pencil is None:
+            self._pencil = _Pencil(self.asm, self.dK, self.speed)
+        pen = self._pencil
+        lam = pen.eigenvalues(qb)
+        if not np.all(np.isfinite(lam)):
+            return self._fallback("non-finite")
+        # the eigenvalues the full solve lists as modes (over Im λ > 0 beyond round-off, up to
+        # fmax); a rigid-body one among those read is found by the classification
+        mu = lam[(lam.imag > ROUNDOFF * np.maximum(np.abs(lam), 1.0)) & (lam.imag <= fmax)]
+        if len(mu) < 2:
+            return self._fallback("fewer than two modes")
+        d = np.abs(mu - self._predict(qa, qb))
+        k1, k2 = (int(j) for j in np.argsort(d)[:2])
+        undamped = np.abs(mu.real) <= ROUNDOFF * np.abs(mu)
+        log_dec = np.where(undamped, 0.0, -2 * np.pi * mu.real / mu.imag)
+        cand = np.flatnonzero((mu.imag <= self.window) | (log_dec < 0))
+        cand = cand[np.lexsort((mu.imag[cand], log_dec[cand]))]  # as _store's argmin breaks ties
+        vectors: dict[int, NDArray] = {}
+
+        def read(js) -> ModalResult | None:
+            """The modal result of modes ``js`` (indices into mu), None if one cannot be read"""
+            if len(js) > TARGETED_MODES:
+                return self._fallback("too many modes")
+            for j in js:
+                if j not in vectors:
+                    if np.sort(np.abs(lam - mu[j]))[1] <= CLUSTER_GAP * abs(mu[j]):
+                        return self._fallback("cluster")
+                    x = pen.vector(qb, complex(mu[j]))
+                    if x is None:
+                        return self._fallback("inverse iteration")
+                    vectors[j] = x
+            # (a rigid-body eigenvalue is no mode of the result, as in the full solve's)
+            return pen.modes(qb, mu[js], np.array([vectors[j] for j in js]).T, fmax)
+
+        js = list(dict.fromkeys([k1, k2, *cand[:1].tolist()]))  # the usual reads, in one go
+        res = read(js)
+        if res is None:
+            return None
+        i1 = np.flatnonzero(res.eigenvalues == mu[k1])
+        nearest_decides = (
+            np.isin(mu[[k1, k2]], res.eigenvalues).all()  # modes: the full solve's two nearest
+            and d[k1] <= 0.25 * d[k2]
+            and _mass_mac(self.asm.M, self.points[qa].shape, res.mode_shapes[i1])[0] >= 0.5
+        )
+        if not nearest_decides:
+            self.n_every_mode += 1
+            js = list(range(len(mu)))
+            res = read(js)
+            if res is None:
+                return None
+        judged_at = None
+        for p, j in enumerate(cand):
+            if judged_at is not None and log_dec[j] > log_dec[cand[judged_at]]:
+                break
+            if j not in js:
+                js.append(int(j))
+                res = read(js)
+                if res is None:
+                    return None
+            if judged_at is None:
+                fwd = res.eigenvalues[forward_lateral_modes(res, self.min_lateral)]
+                judged_at = p if np.any(fwd == mu[j]) else None
+        self.n_targeted += 1
+        return res
+
+    def _fallback(self, reason: str) -> None:
+        """Count a targeted step handed to the full solve, by ``reason``."""
+        self.fallbacks[reason] = self.fallbacks.get(reason, 0) + 1
+
     def _step(self, qa: float, qb: float, depth: int) -> None:
         """Continue the followed mode from qa (known) to qb, halving the step while the match
         is ambiguous."""
         prev = self.points[qa]
-        res = self._solve(qb, max(2.0 * self.window, 3.0 * abs(prev.eigenvalue)))
+        fmax = max(2.0 * self.window, 3.0 * abs(prev.eigenvalue))
+        res = self._targeted(qa, qb, fmax) if self.targeted else None
+        if sum(self.fallbacks.values()) >= self.n_targeted + FALLBACK_LIMIT:
+            self.targeted = False  # most steps fall back (e.g. free axial and torsional modes)
+        if res is None:
+            res = self._solve(qb, fmax)
+        else:
+            self.n_solves += 1
         k = self._match(qa, qb, res, depth >= MAX_HALVINGS or self.n_solves >= SOLVE_BUDGET)
         if k is not None:
             self._store(qb, res, k, depth)
@@ -1130,7 +1342,16 @@ def level1(
         share[s.shaft] = share.get(s.shaft, 0.0) + s.weight
     loaded = max(share, key=share.__getitem__)
     si_loaded = train.shaft_index(loaded, "at")
-    f = _Follower(asm, _unit_coupling(asm, sites), sense * w, window, si_loaded, min_lateral, qa)
+    f = _Follower(
+        asm,
+        _unit_coupling(asm, sites),
+        sense * w,
+        window,
+        si_loaded,
+        min_lateral,
+        qa,
+        targeted=_TARGETED,
+    )
 
     # Q_0: the first zero of the followed log dec, on both sides of Q_A
     q_max = ratio_limit * qa
