@@ -195,6 +195,8 @@ def test_bounded_kinds_keep_the_most_recently_used(folder):
     assert calls == [1]  # 0 and 2 were kept, 1 solved again
     entries = list((folder / "fig").glob("*/*.npz"))
     assert sum(p.stat().st_size for p in entries) <= 2.5 * size + 2 * 1024
+    locks = {p.stem for p in (folder / "fig").glob("*/*.lock")}
+    assert locks <= {p.stem for p in entries}  # a removed entry's lock file went with it
     # unbounded kinds are never pruned
     for k in range(4):
         cache.arrays("table", ("t", k), solve(k), sources=("cache.py",))

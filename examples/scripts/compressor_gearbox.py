@@ -227,7 +227,14 @@ def metrics(r, window: float, spectra: dict) -> dict:
     loc = np.flatnonzero((am[1:-1] > am[:-2]) & (am[1:-1] >= am[2:])) + 1
     top = loc[np.argsort(am[loc])[::-1][:5]]
     out["peaks_last"] = [[float(fm[j]), float(am[j] * 1e6)] for j in sorted(top)]
-    out["mesh_force_N"] = [float(r.mesh_force[:, 0].min()), float(r.mesh_force[:, 0].max())]
+    # the force range over every integration step (the result's step envelope), and that of
+    # the recorded samples, which depends on where the samples fall in the mesh cycle
+    ext = r.mesh_extremes()
+    out["mesh_force_N"] = [float(ext.least[0]), float(ext.largest[0])]
+    out["mesh_force_samples_N"] = [
+        float(r.mesh_force[:, 0].min()),
+        float(r.mesh_force[:, 0].max()),
+    ]
     out["pinion_speed_rpm"] = [
         float(r.shaft_speed_rpm[:, 0].min()),
         float(r.shaft_speed_rpm[:, 0].max()),

@@ -169,3 +169,5 @@ def _prune(folder: Path, max_bytes: int, keep: Path) -> None:
         with contextlib.suppress(OSError):
             path.unlink()
             total -= size
+        with contextlib.suppress(OSError):  # its lock file (empty) goes with it
+            path.with_suffix(".lock").unlink()

@@ -136,6 +136,16 @@ class Page:
         )
 
 
+@pytest.fixture(scope="module")
+def loaded(browser, report):
+    """The report loaded once, for the tests that only look at it (loading and painting the
+    page takes most of each test's 6-9 s); a test that clicks opens its own page."""
+    pg = Page(browser, report.html.as_uri())
+    pg.page.wait_for_timeout(1500)  # let WebGL paint
+    yield pg
+    pg.page.close()
+
+
 def _save_shot(png: bytes, name: str, tmp_path: Path) -> Path:
     path = tmp_path / name
     path.write_bytes(png)
@@ -153,10 +163,9 @@ def _color_pixels(png: bytes, rgb, tol: int = 40) -> int:
     return int(np.sum(np.all(np.abs(img - np.array(rgb)) <= tol, axis=-1)))
 
 
-def test_page_loads_offline_and_every_plot_renders(browser, report, tmp_path):
-    pg = Page(browser, report.html.as_uri())
+def test_page_loads_offline_and_every_plot_renders(loaded, tmp_path):
+    pg = loaded
     page = pg.page
-    page.wait_for_timeout(1500)  # let WebGL paint
     assert pg.errors == []
     external = [u for u in pg.requests if not u.startswith(("file:", "data:", "blob:"))]
     assert external == [], "the report must not fetch anything"
@@ -189,16 +198,15 @@ def test_page_loads_offline_and_every_plot_renders(browser, report, tmp_path):
     _save_shot(png, "modes.png", tmp_path)
     for rgb in SHAFT_COLORS:
         assert _color_pixels(png, rgb) > 200, rgb
-    page.close()
 
 
-def test_waterfall_against_speed_renders(browser, report, tmp_path):
+def test_waterfall_against_speed_renders(loaded, report, tmp_path):
     """Every window's spectrum and the order lines are drawn (one SVG path per trace), the
     spectra in their colour and the 1x line in its own, with the speed axis labelled."""
     from gearrotor.plots.waterfall import speed_waterfall
 
     wf = speed_waterfall(report.transient)
-    pg = Page(browser, report.html.as_uri())
+    pg = loaded
     page = pg.page
     fig = page.locator("#fig-waterfall-speed")
     fig.scroll_into_view_if_needed()
@@ -227,7 +235,6 @@ def test_waterfall_against_speed_renders(browser, report, tmp_path):
     assert _color_pixels(png, (0x1F, 0x77, 0xB4)) > 2000  # spectra (COLORS[0])
     assert _color_pixels(png, (0xD6, 0x27, 0x28), tol=30) > 50  # 1x order line (COLORS[1])
     assert pg.errors == []
-    page.close()
 
 
 def test_mode_dropdown_and_phase_slider(browser, report, tmp_path):
@@ -267,11 +274,11 @@ def test_mode_dropdown_and_phase_slider(browser, report, tmp_path):
     page.close()
 
 
-def test_campbell_legend_hides_no_marker(browser, report, tmp_path):
+def test_campbell_legend_hides_no_marker(loaded, tmp_path):
     """Issue 22: the Campbell legend sat on the plot area, over the modes' markers. In the
     browser the legend's box lies outside the plot area's, and it lists the operating speed's
     line, drawn at 6,500 rpm."""
-    pg = Page(browser, report.html.as_uri())
+    pg = loaded
     page = pg.page
     fig = page.locator("#fig-campbell")
     fig.scroll_into_view_if_needed()
@@ -293,4 +300,3 @@ def test_campbell_legend_hides_no_marker(browser, report, tmp_path):
     assert st["op_x"] == pytest.approx([6500, 6500])
     _save_shot(fig.screenshot(), "campbell.png", tmp_path)
     assert pg.errors == []
-    page.close()

@@ -139,8 +139,10 @@ def test_exponential_resumed_run_is_bit_identical(make_gearbox, tmp_path, monkey
     monkeypatch.setattr(driver.kn, "etd_modal", real)
     res = transient(train, checkpoint=ck, **kw)
     assert res.stats.contact_events < reference.stats.contact_events  # resumed, not rerun
-    for name in ("final_q", "node_x", "time", "contact"):
+    # the step envelope too (saved in the checkpoint: test_transient_envelope.py)
+    for name in ("final_q", "node_x", "time", "contact", "mesh_force_max"):
         np.testing.assert_array_equal(getattr(res, name), getattr(reference, name), name)
+    np.testing.assert_array_equal(res.mesh_contact_loss_time, reference.mesh_contact_loss_time)
 
 
 _RERUN = """

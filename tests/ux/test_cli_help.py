@@ -102,6 +102,11 @@ def test_readme_says_browser_tests_need_chromium_and_suite_time():
     text = " ".join(readme.split())
     assert re.search(r"\d+ min \d+ s on an idle 2-core machine", text)
     assert re.search(r"\d+ min \d+ s with other work sharing the cores", text)
+    # the number of browser tests it names is the number there are
+    files = ("tests/report/test_report_browser.py", "tests/test_view_browser.py")
+    count = sum(len(re.findall(r"^def test_", (ROOT / f).read_text(), flags=re.M)) for f in files)
+    m = re.search(r"The (\d+) browser tests", text)
+    assert m and int(m.group(1)) == count, (m and m.group(0), count)
 
 
 def test_bearing_given_a_rotor_model_says_so():

@@ -15,9 +15,11 @@ speed_mean (shaft)         rpm         mean spin speed
 speed_fluctuation (shaft)  rpm         half peak-to-peak speed about its linear trend
 speed_dominant_frequency   cpm         highest peak of the speed spectrum
 (shaft)
-peak_mesh_force (mesh)     N           largest |normal tooth force|
-contact_loss_fraction      1           fraction of samples with the teeth separated
-(mesh)
+peak_mesh_force (mesh)     N           largest |normal tooth force| at any integration step
+                                       (the result's step envelope; the samples in a file
+                                       without one: the attribute ``source`` says which)
+contact_loss_fraction      1           fraction of time with the teeth separated, from the
+(mesh)                                 contact state at every step (as peak_mesh_force)
 mesh_frequency (mesh)      cpm         tooth count × mean speed of the gear's shaft
 whirl_power_peak           W           largest |P|, P = Fx ẋ + Fy ẏ of the component
 (component)
@@ -91,8 +93,11 @@ def transient_metrics(
         tt = t - t[0]
         fluct.append(0.5 * np.ptp(om - np.polyval(np.polyfit(tt, om, 1), tt)) * RPM)
         sdom.append(dominant_frequency(om, dt))
-    force = w["mesh_force"].values
-    contact = w["contact"].values
+    from ..analyses.transient.results import dataset_mesh_extremes  # numba: only when needed
+
+    # the meshes over every step of the window's recording intervals (the last one to t_end)
+    mesh = dataset_mesh_extremes(ds, float(t[0]))
+    source = {"source": mesh.source}
     wp = w["whirl_power"].values
     out = xr.Dataset(
         {
@@ -120,13 +125,13 @@ def transient_metrics(
             ),
             "peak_mesh_force": (
                 "mesh",
-                np.abs(force).max(axis=0),
-                {"units": "N", "long_name": "peak normal tooth force"},
+                np.maximum(np.abs(mesh.least), np.abs(mesh.largest)),
+                {"units": "N", "long_name": "peak normal tooth force", **source},
             ),
             "contact_loss_fraction": (
                 "mesh",
-                np.mean(contact == 0, axis=0),
-                {"units": "1", "long_name": "fraction of time with the teeth separated"},
+                mesh.loss,
+                {"units": "1", "long_name": "fraction of time with the teeth separated", **source},
             ),
             "mesh_frequency": (
                 "mesh",

@@ -26,7 +26,7 @@ def _write_npz_atomic(path: Path, **arrays) -> None:
     write_npz(path, **arrays)
 
 
-_KEYS = ("step", "q", "v", "rec_q", "rec_v", "rec_a", "rec_om", "rec_t")
+_KEYS = ("step", "q", "v", "rec_q", "rec_v", "rec_a", "rec_om", "rec_t", "rec_env")
 _EXPECTED = "a checkpoint written by gearrotor's transient (delete the file to start from t = 0)"
 
 
@@ -59,7 +59,9 @@ def _read_checkpoint(path: Path, fingerprint: str) -> dict | None:
     return data
 
 
-def _check_state(path: Path, ck: dict, *, n_steps: int, save_every: int, q, rec_q, rec_om) -> int:
+def _check_state(
+    path: Path, ck: dict, *, n_steps: int, save_every: int, q, rec_q, rec_om, rec_env
+) -> int:
     """The step a checkpoint resumes at, after checking that its arrays fit the run."""
     step = int(ck["step"]) if np.ndim(ck["step"]) == 0 else -1
     nr = step // save_every if step > 0 else 0
@@ -70,6 +72,7 @@ def _check_state(path: Path, ck: dict, *, n_steps: int, save_every: int, q, rec_
         and all(ck[k].shape == (nr, *rec_q.shape[1:]) for k in ("rec_q", "rec_v", "rec_a"))
         and ck["rec_om"].shape == (nr, *rec_om.shape[1:])
         and ck["rec_t"].shape == (nr,)
+        and ck["rec_env"].shape == (nr, *rec_env.shape[1:])
         and all(np.all(np.isfinite(ck[k])) for k in ("q", "v"))
     )
     if not ok:

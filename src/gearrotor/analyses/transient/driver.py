@@ -298,6 +298,8 @@ def transient(
     rec_a = np.zeros((n_rec, nout))
     rec_om = np.zeros((n_rec, ns))
     rec_t = np.zeros(n_rec)
+    # the meshes' envelope over each recording interval, tracked at every step (kn.Record)
+    rec_env = np.zeros((n_rec, len(system.meshes), 4))
     # divergence scale per output DOF: lateral → 1/blowup, torsional deviation → 1 rad
     kind = system.assembly.dof_kind()[system.active[out]]
     scale = np.where(kind == 2, 0.0, 1.0 / blowup)
@@ -320,13 +322,14 @@ def transient(
             q=q,
             rec_q=rec_q,
             rec_om=rec_om,
+            rec_env=rec_env,
         )
         q, v = ck["q"].copy(), ck["v"].copy()
         if prep.drive_state.size:  # synchronous motors that pulled in stay in step
             _restore_drive_state(checkpoint.path, ck, prep.drive_state)
         nr = step0 // save_every
         rec_q[:nr], rec_v[:nr], rec_a[:nr] = ck["rec_q"], ck["rec_v"], ck["rec_a"]
-        rec_om[:nr], rec_t[:nr] = ck["rec_om"], ck["rec_t"]
+        rec_om[:nr], rec_t[:nr], rec_env[:nr] = ck["rec_om"], ck["rec_t"], ck["rec_env"]
         if progress:
             print(
                 f"resuming from {checkpoint.path} at t = {step0 * dt:.4g} s",
@@ -353,7 +356,14 @@ def transient(
     if extra:
         runner = kn.etd_modal
     rec = kn.Record(
-        out if prep.kind == "physical" else prep.Phi_out, rec_q, rec_v, rec_a, rec_om, rec_t, scale
+        out if prep.kind == "physical" else prep.Phi_out,
+        rec_q,
+        rec_v,
+        rec_a,
+        rec_om,
+        rec_t,
+        scale,
+        rec_env,
     )
     substeps = 0
     while step < n_steps:
@@ -415,6 +425,7 @@ def transient(
                 rec_a=rec_a[:nr],
                 rec_om=rec_om[:nr],
                 rec_t=rec_t[:nr],
+                rec_env=rec_env[:nr],
                 drive_state=prep.drive_state,
             )
             last_ck = now
@@ -449,6 +460,7 @@ def transient(
         rec_a[:nr],
         rec_om[:nr],
         stats=stats,
+        envelope=(rec_env[:nr], n_steps * dt),
         final_state=final,
         name=integ.name,
         frozen=frozen_speed,

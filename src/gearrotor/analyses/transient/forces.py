@@ -144,6 +144,7 @@ def _mesh_laws(system: TransientSystem, at, modal: bool) -> MeshLaws:
         table_k=np.concatenate(tk + [np.zeros(1)]),
         te=te,
         n_te=n_te,
+        last=np.zeros((nm, 2)),
     )
 
 

@@ -99,7 +99,9 @@ class MeshLaws(NamedTuple):
     of the integrator (subtracted here); fourier (nm, S, 2), n_fourier (nm,): the variation's
     Fourier coefficients; table_ptr (nm + 1) into table_phi, table_k: a tabulated stiffness
     k(φ_m) (it replaces the series); te (nm, Se, 2), n_te (nm,): the transmission error's
-    harmonics in φ_m."""
+    harmonics in φ_m; last (nm, 2) work: F_d − F_b (N) and the contact state of the latest
+    evaluation (:func:`mesh_forces` writes it, the step envelope reads it at a step's start,
+    :func:`_envelope`)."""
 
     dofs: NDArray
     lines: NDArray
@@ -117,6 +119,7 @@ class MeshLaws(NamedTuple):
     table_k: NDArray
     te: NDArray
     n_te: NDArray
+    last: NDArray
 
 
 class Unbalances(NamedTuple):
@@ -265,7 +268,10 @@ class Record(NamedTuple):
     """What a run records, one row per saved step: ``out`` the recorded DOFs (their indices
     in the full model; the rows Φ_out of the modal basis), their q, q̇, q̈ (nrec, nout), the
     shaft speeds (nrec, ns), the time (nrec,); ``scale`` (nout,) the divergence scale of each
-    output (a |q| · scale above 1 stops the run)."""
+    output (a |q| · scale above 1 stops the run); ``env`` (nrec, nm, 4) the meshes' envelope
+    over each recording interval, tracked at every step (:func:`_envelope`): the least and
+    the largest normal force F_d − F_b (N), the time out of contact and the time in back-flank
+    contact only (s)."""
 
     out: NDArray
     q: NDArray
@@ -274,6 +280,7 @@ class Record(NamedTuple):
     speed: NDArray
     time: NDArray
     scale: NDArray
+    env: NDArray
 
 
 class Stages(NamedTuple):
@@ -333,9 +340,10 @@ class ModalWork(NamedTuple):
 # ------------------------------------------------------------------------------------------
 # the forces
 # ------------------------------------------------------------------------------------------
-@njit(cache=_CACHE)
+@njit(cache=_CACHE, fastmath=False)
 def _interp(x, xp, fp, lo, hi):
-    """Linear interpolation in xp[lo:hi] (held at the ends)."""
+    """Linear interpolation in xp[lo:hi] (held at the ends). Its flags stated: it is called
+    from kernels compiled with and without fastmath (module docstring)."""
     if x <= xp[lo]:
         return fp[lo]
     if x >= xp[hi - 1]:
@@ -460,11 +468,13 @@ def mesh_forces(qs, vs, meshes, fs):
     the back line, with the geometric δ: no transmission error). Every array read once, here:
     the per-mesh functions take arrays (module docstring)."""
     (dofs, w, kg, ka, backlash, damping, teeth, kg_linear, kg_back_linear, fourier, n_fourier,
-     table_ptr, table_phi, table_k, te, n_te) = meshes  # fmt: skip
+     table_ptr, table_phi, table_k, te, n_te, last) = meshes  # fmt: skip
     for k in range(dofs.shape[0]):
         delta, ddelta, db, ddb, phi = mesh_deflections(k, qs, vs, dofs, w, teeth, te, n_te)
         stiff = mesh_stiffness(k, phi, kg, ka, fourier, n_fourier, table_ptr, table_phi, table_k)
-        Fd, Fb, _ = mesh_contact(delta, ddelta, db, ddb, stiff, backlash[k], damping[k])
+        Fd, Fb, state = mesh_contact(delta, ddelta, db, ddb, stiff, backlash[k], damping[k])
+        last[k, 0] = Fd - Fb  # the normal force and state, for the step envelope
+        last[k, 1] = state
         # the linear part kept in the modal basis uses the geometric δ (no TE)
         Fd -= kg_linear[k] * _along(k, 0, qs, dofs, w)
         if kg_back_linear[k] != 0.0:
@@ -771,22 +781,56 @@ def _qdot(row, x, q, gq, ns, per_s, Q):
 
 
 @njit(cache=_CACHE, inline="always")
+def _envelope(row, first, h, last, env):
+    """The meshes' envelope (:class:`Record` ``env``) of recording interval ``row`` from the
+    meshes' normal force F_d − F_b and contact state at the start of a step of length h
+    (``last``, :class:`MeshLaws`, as the step's first force evaluation left it): F enters the
+    least and the largest (``first``: the interval's first step, which starts it), and h the
+    time out of contact (state 0) or in back-flank contact only (state −1), the contact state
+    held over the step (a left Riemann sum: with a record at every step it is the recorded
+    samples' count times h). It only reads, so nothing else a run computes changes."""
+    for k in range(env.shape[1]):
+        F = last[k, 0]
+        state = last[k, 1]
+        if first:
+            env[row, k, 0] = F
+            env[row, k, 1] = F
+            env[row, k, 2] = 0.0
+            env[row, k, 3] = 0.0
+        else:
+            if F < env[row, k, 0]:
+                env[row, k, 0] = F
+            if F > env[row, k, 1]:
+                env[row, k, 1] = F
+        if state == 0:
+            env[row, k, 2] += h
+        elif state == -1:
+            env[row, k, 3] += h
+
+
+@njit(cache=_CACHE, inline="always")
 def _rk4_steps(accel, record, t0, dt, n_steps, q, v, save_every, row0, rec, P, W, k):
     """Classical RK4 on (q, q̇) for ``n_steps`` steps from t0 (q, v updated in place):
     ``accel(t, q, q̇, q̈, P, W)`` the accelerations of the model P (work W), k the
     :class:`Stages`. Every ``save_every`` steps (starting with the first) ``record(j, t, q,
     q̇, q̈, rec, Ω)`` writes the state at the step start to row j = ``row0``, ``row0 + 1``, …
-    of ``rec`` and returns the divergence status. Returns (status, steps done).
+    of ``rec`` and returns the divergence status; at every step the meshes' envelope of the
+    current recording interval is updated (:func:`_envelope`). Returns (status, steps done).
 
     One loop for both RK4 kernels, inlined into each (:func:`rk4_physical`,
     :func:`rk4_modal`), so that each keeps its own compile flags."""
     k1q, k1v, k2q, k2v, k3q, k3v, k4q, k4v, qt, vt = k
     Om = W.Om
+    last = P.forces.meshes.last
+    env = rec.env
     j = row0
     for step in range(n_steps):
         t = t0 + step * dt
         accel(t, q, v, k1v, P, W)
-        if step % save_every == 0:
+        saved = step % save_every == 0
+        # the meshes at the step's start, as its first force evaluation left them
+        _envelope(j if saved else j - 1, saved, dt, last, env)
+        if saved:
             status = record(j, t, q, v, k1v, rec, Om)
             j += 1
             if status != STATUS_OK:
@@ -814,7 +858,7 @@ def _record_speeds(j, t, rec, Om):
 def _record_physical(j, t, q, v, a, rec, Om):
     """Row j of ``rec`` (:class:`Record`, ``rec.out`` the recorded DOFs) from the full state;
     the divergence status (any state non-finite, or a recorded |q| beyond its scale)."""
-    out, rq, rv, ra, _, _, scale = rec
+    out, rq, rv, ra, _, _, scale, _ = rec
     for i in range(out.shape[0]):
         rq[j, i] = q[out[i]]
         rv[j, i] = v[out[i]]
@@ -954,7 +998,7 @@ def _record_projected(j, Po, z, v, a, rec):
     """Row j of the recorded outputs Po z, Po v, Po a (``Po`` the rows of the outputs in the
     basis of the coordinates z); the divergence status (a non-finite output, or |q| beyond its
     scale). Inlined: the caller's compile flags apply."""
-    _, rq, rv, ra, _, _, scale = rec
+    _, rq, rv, ra, _, _, scale, _ = rec
     m = z.shape[0]
     big = 0.0
     bad = False
@@ -1290,7 +1334,7 @@ def _op_system(P, X, op):
     meshes = MeshLaws(
         m.dofs, m.lines, m.kg, m.ka, m.backlash, m.damping, m.teeth, X.kg_linear[op],
         X.kg_back_linear[op], m.fourier, m.n_fourier, m.table_ptr, m.table_phi, m.table_k,
-        m.te, m.n_te,
+        m.te, m.n_te, m.last,
     )  # fmt: skip
     f = P.forces
     forces = Forces(meshes, f.unbalances, f.torques, f.bearings, f.drives)
@@ -1325,6 +1369,51 @@ def _record_etd(j, t, z, v, g1, om, Po, alpha, rec, acc):
     return _record_projected(j, Po, z, v, acc, rec)
 
 
+@njit(cache=_CACHE, inline="always")
+def _envelope_forces(row, first, qs, vs, meshes, env, held):
+    """:func:`_envelope`'s forces for the exponential scheme, whose steps are cut into pieces
+    at the located contact changes: the normal force at a piece's start (qs, vs) enters the
+    least and largest of interval ``row`` (``first`` starts it), and each mesh's contact state
+    there goes to ``held`` (its time is added by :func:`_envelope_time` once the piece's
+    length is known). Inlined: the caller's compile flags apply."""
+    for k in range(env.shape[1]):
+        Fd, Fb, _, _, _, state, _ = mesh_eval(k, qs, vs, meshes)
+        F = Fd - Fb
+        if first:
+            env[row, k, 0] = F
+            env[row, k, 1] = F
+            env[row, k, 2] = 0.0
+            env[row, k, 3] = 0.0
+        else:
+            if F < env[row, k, 0]:
+                env[row, k, 0] = F
+            if F > env[row, k, 1]:
+                env[row, k, 1] = F
+        held[k] = state
+
+
+@njit(cache=_CACHE, inline="always")
+def _held_states(Gs, held):
+    """Each mesh's contact state just after a located crossing, from the gaps
+    :func:`_first_event` left in ``Gs`` (the crossing line on the side it crosses to; the
+    state evaluated at the crossing itself is round-off)."""
+    for k in range(held.shape[0]):
+        drive = Gs[k, 0] > 0.0
+        back = Gs[k, 2] > 0.0
+        held[k] = (2 if back else 1) if drive else (-1 if back else 0)
+
+
+@njit(cache=_CACHE, inline="always")
+def _envelope_time(row, h, held, env):
+    """A piece of length h in the contact states ``held``: to the time out of contact
+    (state 0) or in back-flank contact only (−1) of interval ``row``."""
+    for k in range(held.shape[0]):
+        if held[k] == 0:
+            env[row, k, 2] += h
+        elif held[k] == -1:
+            env[row, k, 3] += h
+
+
 @njit(cache=_CACHE, fastmath=_FAST_ETD)
 def etd_modal(t0, dt, n_steps, e, de, save_every, row0, rec, P, W, K1, X):
     """Exponential RK4 on the reduced modal system with the contact changes located.
@@ -1339,8 +1428,10 @@ def etd_modal(t0, dt, n_steps, e, de, save_every, row0, rec, P, W, K1, X):
     in a way that changes the operator (cubic Hermite through its values and rates at both
     ends) the step is redone up to the crossing and continued from there with the new
     operator, so each piece of a step sees one smooth law. Records Φ_out η every
-    ``save_every`` steps as :func:`rk4_modal`; (e, de) in and out are modal coordinates η.
-    Returns (status, steps done, substeps added by contact changes)."""
+    ``save_every`` steps as :func:`rk4_modal`, and the meshes' envelope of each recording
+    interval at the start of every step and of every piece of a step cut at a contact change
+    (:func:`_envelope_forces`, the pieces' times in their contact states); (e, de) in and out
+    are modal coordinates η. Returns (status, steps done, substeps added by contact changes)."""
     Ys, oms, coefs, pat, stride, op_of = X.Ys, X.oms, X.coefs, X.pat, X.stride, X.op_of
     n_probe, max_sub, Phis = X.n_probe, X.max_sub, X.Phis
     Phi_outs, alphas = X.Phi_outs, X.alphas
@@ -1385,10 +1476,14 @@ def etd_modal(t0, dt, n_steps, e, de, save_every, row0, rec, P, W, K1, X):
     j = row0
     status = STATUS_OK
     done = n_steps
+    env = rec.env
+    held = np.zeros(nm, np.int64)  # each mesh's contact state over the current piece
     for step in range(n_steps):
         t = t0 + step * dt
         left = dt
         forced = -1
+        saved = step % save_every == 0
+        row = j if saved else j - 1
         if n_probe > 0:
             _gaps_of(z, v, Phis[cur], qs, vs, meshes, G0)
         for sub in range(max_sub):
@@ -1399,9 +1494,17 @@ def etd_modal(t0, dt, n_steps, e, de, save_every, row0, rec, P, W, K1, X):
                     _rotate(Ys[cur], Ys[new], z, v, z1, v1)
                     cur = new
                     Pc = _op_system(P, X, cur)
+            else:
+                _matvec2(Phis[cur], z, v, qs, vs)
+            # the envelope at the piece's start (qs, vs: its state on the force DOFs); its
+            # time goes to the contact state held over the piece, added when its length is
+            # known (after a located change: the state the crossing leads to, from Gs)
+            _envelope_forces(row, saved and sub == 0, qs, vs, meshes, env, held)
+            if forced >= 0:
+                _held_states(Gs, held)
             om = oms[cur]
             _etd_substep(t, left, z, v, om, coefs[cur] if sub == 0 else none, Pc, W, L, z1, v1)
-            if sub == 0 and step % save_every == 0:
+            if sub == 0 and saved:
                 # the step's start: η̈ = N − μζ from the first stage (no extra evaluation)
                 status = _record_etd(j, t, z, v, L[3], om, Phi_outs[cur], alphas[cur], rec, acc)
                 j += 1
@@ -1409,13 +1512,16 @@ def etd_modal(t0, dt, n_steps, e, de, save_every, row0, rec, P, W, K1, X):
                     done = step
                     break
             if sub == max_sub - 1 or n_probe == 0:
+                _envelope_time(row, left, held, env)
                 break
             _gaps_of(z1, v1, Phis[cur], qs, vs, meshes, G1)
             frac, code = _first_event(G0, G1, left, n_probe, pat, stride, code, Gs)
             if frac > 1.0:
+                _envelope_time(row, left, held, env)
                 break
             # redo up to the crossing, then continue with the new state's operator
             tau = frac * left
+            _envelope_time(row, tau, held, env)
             _etd_substep(t, tau, z, v, om, none, Pc, W, L, z1, v1)
             for i in range(m):
                 z[i] = z1[i]

@@ -24,6 +24,9 @@ from .forces import pack_forces
 
 __all__ = [
     "TransientResult",
+    "MeshExtremes",
+    "mesh_extremes",
+    "dataset_mesh_extremes",
     "SolverStats",
     "spectrum",
     "amplitude_at",
@@ -71,6 +74,75 @@ def spectra_one_x_rpm(time: NDArray, shaft_speed: NDArray) -> NDArray:
     return np.mean(np.abs(np.asarray(shaft_speed)[sl]), axis=0) * RPM
 
 
+#: where the mesh extremes come from (:func:`mesh_extremes`)
+FROM_STEPS = "every step"
+FROM_SAMPLES = "recorded samples only: no step envelope in the result"
+
+
+@dataclass(frozen=True)
+class MeshExtremes:
+    """Per mesh (nm,): the least and largest normal tooth force (N), the fraction of time
+    with the teeth separated and in back-flank contact only; ``source``: :data:`FROM_STEPS`
+    or :data:`FROM_SAMPLES`; ``span`` the time covered (s)."""
+
+    least: NDArray
+    largest: NDArray
+    loss: NDArray
+    back: NDArray
+    source: str
+    span: float
+
+
+def mesh_extremes(time, force, contact, envelope=None, since: float | None = None):
+    """The meshes' force range and contact fractions from ``since`` (s, default the first
+    sample) to the end of the run.
+
+    ``envelope`` = (least, largest, loss time, back time (nt, nm), interval (nt,)): the step
+    envelope of each recording interval (kernels.Record.env), so the range is that of every
+    integration step, and the fractions are times over the time covered; None (a result file
+    written before the envelope existed): the recorded samples (``force``, ``contact`` (nt,
+    nm)), whose extremes depend on where the samples fall in the mesh cycle."""
+    t = np.asarray(time)
+    rows = np.flatnonzero(t >= (t[0] if since is None else since) - 1e-12)
+    if envelope is not None:
+        lo, hi, loss, back, span = (np.asarray(a)[rows] for a in envelope)
+        total = float(span.sum())
+        return MeshExtremes(
+            lo.min(axis=0),
+            hi.max(axis=0),
+            loss.sum(axis=0) / total,
+            back.sum(axis=0) / total,
+            FROM_STEPS,
+            total,
+        )
+    f = np.asarray(force)[rows]
+    c = np.asarray(contact)[rows]
+    return MeshExtremes(
+        f.min(axis=0),
+        f.max(axis=0),
+        np.mean(c == 0, axis=0),
+        np.mean(c == -1, axis=0),
+        FROM_SAMPLES,
+        float(t[-1] - t[rows[0]]),
+    )
+
+
+def dataset_mesh_extremes(ds, since: float | None = None) -> MeshExtremes:
+    """:func:`mesh_extremes` of a saved result (:meth:`TransientResult.to_xarray` layout),
+    from its step envelope when it has one, else from its samples."""
+    names = (
+        "mesh_force_min",
+        "mesh_force_max",
+        "mesh_contact_loss_time",
+        "mesh_back_contact_time",
+        "envelope_interval",
+    )
+    env = tuple(ds[n].values for n in names) if all(n in ds for n in names) else None
+    return mesh_extremes(
+        ds["time"].values, ds["mesh_force"].values, ds["contact"].values, env, since
+    )
+
+
 @dataclass(frozen=True)
 class TransientResult:
     """Frozen result of :func:`~.driver.transient` (``status == "ok"`` when it finished).
@@ -111,6 +183,15 @@ class TransientResult:
     stats: SolverStats = field(repr=False)
     model_json: str = field(repr=False)
     frozen_speed: bool = False
+    # the meshes' envelope over each recording interval [t_j, t_j+1), tracked at every step of
+    # the integration (kernels.Record.env): (nt, nm) least and largest normal force (N), time
+    # out of contact and in back-flank contact only (s); (nt,) the time each row covers (s).
+    # None: not tracked (a result assembled from samples only), the samples stand in.
+    mesh_force_min: NDArray | None = field(default=None, repr=False)
+    mesh_force_max: NDArray | None = field(default=None, repr=False)
+    mesh_contact_loss_time: NDArray | None = field(default=None, repr=False)
+    mesh_back_contact_time: NDArray | None = field(default=None, repr=False)
+    envelope_interval: NDArray | None = field(default=None, repr=False)
 
     # ---- conveniences ----------------------------------------------------------------------
     @property
@@ -119,8 +200,23 @@ class TransientResult:
 
     @property
     def contact_loss_fraction(self) -> NDArray:
-        """(nm,) fraction of samples with the teeth separated."""
-        return np.mean(self.contact == 0, axis=0)
+        """(nm,) fraction of the run's time with the teeth separated, from the contact state
+        at every step (the step envelope); the fraction of samples where there is none."""
+        return self.mesh_extremes().loss
+
+    def mesh_extremes(self, since: float | None = None) -> MeshExtremes:
+        """The meshes' force range and contact-loss fraction from ``since`` (s; default the
+        whole run) to the end, over every step of the integration (:func:`mesh_extremes`)."""
+        env = None
+        if self.mesh_force_min is not None:
+            env = (
+                self.mesh_force_min,
+                self.mesh_force_max,
+                self.mesh_contact_loss_time,
+                self.mesh_back_contact_time,
+                self.envelope_interval,
+            )
+        return mesh_extremes(self.time, self.mesh_force, self.contact, env, since)
 
     def channel(self, dof: int) -> NDArray:
         """Recorded displacement history of a global DOF."""
@@ -207,11 +303,19 @@ class TransientResult:
                 "speed_fluctuation_rpm": float(fl[k] * RPM),
             }
         s["drive"] = self.drive()
+        run = self.mesh_extremes()
+        win = self.mesh_extremes(float(self.time[-1]) - window)
         for k, name in enumerate(self.mesh_names):
             s["meshes"][name] = {
-                "force_min_N": float(self.mesh_force[:, k].min()),
-                "force_max_N": float(self.mesh_force[:, k].max()),
-                "contact_loss_fraction": float(self.contact_loss_fraction[k]),
+                "force_min_N": float(run.least[k]),
+                "force_max_N": float(run.largest[k]),
+                "contact_loss_fraction": float(run.loss[k]),
+                "back_contact_fraction": float(run.back[k]),
+                "window_s": window,
+                "window_force_min_N": float(win.least[k]),
+                "window_force_max_N": float(win.largest[k]),
+                "window_contact_loss_fraction": float(win.loss[k]),
+                "extremes_from": run.source,
             }
         return s
 
@@ -267,9 +371,15 @@ class TransientResult:
         elif s["drive"] == "held":
             lines.append("speed held constant (frozen speed)")
         for name, a in s["meshes"].items():
+            back = a["back_contact_fraction"]
             lines.append(
-                f"mesh '{name}': force {a['force_min_N']:.1f} .. {a['force_max_N']:.1f} "
-                f"N, contact loss {100 * a['contact_loss_fraction']:.2f} %"
+                f"mesh '{name}': force {a['force_min_N']:.1f} .. {a['force_max_N']:.1f} N, "
+                f"contact loss {100 * a['contact_loss_fraction']:.2f} %"
+                + (f", back flank {100 * back:.2f} %" if back > 0 else "")
+                + f" over the run; {a['window_force_min_N']:.1f} .. "
+                f"{a['window_force_max_N']:.1f} N, contact loss "
+                f"{100 * a['window_contact_loss_fraction']:.2f} % over the last "
+                f"{a['window_s']:.3g} s ({a['extremes_from']})"
             )
         return "\n".join(lines)
 
@@ -338,6 +448,7 @@ class TransientResult:
                     self.contact.astype(np.int8),
                     {"units": "1", "long_name": "+1 drive side, 0 separated, -1 back side"},
                 ),
+                **self._envelope_variables(),
                 "bearing_force": (
                     ("time", "bearing", "direction"),
                     self.bearing_force,
@@ -372,6 +483,39 @@ class TransientResult:
             },
         )
         return ds
+
+    def _envelope_variables(self) -> dict:
+        """The step envelope's NetCDF variables (none when it was not tracked)."""
+        if self.mesh_force_min is None:
+            return {}
+        span = " over the interval from the sample to the next, at every integration step"
+        return {
+            "mesh_force_min": (
+                ("time", "mesh"),
+                self.mesh_force_min,
+                {"units": "N", "long_name": "least normal tooth force" + span},
+            ),
+            "mesh_force_max": (
+                ("time", "mesh"),
+                self.mesh_force_max,
+                {"units": "N", "long_name": "largest normal tooth force" + span},
+            ),
+            "mesh_contact_loss_time": (
+                ("time", "mesh"),
+                self.mesh_contact_loss_time,
+                {"units": "s", "long_name": "time with the teeth separated" + span},
+            ),
+            "mesh_back_contact_time": (
+                ("time", "mesh"),
+                self.mesh_back_contact_time,
+                {"units": "s", "long_name": "time in back-flank contact only" + span},
+            ),
+            "envelope_interval": (
+                ("time",),
+                self.envelope_interval,
+                {"units": "s", "long_name": "time the mesh envelope of each sample covers"},
+            ),
+        }
 
     def save(self, path: str | Path) -> Path:
         """Write NetCDF (h5netcdf engine) atomically (:func:`gearrotor.files.write_netcdf`)."""
@@ -593,6 +737,7 @@ def build_result(
     rom,
     *,
     stats: dict,
+    envelope=None,
     final_state,
     name: str,
     frozen: bool,
@@ -743,4 +888,20 @@ def build_result(
         stats=st,
         model_json=train.model_dump_json(),
         frozen_speed=frozen,
+        **_envelope_fields(envelope, np.asarray(t)),
     )
+
+
+def _envelope_fields(envelope, t: NDArray) -> dict:
+    """TransientResult's envelope fields from the kernels' (nt, nm, 4) envelope and the end
+    time of the run (each row covers the time to the next sample, the last to the end)."""
+    if envelope is None:
+        return {}
+    env, t_end = envelope
+    return {
+        "mesh_force_min": env[:, :, 0].copy(),
+        "mesh_force_max": env[:, :, 1].copy(),
+        "mesh_contact_loss_time": env[:, :, 2].copy(),
+        "mesh_back_contact_time": env[:, :, 3].copy(),
+        "envelope_interval": np.diff(t, append=max(float(t_end), float(t[-1]))),
+    }

@@ -461,13 +461,23 @@ def _transient_summary(ds) -> dict:
             "speed_min_rpm": float(rpm.min()),
             "speed_max_rpm": float(rpm.max()),
         }
-    if "mesh" in ds.dims and "mesh_force" in ds:
+    if "mesh" in ds.dims and "mesh_force" in ds and "contact" in ds:
+        from ....analyses.transient.results import dataset_mesh_extremes
+
+        ext = dataset_mesh_extremes(ds)  # every step (the step envelope), or the samples
+        for k, name in enumerate(ds["mesh"].values):
+            out["meshes"][str(name)] = {
+                "force_min_N": float(ext.least[k]),
+                "force_max_N": float(ext.largest[k]),
+                "contact_loss_fraction": float(ext.loss[k]),
+            }
+    elif "mesh" in ds.dims and "mesh_force" in ds:
         for k, name in enumerate(ds["mesh"].values):
             f = ds["mesh_force"].values[:, k]
-            d = {"force_min_N": float(f.min()), "force_max_N": float(f.max())}
-            if "contact" in ds:
-                d["contact_loss_fraction"] = float(np.mean(ds["contact"].values[:, k] == 0))
-            out["meshes"][str(name)] = d
+            out["meshes"][str(name)] = {
+                "force_min_N": float(f.min()),
+                "force_max_N": float(f.max()),
+            }
     P = ds["whirl_power"].values
     for k, name in enumerate(ds["component"].values):
         out["whirl_power_mean_W"][str(name)] = float(np.mean(P[half, k]))
