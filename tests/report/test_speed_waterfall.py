@@ -142,6 +142,12 @@ def _result(t, x, w):
         active_dofs=np.array([0]),
         stats=SolverStats("modal", 1 / FS, nt, 4 * nt, 0.0, 1),
         model_json=json.dumps(model),
+        # the step envelope (every step: here the recorded force itself, always in contact)
+        mesh_force_min=z,
+        mesh_force_max=z,
+        mesh_contact_loss_time=np.zeros((nt, 1)),
+        mesh_back_contact_time=np.zeros((nt, 1)),
+        envelope_interval=np.full(nt, 1 / FS),
     )
     assert {f.name for f in fields(TransientResult)} - set(values) <= {"frozen_speed"}
     return TransientResult(**values)
