@@ -781,6 +781,34 @@ def _qdot(row, x, q, gq, ns, per_s, Q):
 
 
 @njit(cache=_CACHE, inline="always")
+def _envelope_force(row, k, F, first, env):
+    """Mesh k's normal force F into the least and the largest of recording interval ``row``
+    of the envelope (:class:`Record` ``env``); ``first``: the interval's first step, which
+    starts it (its times out of contact and in back-flank contact set to 0)."""
+    if first:
+        env[row, k, 0] = F
+        env[row, k, 1] = F
+        env[row, k, 2] = 0.0
+        env[row, k, 3] = 0.0
+    else:
+        if F < env[row, k, 0]:
+            env[row, k, 0] = F
+        if F > env[row, k, 1]:
+            env[row, k, 1] = F
+
+
+@njit(cache=_CACHE, inline="always")
+def _envelope_time(row, h, states, env):
+    """A stretch of length h in each mesh's contact state ``states[k]``: to the time out of
+    contact (state 0) or in back-flank contact only (−1) of interval ``row``."""
+    for k in range(env.shape[1]):
+        if states[k] == 0:
+            env[row, k, 2] += h
+        elif states[k] == -1:
+            env[row, k, 3] += h
+
+
+@njit(cache=_CACHE, inline="always")
 def _envelope(row, first, h, last, env):
     """The meshes' envelope (:class:`Record` ``env``) of recording interval ``row`` from the
     meshes' normal force F_d − F_b and contact state at the start of a step of length h
@@ -790,22 +818,8 @@ def _envelope(row, first, h, last, env):
     held over the step (a left Riemann sum: with a record at every step it is the recorded
     samples' count times h). It only reads, so nothing else a run computes changes."""
     for k in range(env.shape[1]):
-        F = last[k, 0]
-        state = last[k, 1]
-        if first:
-            env[row, k, 0] = F
-            env[row, k, 1] = F
-            env[row, k, 2] = 0.0
-            env[row, k, 3] = 0.0
-        else:
-            if F < env[row, k, 0]:
-                env[row, k, 0] = F
-            if F > env[row, k, 1]:
-                env[row, k, 1] = F
-        if state == 0:
-            env[row, k, 2] += h
-        elif state == -1:
-            env[row, k, 3] += h
+        _envelope_force(row, k, last[k, 0], first, env)
+    _envelope_time(row, h, last[:, 1], env)
 
 
 @njit(cache=_CACHE, inline="always")
@@ -1378,17 +1392,7 @@ def _envelope_forces(row, first, qs, vs, meshes, env, held):
     length is known). Inlined: the caller's compile flags apply."""
     for k in range(env.shape[1]):
         Fd, Fb, _, _, _, state, _ = mesh_eval(k, qs, vs, meshes)
-        F = Fd - Fb
-        if first:
-            env[row, k, 0] = F
-            env[row, k, 1] = F
-            env[row, k, 2] = 0.0
-            env[row, k, 3] = 0.0
-        else:
-            if F < env[row, k, 0]:
-                env[row, k, 0] = F
-            if F > env[row, k, 1]:
-                env[row, k, 1] = F
+        _envelope_force(row, k, Fd - Fb, first, env)
         held[k] = state
 
 
@@ -1401,17 +1405,6 @@ def _held_states(Gs, held):
         drive = Gs[k, 0] > 0.0
         back = Gs[k, 2] > 0.0
         held[k] = (2 if back else 1) if drive else (-1 if back else 0)
-
-
-@njit(cache=_CACHE, inline="always")
-def _envelope_time(row, h, held, env):
-    """A piece of length h in the contact states ``held``: to the time out of contact
-    (state 0) or in back-flank contact only (−1) of interval ``row``."""
-    for k in range(held.shape[0]):
-        if held[k] == 0:
-            env[row, k, 2] += h
-        elif held[k] == -1:
-            env[row, k, 3] += h
 
 
 @njit(cache=_CACHE, fastmath=_FAST_ETD)
