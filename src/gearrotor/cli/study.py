@@ -118,13 +118,6 @@ def run_command(
         _run(study, folder, scheduler, workers, cases, retry_failed, progress)
     except (KeyboardInterrupt, Terminated):
         signum = stop.received or signal.SIGINT  # KeyboardInterrupt raised by someone else
-        if as_program and "distributed" in sys.modules:
-            # the process ends here: the Dask cluster just stopped may still log that its
-            # connections closed (the event loop's late callbacks, after the cluster restored
-            # the log level it had silenced); the one line below is the whole message
-            import logging
-
-            logging.getLogger("distributed").setLevel(logging.CRITICAL)
         typer.echo(
             ("\n" if sys.stderr.isatty() else "") + line(signum),  # end the progress bar's line
             err=True,

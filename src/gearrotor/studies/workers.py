@@ -233,15 +233,19 @@ def stop_local_cluster(cluster, close: Callable[[], None]) -> None:
     process still alive after 4.0 seconds, killing" (once per worker) and kills it anyway.
     Each nanny is first told the stop is deliberate (``close_gracefully``), so that it does not
     restart the worker it loses; the cluster's own log lines about workers it loses are
-    silenced while it closes (they are ours, not news to the user)."""
-    from distributed.utils import silence_logging_cmgr
-
-    with silence_logging_cmgr(logging.CRITICAL):
-        for nanny in list(getattr(cluster, "workers", {}).values()):
-            with contextlib.suppress(Exception):
-                nanny.close_gracefully(reason="gearrotor study interrupted")
-            pid = getattr(nanny, "pid", None)
-            if pid:
-                with contextlib.suppress(OSError):
-                    os.kill(pid, signal.SIGKILL)
-        close()
+    silenced (they are ours, not news to the user), and stay silenced once it is closed: its
+    event loop may still log the connections it closed ("Batched Comm Closed" with a
+    traceback) after ``close()`` returns, after the interrupted study's one line had it been
+    restored then. Dask's log lines below CRITICAL stay off in this process afterwards."""
+    log = logging.getLogger("distributed")
+    log.setLevel(logging.CRITICAL)
+    for handler in log.handlers:
+        handler.setLevel(logging.CRITICAL)
+    for nanny in list(getattr(cluster, "workers", {}).values()):
+        with contextlib.suppress(Exception):
+            nanny.close_gracefully(reason="gearrotor study interrupted")
+        pid = getattr(nanny, "pid", None)
+        if pid:
+            with contextlib.suppress(OSError):
+                os.kill(pid, signal.SIGKILL)
+    close()
