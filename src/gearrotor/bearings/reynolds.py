@@ -152,12 +152,12 @@ class _Fast:
     ijs_ze: NDArray  # (N,) flat index of (i, j−1) in an (m+1, n) array
     north: NDArray  # (N,) j < n: the unknown has a north face inside the film
     has_nb: NDArray  # (4, N) the E, W, N, S neighbour is an unknown
-    first_row: NDArray  # (N,) j == 1 (next to the bearing edge)
+    first_row: NDArray  # indices of the unknowns with j == 1 (next to the bearing edge)
     wt: NDArray  # (m+1,) θ quadrature weights of the friction power
     wz: NDArray  # (n+1,) ζ quadrature weights of the friction power
     pocket_depth: float  # pocket depth /c (0 without a pocket)
-    pocket_q_in: NDArray | None  # pocket_q != 0
-    pocket_zq_in: NDArray | None  # pocket_zq != 0
+    spread_q: NDArray | None  # (m, g, n+1, gz) index of each point's film in [H_q, H_q + d]
+    spread_zq: NDArray | None  # (m+1, gt, n, g) index of each point's film in [H_c, H_c + d]
     band: _Band | None  # band storage (non-periodic pads)
 
 
@@ -307,12 +307,12 @@ def pad_mesh(
         ijs_ze=unk_i * n + unk_j - 1,
         north=unk_j < n,
         has_nb=nbrs >= 0,
-        first_row=unk_j == 1,
+        first_row=np.nonzero(unk_j == 1)[0],
         wt=wt,
         wz=wz,
         pocket_depth=pad.pocket.depth / clearance if has_pocket else 0.0,
-        pocket_q_in=pocket_q != 0.0 if has_pocket else None,
-        pocket_zq_in=pocket_zq != 0.0 if has_pocket else None,
+        spread_q=_spread_index(pocket_q) if has_pocket else None,
+        spread_zq=_spread_index(pocket_zq) if has_pocket else None,
         band=band,
     )
     return _Mesh(
@@ -398,13 +398,13 @@ class PadFilm:
 def _faces(
     mesh: _Mesh, q: NDArray, mubar: NDArray | None
 ) -> tuple[NDArray, NDArray, NDArray, NDArray, bool]:
-    """:func:`_film_faces`, with the isoviscous pocketless film left compact (last item True):
-    G_θ, H_c of shape (m,) and G_ζ of shape (m+1,), the same along ζ."""
+    """:func:`_film_faces`, with the film along θ (shape (m+1,), :func:`_full_film` spreads
+    it) and the isoviscous pocketless faces left compact (last item True): G_θ, H_c of shape
+    (m,) and G_ζ of shape (m+1,), the same along ζ."""
     fa = mesh.fast
     q2 = q.reshape(1, 4)
     h_node = mesh.h0_node + np.dot(q2, fa.phi_node2).reshape(mesh.h0_node.shape)
     h_q = mesh.h0_q + np.dot(q2, fa.phi_q2).reshape(mesh.h0_q.shape)  # (m, g)
-    n1 = len(mesh.zeta)
     if mesh.pocket_q is None:
         h_min = min(h_node.min(), h_q.min())
         if h_min <= 0.0:
@@ -412,17 +412,14 @@ def _faces(
         if mubar is None:
             inv3 = _GAUSS_W @ (h_q**-3).T  # (m,)
             inv2 = _GAUSS_W @ (h_q**-2).T
-            h_full = np.repeat(h_node[:, None], n1, axis=1)
-            return h_full, 1.0 / inv3, inv2 / inv3, h_node**3, True
+            return h_node, 1.0 / inv3, inv2 / inv3, h_node**3, True
         mu_q = _along_theta(mubar)  # (m, g, n+1)
         inv3 = np.einsum("g,mgn->mn", _GAUSS_W, mu_q * (h_q**-3)[:, :, None])
         inv2 = np.einsum("g,mgn->mn", _GAUSS_W, mu_q * (h_q**-2)[:, :, None])
         g_th = 1.0 / inv3
         h_c = inv2 / inv3
         g_ze = (h_node**3)[:, None] / (0.5 * (mubar[:, 1:] + mubar[:, :-1]))
-        h_full = np.repeat(h_node[:, None], n1, axis=1)
-        return h_full, g_th, h_c, g_ze, False
-    h_full = h_node[:, None] + mesh.pocket_node
+        return h_node, g_th, h_c, g_ze, False
     h_c = mesh.h0_c + np.dot(q2, fa.phi_c2).reshape(mesh.h0_c.shape)  # (m+1, g)
     h_min = min(h_node.min(), h_q.min(), h_c.min())
     if h_min <= 0.0:
@@ -431,9 +428,9 @@ def _faces(
     # are taken of those two values and spread over the (m, g, n+1, gz) points, the same
     # numbers as the powers of the spread films.
     d = fa.pocket_depth
-    hq3 = _spread(fa.pocket_q_in, (h_q + d) ** -3, h_q**-3)  # (m, g, n+1, gz)
-    hq2 = _spread(fa.pocket_q_in, (h_q + d) ** -2, h_q**-2)
-    hzq3 = _spread(fa.pocket_zq_in, (h_c + d) ** -3, h_c**-3)  # (m+1, gt, n, g)
+    hq3 = np.concatenate((h_q**-3, (h_q + d) ** -3)).take(fa.spread_q)  # (m, g, n+1, gz)
+    hq2 = np.concatenate((h_q**-2, (h_q + d) ** -2)).take(fa.spread_q)
+    hzq3 = np.concatenate((h_c**-3, (h_c + d) ** -3)).take(fa.spread_zq)  # (m+1, gt, n, g)
     if mubar is None:
         inv3 = np.einsum("g,mgnz->mnz", _GAUSS_W, hq3)
         inv2 = np.einsum("g,mgnz->mnz", _GAUSS_W, hq2)
@@ -446,12 +443,22 @@ def _faces(
         g_ze = np.einsum("t,mtn->mn", _GAUSS_W, 1.0 / ((mu_z[:, None, :, :] * hzq3) @ _GAUSS_W))
     g_th = (1.0 / inv3) @ _GAUSS_W
     couette = (inv2 / inv3) @ _GAUSS_W
-    return h_full, g_th, couette, g_ze, False
+    return h_node, g_th, couette, g_ze, False
 
 
-def _spread(inside: NDArray, in_pocket: NDArray, outside: NDArray) -> NDArray:
-    """(a, b) values at the (a, b, c, d) points: ``in_pocket`` where ``inside``."""
-    return np.where(inside, in_pocket[:, :, None, None], outside[:, :, None, None])
+def _full_film(mesh: _Mesh, h_node: NDArray) -> NDArray:
+    """The film H (/c) at every node, shape (m+1, n+1), from its values along θ."""
+    if mesh.pocket_node is None:
+        return np.repeat(h_node[:, None], len(mesh.zeta), axis=1)
+    return h_node[:, None] + mesh.pocket_node
+
+
+def _spread_index(pocket: NDArray) -> NDArray:
+    """For a pocket depth field of shape (a, b, c, d): the index of each point's film in the
+    films (a, b) without, then (a, b) with the pocket, raveled."""
+    a, b = pocket.shape[:2]
+    base = np.arange(a * b).reshape(a, b, 1, 1)
+    return np.where(pocket != 0.0, base + a * b, base)
 
 
 def _film_faces(
@@ -461,7 +468,8 @@ def _film_faces(
 
     ``mubar``: nodal viscosity field / μ_ref, shape (m+1, n+1), or None (isoviscous). It is
     taken linear between two nodes on each face."""
-    h_full, g_th, h_c, g_ze, compact = _faces(mesh, q, mubar)
+    h_node, g_th, h_c, g_ze, compact = _faces(mesh, q, mubar)
+    h_full = _full_film(mesh, h_node)
     if compact:
         n1 = h_full.shape[1]
         g_th = np.repeat(g_th[:, None], n1, axis=1)
@@ -627,7 +635,7 @@ def solve_pad(
     qdot = np.asarray(qdot, dtype=float)
     mu_ref, mubar = _viscosity(mesh, viscosity)
     fa = mesh.fast
-    h_full, g_th, h_c, g_ze, compact = _faces(mesh, q, mubar)
+    h_node, g_th, h_c, g_ze, compact = _faces(mesh, q, mubar)
     m = len(mesh.theta) - 1
     n = len(mesh.zeta) - 1
     if compact:  # the face values are the same along ζ: gather by node i
@@ -682,24 +690,25 @@ def solve_pad(
         theta=mesh.theta,
         z=mesh.zeta * radius,
         pressure=scale * pgrid,
-        film=clearance * h_full,
+        film=clearance * _full_film(mesh, h_node),
         forces=forces,
         active=act,
         iterations=iters,
-        _side_flow=partial(_side_flow, fa.first_row, a_s, p, rhs, radius, clearance),
+        _side_flow=partial(
+            _side_flow, a_s[fa.first_row], p[fa.first_row], rhs[fa.first_row], radius, clearance
+        ),
         _friction_power=partial(
-            _friction_power, mesh, pgrid, h_full, mubar, omega, mu_ref, radius, clearance
+            _friction_power, mesh, pgrid, h_node, mubar, omega, mu_ref, radius, clearance
         ),
     )
 
 
-def _side_flow(
-    first_row: NDArray, a_s: NDArray, p: NDArray, rhs: NDArray, radius: float, clearance: float
-) -> float:
+def _side_flow(a_s: NDArray, p: NDArray, rhs: NDArray, radius: float, clearance: float) -> float:
     """Side flow (m³/s) out of both ends: the flux through the faces j = 1/2 plus the net
     Couette and squeeze source of the half cell between them and the edge (second order in
-    Δζ). ``a_s``: the unknowns' conductances to the south; ``rhs``: their sources."""
-    first = first_row & (p > 0.0)
+    Δζ). ``a_s``, ``p``, ``rhs``: the conductances to the edge, the pressures and the sources
+    of the unknowns next to the edge (j = 1)."""
+    first = p > 0.0
     return (
         2.0
         * clearance
@@ -712,7 +721,7 @@ def _side_flow(
 def _friction_power(
     mesh: _Mesh,
     pgrid: NDArray,
-    h_full: NDArray,
+    h_node: NDArray,
     mubar: NDArray | None,
     omega: float,
     mu_ref: float,
@@ -729,6 +738,7 @@ def _friction_power(
     else:
         dp_dth[0] = (pgrid[1] - pgrid[0]) / mesh.dth
         dp_dth[-1] = (pgrid[-1] - pgrid[-2]) / mesh.dth
+    h_full = _full_film(mesh, h_node)
     couette = omega / h_full if mubar is None else mubar * omega / h_full
     dens = omega * (couette + 0.5 * h_full * dp_dth)
     fa = mesh.fast
