@@ -249,7 +249,8 @@ def test_report_on_a_full_disk_names_the_report_file(examples, tmp_path, monkeyp
     assert list(tmp_path.iterdir()) == []
 
 
-def test_stop_pool_returns_when_a_worker_dies_while_sending_its_result():
+@pytest.mark.parametrize("method", ["spawn", "forkserver"])
+def test_stop_pool_returns_when_a_worker_dies_while_sending_its_result(method):
     """Stopping the local pool (a full disk, Ctrl-C) kills the running workers; one killed
     while it sent its result (a transient case's dataset is megabytes) left half a message in
     the result pipe, and the pool's manager thread, which holds the pipe's write end too, waited
@@ -257,20 +258,22 @@ def test_stop_pool_returns_when_a_worker_dies_while_sending_its_result():
     64 MB; the kill comes as its first bytes reach the pipe."""
     import threading
     from concurrent.futures import ProcessPoolExecutor
-    from multiprocessing import get_context
 
-    from gearrotor.studies.workers import stop_pool
+    from gearrotor.studies.workers import start_method, stop_pool, worker_processes
 
-    pool = ProcessPoolExecutor(1, mp_context=get_context("spawn"))
-    pool.submit(os.urandom, 64 << 20)
-    reader = pool._result_queue._reader
-    deadline = time.monotonic() + 60
-    while not reader.poll(0.001):
-        assert time.monotonic() < deadline, "the worker never sent its result"
-    stopper = threading.Thread(target=stop_pool, args=(pool,), daemon=True)
-    stopper.start()
-    stopper.join(30)
-    assert not stopper.is_alive(), "stop_pool hung on a half-sent result"
+    if method == "forkserver" and start_method() != "forkserver":
+        pytest.skip("workers are spawned here: no fork server")
+    with worker_processes(method) as (context, _):  # as the study's pool (forked or spawned)
+        pool = ProcessPoolExecutor(1, mp_context=context)
+        pool.submit(os.urandom, 64 << 20)
+        reader = pool._result_queue._reader
+        deadline = time.monotonic() + 60
+        while not reader.poll(0.001):
+            assert time.monotonic() < deadline, "the worker never sent its result"
+        stopper = threading.Thread(target=stop_pool, args=(pool,), daemon=True)
+        stopper.start()
+        stopper.join(30)
+        assert not stopper.is_alive(), "stop_pool hung on a half-sent result"
 
 
 def test_study_run_on_a_full_disk(examples, tmp_path):

@@ -3,15 +3,17 @@
 * How workers start (:func:`worker_processes`): where multiprocessing has the "forkserver"
   start method (Linux, macOS), a fork server of this process imports what a case needs once
   (:data:`PRELOAD`: the transient and modal analyses, the metrics, xarray; ~1.5–2 s of CPU)
-  and each worker is a fork of it, ready to compute; with "spawn" (Windows, or when the fork
-  server cannot be ours, below) every worker is a fresh interpreter that imports them again.
+  and each worker is a fork of it, ready to compute; with "spawn" (Windows, or a run while
+  another run of the same process uses the fork server with another environment) every worker
+  is a fresh interpreter that imports them again.
   One code path, the start method chosen by availability. The fork server is gearrotor's own
   (not multiprocessing's default one, which other libraries may use with other modules and
   another environment), started by :func:`worker_processes` in the main thread with the
   environment the workers must have (the caller's, with the one-thread variables of the run)
-  and SIGINT blocked; it is kept for the next run of the same process while the environment,
-  ``sys.path`` and the folder stay the same, and started again when they change (it imported
-  its modules under them).
+  and SIGINT blocked; it is kept for the next run of the same process while the environment
+  and ``sys.path`` (and the folder, if ``sys.path`` has a relative entry) stay the same, and
+  started again when they change (it imported its modules under them). It ends with that
+  process: at its exit (:mod:`atexit`), or when the process is killed.
 * A worker dies with its parent: :func:`init_worker` (the pool's initializer) asks Linux to send
   it SIGKILL when the process that started it ends (``prctl(PR_SET_PDEATHSIG)``), so a
   ``study run`` killed with SIGKILL or by the OOM killer leaves no worker computing for minutes.
@@ -40,6 +42,7 @@
 
 from __future__ import annotations
 
+import atexit
 import contextlib
 import ctypes
 import ctypes.util
@@ -199,9 +202,9 @@ def worker_processes(method: str | None = None) -> Iterator[tuple[object, int]]:
 
 
 def _acquire_forkserver():
-    """gearrotor's fork server, running, started under the current environment, ``sys.path``
-    and folder, having imported :data:`PRELOAD`: the one of an earlier run when they are the
-    same, else a new one (the earlier one is stopped when no run uses it). Not
+    """gearrotor's fork server, running, started under the current environment and
+    ``sys.path`` (and folder), having imported :data:`PRELOAD`: the one of an earlier run when
+    they are the same, else a new one (the earlier one is stopped when no run uses it). Not
     multiprocessing's own: that one may be another library's (other modules, other
     environment), and a library that uses it gets what it asked for. None when another run
     of this process uses ours with another environment (that run spawns its workers)."""
@@ -210,7 +213,8 @@ def _acquire_forkserver():
     key = (
         tuple(sorted((k, v) for k, v in os.environ.items() if k not in _VOLATILE_ENV)),
         tuple(sys.path),
-        os.getcwd(),
+        # the modules are found from the current folder through a relative entry ("")
+        os.getcwd() if not all(os.path.isabs(p) for p in sys.path) else None,
         PRELOAD,
     )
     with _server_lock:
@@ -222,6 +226,10 @@ def _acquire_forkserver():
                 _stop_forkserver(server)
             server = forkserver.ForkServer()
             server.set_forkserver_preload(list(PRELOAD))
+            # ended and reaped when this process exits (it would end by itself a moment
+            # later): none is left behind, and its CPU time and its workers' are this
+            # process's children's in the operating system's accounting
+            atexit.register(_stop_forkserver, server)
             _server.update(server=server, key=key, users=0)
         # SIGINT blocked in the server, so in every worker it forks (children_without_sigint)
         with children_without_sigint():
