@@ -4,6 +4,8 @@ from pathlib import Path
 
 import pytest
 
+import cli_cache  # noqa: F401  (the command line's click command built once per process)
+
 
 def _one_thread_per_worker() -> None:
     """Under pytest-xdist (``-n N``) every worker runs its BLAS/OpenMP libraries on its share

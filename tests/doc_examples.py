@@ -24,7 +24,27 @@ ENV = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1", MKL_NUM_TH
 #: once it runs (the transient kernels, the audit, xarray, SciPy's optimisers, ...) cost the
 #: forked commands ~170 s of CPU in a ~1,100-s suite run (py-spy over the whole suite) when
 #: only the command line was preloaded; the server imports them once per test worker (~2 s).
-_PRELOAD = ["numpy", "scipy.linalg", "scipy.sparse", "pint", "matplotlib", "gearrotor.cli"]
+#: Also what the commands import only when they run (not at the package's import): SciPy's
+#: signal package (the transient summary's peak finder, ~0.7 s), pyplot, and dask and
+#: distributed, which xarray imports on every NetCDF write and duck-array check (~25 s of the
+#: forked commands' CPU in a suite run with only the package preloaded); and the command
+#: line's click command, built once (:mod:`cli_cache`). Not CoolProp (~2 s to import, ~3 s
+#: over the few seal commands that use it).
+_PRELOAD = [
+    "numpy",
+    "scipy.linalg",
+    "scipy.sparse",
+    "scipy.signal",
+    "scipy.optimize",
+    "pint",
+    "matplotlib",
+    "matplotlib.pyplot",
+    "dask.array",
+    "distributed",
+    "h5netcdf",
+    "gearrotor.cli",
+    "cli_cache",
+]
 _CONTEXT = None
 
 

@@ -20,6 +20,7 @@ through ``from . import sibling``, are the ordinary layout of a package, not cyc
 from __future__ import annotations
 
 import ast
+import functools
 from pathlib import Path
 
 import pytest
@@ -41,6 +42,13 @@ def _modules() -> dict[str, tuple[Path, bool]]:
 
 
 MODULES = _modules()
+
+
+@functools.cache
+def _parse(path: Path) -> ast.Module:
+    """A source file's syntax tree, parsed once (the tests below read every file several
+    times; not changed by them)."""
+    return ast.parse(path.read_text(encoding="utf-8"))
 
 
 def _owner(name: str) -> str:
@@ -68,7 +76,7 @@ def _graph(*, lazy: bool) -> dict[str, set[str]]:
     for name, (path, is_pkg) in MODULES.items():
         package = name if is_pkg else name.rsplit(".", 1)[0]
         edges: set[str] = set()
-        for node in _imports(ast.parse(path.read_text(encoding="utf-8")), lazy=lazy):
+        for node in _imports(_parse(path), lazy=lazy):
             if isinstance(node, ast.Import):
                 edges |= {_owner(a.name) for a in node.names if a.name.split(".")[0] == "gearrotor"}
                 continue
@@ -160,7 +168,7 @@ def test_command_line_only_in_cli():
             continue
         if "cli" in name.rsplit(".", 1)[-1]:
             offenders.append(f"{name}: a command-line module outside gearrotor/cli/")
-        for node in _imports(ast.parse(path.read_text(encoding="utf-8")), lazy=True):
+        for node in _imports(_parse(path), lazy=True):
             names = [a.name for a in node.names] if isinstance(node, ast.Import) else [node.module]
             if any((n or "").split(".")[0] in ("typer", "click") for n in names):
                 offenders.append(f"{name}: imports {', '.join(n for n in names if n)}")
@@ -254,7 +262,7 @@ def _is_alias(path: Path) -> bool:
     """A module whose body is only imports and ``__all__``: names re-exported from elsewhere."""
     body = [
         n
-        for n in ast.parse(path.read_text(encoding="utf-8")).body
+        for n in _parse(path).body
         if not (isinstance(n, ast.Expr) and isinstance(n.value, ast.Constant))
     ]
 
@@ -280,7 +288,7 @@ def test_no_alias_module():
     users = []
     for folder in ("src", "tests", "benchmarks", "examples"):
         for p in sorted((root / folder).rglob("*.py")):
-            for node in _imports(ast.parse(p.read_text(encoding="utf-8")), lazy=True):
+            for node in _imports(_parse(p), lazy=True):
                 names = (
                     [a.name for a in node.names]
                     if isinstance(node, ast.Import)

@@ -10,6 +10,7 @@ from __future__ import annotations
 import json
 import os
 import signal
+import socket
 import subprocess
 import sys
 import time
@@ -83,9 +84,17 @@ def dask_run(tmp_path_factory):
     path = tmp_path_factory.mktemp("dask") / "tiny.toml"
     path.write_text(STUDY)
     st = load_study(path)
-    # one Dask worker (a nanny and its worker process): under ``pytest -n 2`` two would put
-    # four processes on the two cores the test workers already use (issue 28)
-    return st, run_study(st, scheduler="local", workers=1, progress=False)
+    # with distributed's default HTTP port taken, as by another cluster on the machine: the
+    # run printed "UserWarning: Port 8787 is already in use" (an error here: filterwarnings)
+    with socket.socket() as busy:
+        try:
+            busy.bind(("127.0.0.1", 8787))
+            busy.listen()
+        except OSError:  # taken already
+            pass
+        # one Dask worker (a nanny and its worker process): under ``pytest -n 2`` two would
+        # put four processes on the two cores the test workers already use (issue 28)
+        return st, run_study(st, scheduler="local", workers=1, progress=False)
 
 
 def test_resume_recomputes_nothing_finished(local_run):

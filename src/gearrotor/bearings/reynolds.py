@@ -32,14 +32,14 @@ the full film and clips negative pressures; ``"none"`` keeps them (full Sommerfe
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from functools import lru_cache
+from functools import cached_property, lru_cache, partial
 from typing import Literal
 
 import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
-from scipy.linalg import solve_banded
 from scipy.sparse.linalg import splu
 
 from ..errors import SolverError
@@ -129,6 +129,51 @@ class _Mesh:
     slots: tuple  # slices of the COO data: diag, E, W, N, S
     neighbours: NDArray  # (4, N) unknown index of the E, W, N, S neighbour, or N (none)
     w_area: NDArray  # (N,) Δθ·Δζ_j weights of the unknowns (half bearing)
+    fast: _Fast  # index arrays and weights of the solve, fixed per grid
+
+
+@dataclass(frozen=True)
+class _Fast:
+    """State-independent index arrays and weights of :func:`solve_pad` (internal).
+
+    Everything the solve would otherwise rebuild per call from the unknowns' (i, j): gathers
+    of face values, masks, quadrature weights and the positions of the matrix entries in
+    LAPACK's band storage. Used as they are, they give the same floating-point results."""
+
+    unk_iw: NDArray  # (N,) node i of each unknown's west neighbour
+    dzw_u: NDArray  # (N,) dzw[j] of each unknown
+    phi_u: NDArray  # (4, N) phi_node at the unknowns
+    phi_node2: NDArray  # phi_node as the (4, ·) matrix q multiplies
+    phi_q2: NDArray  # phi_q as a (4, m·g) matrix
+    phi_c2: NDArray | None  # phi_c as a (4, (m+1)·g) matrix
+    ij_th: NDArray  # (N,) flat index of (i, j) in an (m, n+1) or (m+1, n+1) array
+    iwj_th: NDArray  # (N,) flat index of (iw, j)
+    ij_ze: NDArray  # (N,) flat index of (i, min(j, n−1)) in an (m+1, n) array
+    ijs_ze: NDArray  # (N,) flat index of (i, j−1) in an (m+1, n) array
+    north: NDArray  # (N,) j < n: the unknown has a north face inside the film
+    has_nb: NDArray  # (4, N) the E, W, N, S neighbour is an unknown
+    first_row: NDArray  # indices of the unknowns with j == 1 (next to the bearing edge)
+    wt: NDArray  # (m+1,) θ quadrature weights of the friction power
+    wz: NDArray  # (n+1,) ζ quadrature weights of the friction power
+    pocket_depth: float  # pocket depth /c (0 without a pocket)
+    spread_q: NDArray | None  # (m, g, n+1, gz) index of each point's film in [H_q, H_q + d]
+    spread_zq: NDArray | None  # (m+1, gt, n, g) index of each point's film in [H_c, H_c + d]
+    band: _Band | None  # band storage (non-periodic pads)
+
+
+@dataclass(frozen=True)
+class _Band:
+    """Positions of the matrix entries in LAPACK ``gbsv`` band storage (internal).
+
+    The work array is C-ordered (N, 3 nz + 1), passed transposed (Fortran order, the layout
+    ``gbsv`` takes in place): row r of the matrix, column r + o sits at flat index
+    (r + o)·(3 nz + 1) + 2 nz − o."""
+
+    nz: int
+    diag_flat: NDArray  # (N,) flat index of each diagonal entry
+    ent_row: NDArray  # (E,) matrix row of each off-diagonal entry
+    ent_flat: NDArray  # (E,) its flat index in the work array
+    ent_src: NDArray  # (E,) its flat index in the (4, N) conductances
 
 
 def _pad_profile(pad: Pad | TiltingPad, theta: NDArray) -> tuple[NDArray, NDArray]:
@@ -223,7 +268,55 @@ def pad_mesh(
         cols.append(nb[mask])
         slots.append((start, start + int(mask.sum()), mask))
         start += int(mask.sum())
+    n_unk = ni * n
+    nbrs = np.stack([e_nb, w_nb, n_nb, s_nb])
+    iw = (unk_i - 1) % m if periodic else unk_i - 1
+    wt = np.full(m + 1, dth)
+    if not periodic:
+        wt[[0, -1]] *= 0.5
+    else:
+        wt[-1] = 0.0
+    wz = dzw.copy()
+    wz[0] *= 0.5
+    band = None
+    if not periodic:
+        rows_e, flat_e, src_e = [], [], []
+        for c, o in enumerate((n, -n, 1, -1)):  # column offsets of E, W, N, S
+            r = np.nonzero(nbrs[c] >= 0)[0]
+            rows_e.append(r)
+            flat_e.append((r + o) * (3 * n + 1) + 2 * n - o)
+            src_e.append(c * n_unk + r)
+        band = _Band(
+            nz=n,
+            diag_flat=k * (3 * n + 1) + 2 * n,
+            ent_row=np.concatenate(rows_e),
+            ent_flat=np.concatenate(flat_e),
+            ent_src=np.concatenate(src_e),
+        )
+    has_pocket = pocket_q is not None
+    fast = _Fast(
+        unk_iw=iw,
+        dzw_u=dzw[unk_j],
+        phi_u=phi_node[:, unk_i],
+        phi_node2=phi_node.reshape(4, -1),
+        phi_q2=phi_q.reshape(4, -1),
+        phi_c2=phi_c.reshape(4, -1) if has_pocket else None,
+        ij_th=unk_i * (n + 1) + unk_j,
+        iwj_th=iw * (n + 1) + unk_j,
+        ij_ze=unk_i * n + np.minimum(unk_j, n - 1),
+        ijs_ze=unk_i * n + unk_j - 1,
+        north=unk_j < n,
+        has_nb=nbrs >= 0,
+        first_row=np.nonzero(unk_j == 1)[0],
+        wt=wt,
+        wz=wz,
+        pocket_depth=pad.pocket.depth / clearance if has_pocket else 0.0,
+        spread_q=_spread_index(pocket_q) if has_pocket else None,
+        spread_zq=_spread_index(pocket_zq) if has_pocket else None,
+        band=band,
+    )
     return _Mesh(
+        fast=fast,
         periodic=periodic,
         theta=theta,
         zeta=zeta,
@@ -277,6 +370,10 @@ class PadFilm:
         Cavitated-node mask of the unknowns (for a warm start).
     iterations
         Active-set iterations (sparse factorisations) used.
+
+    ``side_flow`` and ``friction_power`` are evaluated when first read (most solves, those of
+    the Jacobians and the Newton steps, need only the forces); their values do not depend on
+    when they are read.
     """
 
     theta: NDArray
@@ -284,10 +381,84 @@ class PadFilm:
     pressure: NDArray
     film: NDArray
     forces: NDArray
-    side_flow: float
-    friction_power: float
     active: NDArray = field(repr=False)
+    _side_flow: Callable[[], float] = field(repr=False, compare=False)
+    _friction_power: Callable[[], float] = field(repr=False, compare=False)
     iterations: int = 0
+
+    @cached_property
+    def side_flow(self) -> float:
+        return self._side_flow()
+
+    @cached_property
+    def friction_power(self) -> float:
+        return self._friction_power()
+
+
+def _faces(
+    mesh: _Mesh, q: NDArray, mubar: NDArray | None
+) -> tuple[NDArray, NDArray, NDArray, NDArray, bool]:
+    """:func:`_film_faces`, with the film along θ (shape (m+1,), :func:`_full_film` spreads
+    it) and the isoviscous pocketless faces left compact (last item True): G_θ, H_c of shape
+    (m,) and G_ζ of shape (m+1,), the same along ζ."""
+    fa = mesh.fast
+    q2 = q.reshape(1, 4)
+    h_node = mesh.h0_node + np.dot(q2, fa.phi_node2).reshape(mesh.h0_node.shape)
+    h_q = mesh.h0_q + np.dot(q2, fa.phi_q2).reshape(mesh.h0_q.shape)  # (m, g)
+    if mesh.pocket_q is None:
+        h_min = min(h_node.min(), h_q.min())
+        if h_min <= 0.0:
+            raise _contact(h_min)
+        if mubar is None:
+            inv3 = _GAUSS_W @ (h_q**-3).T  # (m,)
+            inv2 = _GAUSS_W @ (h_q**-2).T
+            return h_node, 1.0 / inv3, inv2 / inv3, h_node**3, True
+        mu_q = _along_theta(mubar)  # (m, g, n+1)
+        inv3 = np.einsum("g,mgn->mn", _GAUSS_W, mu_q * (h_q**-3)[:, :, None])
+        inv2 = np.einsum("g,mgn->mn", _GAUSS_W, mu_q * (h_q**-2)[:, :, None])
+        g_th = 1.0 / inv3
+        h_c = inv2 / inv3
+        g_ze = (h_node**3)[:, None] / (0.5 * (mubar[:, 1:] + mubar[:, :-1]))
+        return h_node, g_th, h_c, g_ze, False
+    h_c = mesh.h0_c + np.dot(q2, fa.phi_c2).reshape(mesh.h0_c.shape)  # (m+1, g)
+    h_min = min(h_node.min(), h_q.min(), h_c.min())
+    if h_min <= 0.0:
+        raise _contact(h_min)
+    # The film at a quadrature point is H or H + pocket depth (H + 0 = H exactly): the powers
+    # are taken of those two values and spread over the (m, g, n+1, gz) points, the same
+    # numbers as the powers of the spread films.
+    d = fa.pocket_depth
+    hq3 = np.concatenate((h_q**-3, (h_q + d) ** -3)).take(fa.spread_q)  # (m, g, n+1, gz)
+    hq2 = np.concatenate((h_q**-2, (h_q + d) ** -2)).take(fa.spread_q)
+    hzq3 = np.concatenate((h_c**-3, (h_c + d) ** -3)).take(fa.spread_zq)  # (m+1, gt, n, g)
+    if mubar is None:
+        inv3 = np.einsum("g,mgnz->mnz", _GAUSS_W, hq3)
+        inv2 = np.einsum("g,mgnz->mnz", _GAUSS_W, hq2)
+        g_ze = np.einsum("t,mtn->mn", _GAUSS_W, 1.0 / (hzq3 @ _GAUSS_W))
+    else:
+        mu_q = _along_theta(mubar)[:, :, :, None]  # (m, g, n+1, 1)
+        inv3 = np.einsum("g,mgnz->mnz", _GAUSS_W, mu_q * hq3)
+        inv2 = np.einsum("g,mgnz->mnz", _GAUSS_W, mu_q * hq2)
+        mu_z = mubar[:, :-1, None] + _GAUSS_X * (mubar[:, 1:] - mubar[:, :-1])[:, :, None]
+        g_ze = np.einsum("t,mtn->mn", _GAUSS_W, 1.0 / ((mu_z[:, None, :, :] * hzq3) @ _GAUSS_W))
+    g_th = (1.0 / inv3) @ _GAUSS_W
+    couette = (inv2 / inv3) @ _GAUSS_W
+    return h_node, g_th, couette, g_ze, False
+
+
+def _full_film(mesh: _Mesh, h_node: NDArray) -> NDArray:
+    """The film H (/c) at every node, shape (m+1, n+1), from its values along θ."""
+    if mesh.pocket_node is None:
+        return np.repeat(h_node[:, None], len(mesh.zeta), axis=1)
+    return h_node[:, None] + mesh.pocket_node
+
+
+def _spread_index(pocket: NDArray) -> NDArray:
+    """For a pocket depth field of shape (a, b, c, d): the index of each point's film in the
+    films (a, b) without, then (a, b) with the pocket, raveled."""
+    a, b = pocket.shape[:2]
+    base = np.arange(a * b).reshape(a, b, 1, 1)
+    return np.where(pocket != 0.0, base + a * b, base)
 
 
 def _film_faces(
@@ -297,48 +468,14 @@ def _film_faces(
 
     ``mubar``: nodal viscosity field / μ_ref, shape (m+1, n+1), or None (isoviscous). It is
     taken linear between two nodes on each face."""
-    h_node = mesh.h0_node + np.tensordot(q, mesh.phi_node, axes=1)
-    h_q = mesh.h0_q + np.tensordot(q, mesh.phi_q, axes=1)  # (m, g)
-    n1 = len(mesh.zeta)
-    if mesh.pocket_q is None:
-        h_min = min(h_node.min(), h_q.min())
-        if h_min <= 0.0:
-            raise _contact(h_min)
-        if mubar is None:
-            inv3 = _GAUSS_W @ (h_q**-3).T  # (m,)
-            inv2 = _GAUSS_W @ (h_q**-2).T
-            g_th = np.repeat((1.0 / inv3)[:, None], n1, axis=1)
-            h_c = np.repeat((inv2 / inv3)[:, None], n1, axis=1)
-            g_ze = np.repeat((h_node**3)[:, None], n1 - 1, axis=1)
-        else:
-            mu_q = _along_theta(mubar)  # (m, g, n+1)
-            inv3 = np.einsum("g,mgn->mn", _GAUSS_W, mu_q * (h_q**-3)[:, :, None])
-            inv2 = np.einsum("g,mgn->mn", _GAUSS_W, mu_q * (h_q**-2)[:, :, None])
-            g_th = 1.0 / inv3
-            h_c = inv2 / inv3
-            g_ze = (h_node**3)[:, None] / (0.5 * (mubar[:, 1:] + mubar[:, :-1]))
-        h_full = np.repeat(h_node[:, None], n1, axis=1)
-        return h_full, g_th, h_c, g_ze
-    h_full = h_node[:, None] + mesh.pocket_node
-    h_c = mesh.h0_c + np.tensordot(q, mesh.phi_c, axes=1)  # (m+1, g)
-    h_min = min(h_node.min(), h_q.min(), h_c.min())
-    if h_min <= 0.0:
-        raise _contact(h_min)
-    hq = h_q[:, :, None, None] + mesh.pocket_q  # (m, g, n+1, gz)
-    hzq = h_c[:, :, None, None] + mesh.pocket_zq  # (m+1, gt, n, g)
-    if mubar is None:
-        inv3 = np.einsum("g,mgnz->mnz", _GAUSS_W, hq**-3)
-        inv2 = np.einsum("g,mgnz->mnz", _GAUSS_W, hq**-2)
-        g_ze = np.einsum("t,mtn->mn", _GAUSS_W, 1.0 / (hzq**-3 @ _GAUSS_W))
-    else:
-        mu_q = _along_theta(mubar)[:, :, :, None]  # (m, g, n+1, 1)
-        inv3 = np.einsum("g,mgnz->mnz", _GAUSS_W, mu_q * hq**-3)
-        inv2 = np.einsum("g,mgnz->mnz", _GAUSS_W, mu_q * hq**-2)
-        mu_z = mubar[:, :-1, None] + _GAUSS_X * (mubar[:, 1:] - mubar[:, :-1])[:, :, None]
-        g_ze = np.einsum("t,mtn->mn", _GAUSS_W, 1.0 / ((mu_z[:, None, :, :] * hzq**-3) @ _GAUSS_W))
-    g_th = (1.0 / inv3) @ _GAUSS_W
-    couette = (inv2 / inv3) @ _GAUSS_W
-    return h_full, g_th, couette, g_ze
+    h_node, g_th, h_c, g_ze, compact = _faces(mesh, q, mubar)
+    h_full = _full_film(mesh, h_node)
+    if compact:
+        n1 = h_full.shape[1]
+        g_th = np.repeat(g_th[:, None], n1, axis=1)
+        h_c = np.repeat(h_c[:, None], n1, axis=1)
+        g_ze = np.repeat(g_ze[:, None], n1 - 1, axis=1)
+    return h_full, g_th, h_c, g_ze
 
 
 def _along_theta(mubar: NDArray) -> NDArray:
@@ -402,7 +539,7 @@ def _lcp_banded(
     diag: NDArray,
     off: NDArray,
     nb: NDArray,
-    nz: int,
+    band: _Band,
     f: NDArray,
     active: NDArray | None,
     clip: bool,
@@ -412,26 +549,30 @@ def _lcp_banded(
 
     ``off`` (4, N) are the positive conductances to the E, W, N, S neighbours ``nb`` (index N
     = none). Cavitated rows are replaced by ``p = 0``. With ``clip`` False a single linear
-    solve is done (no cavitation).
+    solve is done (no cavitation). Each iteration is one LAPACK ``gbsv`` (banded LU with
+    partial pivoting) on the matrix written straight into its band storage.
     """
     n = len(f)
-    offsets = (nz, -nz, 1, -1)  # column offset of E, W, N, S
+    nz = band.nz
+    width = 3 * nz + 1
     act = np.zeros(n, dtype=bool) if active is None else active.copy()
     if not clip:
         act[:] = False
     tol = 1e-13 * (np.abs(f).max() + 1e-300)
-    ab = np.zeros((2 * nz + 1, n))
+    full = np.zeros(n * width)  # the matrix with every row kept
+    full[band.diag_flat] = diag
+    full[band.ent_flat] = -off.ravel()[band.ent_src]
     for it in range(1, max_iter + 1):
-        keep = ~act
-        ab[:] = 0.0
-        ab[nz] = np.where(keep, diag, 1.0)
-        for c, (o, nbr) in enumerate(zip(offsets, nb, strict=True)):
-            rows = np.nonzero(keep & (nbr < n))[0]
-            ab[nz - o, rows + o] = -off[c, rows]
-        rhs = np.where(keep, f, 0.0)
-        p = solve_banded(
-            (nz, nz), ab, rhs, overwrite_ab=False, overwrite_b=True, check_finite=False
+        work = full.copy()
+        if act.any():  # cavitated rows: p = 0
+            work[band.diag_flat[act]] = 1.0
+            work[band.ent_flat[act[band.ent_row]]] = 0.0
+        rhs = np.where(act, 0.0, f)
+        _, _, p, info = _gbsv()(
+            nz, nz, work.reshape(n, width).T, rhs, overwrite_ab=True, overwrite_b=True
         )
+        if info != 0:
+            raise np.linalg.LinAlgError(f"banded film matrix: LAPACK gbsv info = {info}")
         if not clip:
             return p, act, it
         pe = np.append(p, 0.0)
@@ -441,6 +582,14 @@ def _lcp_banded(
             return np.maximum(p, 0.0), act, it
         act = new
     raise _no_lcp_convergence(max_iter)
+
+
+@lru_cache(maxsize=1)
+def _gbsv():
+    """LAPACK's double-precision ``gbsv``, the routine ``scipy.linalg.solve_banded`` calls."""
+    from scipy.linalg import get_lapack_funcs
+
+    return get_lapack_funcs(("gbsv",), (np.zeros((1, 1)), np.zeros(1)))[0]
 
 
 def solve_pad(
@@ -485,25 +634,32 @@ def solve_pad(
     q = np.asarray(q, dtype=float)
     qdot = np.asarray(qdot, dtype=float)
     mu_ref, mubar = _viscosity(mesh, viscosity)
-    h_full, g_th, h_c, g_ze = _film_faces(mesh, q, mubar)
+    fa = mesh.fast
+    h_node, g_th, h_c, g_ze, compact = _faces(mesh, q, mubar)
     m = len(mesh.theta) - 1
-    i, j = mesh.unk_i, mesh.unk_j
-    iw = (i - 1) % m if mesh.periodic else i - 1
-    dzw = mesh.dzw[j]
-    a_e = g_th[i, j] * dzw / mesh.dth
-    a_w = g_th[iw, j] * dzw / mesh.dth
     n = len(mesh.zeta) - 1
-    a_n = np.where(j < n, g_ze[i, np.minimum(j, n - 1)], 0.0) * mesh.dth / mesh.dze
-    a_s = g_ze[i, j - 1] * mesh.dth / mesh.dze
+    if compact:  # the face values are the same along ζ: gather by node i
+        i, iw = mesh.unk_i, fa.unk_iw
+        g_e, g_w, hc_e, hc_w = g_th[i], g_th[iw], h_c[i], h_c[iw]
+        g_n = g_s = g_ze[i]
+    else:
+        g_e, g_w = np.take(g_th, fa.ij_th), np.take(g_th, fa.iwj_th)
+        hc_e, hc_w = np.take(h_c, fa.ij_th), np.take(h_c, fa.iwj_th)
+        g_n, g_s = np.take(g_ze, fa.ij_ze), np.take(g_ze, fa.ijs_ze)
+    dzw = fa.dzw_u
+    a_e = g_e * dzw / mesh.dth
+    a_w = g_w * dzw / mesh.dth
+    a_n = np.where(fa.north, g_n, 0.0) * mesh.dth / mesh.dze
+    a_s = g_s * mesh.dth / mesh.dze
     diag = a_e + a_w + a_n + a_s  # includes the conductances to ambient-pressure neighbours
-    n_unk = len(i)
-    hdot = qdot @ mesh.phi_node[:, i]
-    rhs = -6.0 * omega * (h_c[i, j] - h_c[iw, j]) * dzw - 12.0 * hdot * mesh.w_area
+    n_unk = len(diag)
+    hdot = qdot @ fa.phi_u
+    rhs = -6.0 * omega * (hc_e - hc_w) * dzw - 12.0 * hdot * mesh.w_area
 
     if not mesh.periodic:
-        off = np.where(mesh.neighbours < n_unk, np.stack([a_e, a_w, a_n, a_s]), 0.0)
+        off = np.where(fa.has_nb, np.stack([a_e, a_w, a_n, a_s]), 0.0)
         p, act, iters = _lcp_banded(
-            diag, off, mesh.neighbours, n, rhs, active, clip=cavitation == "swift_stieber"
+            diag, off, mesh.neighbours, fa.band, rhs, active, clip=cavitation == "swift_stieber"
         )
         if cavitation == "half_sommerfeld":
             p = np.maximum(p, 0.0)
@@ -525,47 +681,69 @@ def solve_pad(
 
     scale = mu_ref * (radius / clearance) ** 2  # Pa per unit P
     pgrid = np.zeros((m + 1, n + 1))
-    pgrid[i, j] = p
+    np.put(pgrid, fa.ij_th, p)
     if mesh.periodic:
         pgrid[m] = pgrid[0]
     # generalised forces (both halves)
-    phi_u = mesh.phi_node[:, i]
-    forces = 2.0 * scale * radius**2 * (phi_u @ (p * mesh.w_area))
-    # side flow out of both ends: the flux through the faces j = 1/2 plus the net Couette and
-    # squeeze source of the half cell between them and the edge (second order in Δζ)
-    first = (j == 1) & (p > 0.0)
-    side = (
+    forces = 2.0 * scale * radius**2 * (fa.phi_u @ (p * mesh.w_area))
+    return PadFilm(
+        theta=mesh.theta,
+        z=mesh.zeta * radius,
+        pressure=scale * pgrid,
+        film=clearance * _full_film(mesh, h_node),
+        forces=forces,
+        active=act,
+        iterations=iters,
+        _side_flow=partial(
+            _side_flow, a_s[fa.first_row], p[fa.first_row], rhs[fa.first_row], radius, clearance
+        ),
+        _friction_power=partial(
+            _friction_power, mesh, pgrid, h_node, mubar, omega, mu_ref, radius, clearance
+        ),
+    )
+
+
+def _side_flow(a_s: NDArray, p: NDArray, rhs: NDArray, radius: float, clearance: float) -> float:
+    """Side flow (m³/s) out of both ends: the flux through the faces j = 1/2 plus the net
+    Couette and squeeze source of the half cell between them and the edge (second order in
+    Δζ). ``a_s``, ``p``, ``rhs``: the conductances to the edge, the pressures and the sources
+    of the unknowns next to the edge (j = 1)."""
+    first = p > 0.0
+    return (
         2.0
         * clearance
         * radius**2
         / 12.0
         * float(np.sum(a_s[first] * p[first]) + 0.5 * np.sum(rhs[first]))
     )
-    # friction power (full-film shear on the pad)
-    wt = np.full(m + 1, mesh.dth)
-    if not mesh.periodic:
-        wt[[0, -1]] *= 0.5
-    else:
-        wt[-1] = 0.0
-    wz = mesh.dzw.copy()
-    wz[0] *= 0.5
-    dp_dth = np.gradient(pgrid, mesh.dth, axis=0)
+
+
+def _friction_power(
+    mesh: _Mesh,
+    pgrid: NDArray,
+    h_node: NDArray,
+    mubar: NDArray | None,
+    omega: float,
+    mu_ref: float,
+    radius: float,
+    clearance: float,
+) -> float:
+    """Friction power (W), full-film shear on the pad; ∂P/∂θ central inside, one-sided at the
+    ends of a non-periodic pad."""
+    m = len(mesh.theta) - 1
+    dp_dth = np.empty_like(pgrid)
+    dp_dth[1:-1] = (pgrid[2:] - pgrid[:-2]) / (2.0 * mesh.dth)
     if mesh.periodic:
         dp_dth[0] = dp_dth[-1] = (pgrid[1] - pgrid[m - 1]) / (2 * mesh.dth)
+    else:
+        dp_dth[0] = (pgrid[1] - pgrid[0]) / mesh.dth
+        dp_dth[-1] = (pgrid[-1] - pgrid[-2]) / mesh.dth
+    h_full = _full_film(mesh, h_node)
     couette = omega / h_full if mubar is None else mubar * omega / h_full
     dens = omega * (couette + 0.5 * h_full * dp_dth)
-    power = 2.0 * mu_ref * radius**4 / clearance * float(wt @ dens @ wz)
-    return PadFilm(
-        theta=mesh.theta,
-        z=mesh.zeta * radius,
-        pressure=scale * pgrid,
-        film=clearance * h_full,
-        forces=forces,
-        side_flow=side,
-        friction_power=abs(power),
-        active=act,
-        iterations=iters,
-    )
+    fa = mesh.fast
+    power = 2.0 * mu_ref * radius**4 / clearance * float(fa.wt @ dens @ fa.wz)
+    return abs(power)
 
 
 def pad_fluxes(

@@ -434,7 +434,12 @@ def _execute_dask(
                         n_workers=n,
                         threads_per_worker=1,
                         processes=True,
-                        dashboard_address=None,
+                        # no dashboard; the scheduler's HTTP server (health and metrics
+                        # routes, always started) on a free port of this host: on its
+                        # default 8787 a second cluster on the machine (another study, a
+                        # notebook's) printed "Port 8787 is already in use" into the run
+                        dashboard_address="127.0.0.1:0",
+                        scheduler_kwargs={"dashboard": False},
                         env=dict(THREAD_ENV),
                     )
                 )
