@@ -377,15 +377,22 @@ def test_sigkill_of_study_run_leaves_no_worker(examples, tmp_path, moment):
 
 @pytest.mark.slow
 @skip_without_proc
+@pytest.mark.parametrize("moment", ["computing", "preloading"])
 @pytest.mark.parametrize(
     ("sig", "code", "how"), [(signal.SIGINT, 130, "Ctrl-C"), (signal.SIGTERM, 143, "SIGTERM")]
 )
-def test_interrupted_study_run_is_one_line(examples, tmp_path, sig, code, how):
+def test_interrupted_study_run_is_one_line(examples, tmp_path, sig, code, how, moment):
+    """The signal while the workers compute, or while the fork server still imports what the
+    cases need: the run was starting its first worker then (waiting for the server). Before,
+    a SIGTERM there stopped the run with that worker not yet in the pool: forked afterwards,
+    it found the pool's queues gone and printed a traceback after the one line."""
+    if moment == "preloading" and not _forkserver_expected():
+        pytest.skip("workers are spawned here: no fork server")
     # 30 s cases: still computing when the signal comes (2 s cases used to be; with the faster
     # modal basis of issue 16 they end within the 4 s _start_study waits, and the signal then
     # reaches a run that is writing its results)
     study = _study(tmp_path, examples, rows=(360, 720, 1080, 1440), t_end=30.0)
-    proc = _start_study(study, "--no-progress")
+    proc = _start_study(study, "--no-progress", until=moment)
     processes = descendants(proc.pid)  # the workers, their fork server, the resource tracker
     if sig == signal.SIGINT:
         os.killpg(proc.pid, sig)  # what a terminal does: the whole foreground group

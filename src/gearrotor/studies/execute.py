@@ -387,7 +387,11 @@ def _execute_local(payloads: list[dict], workers: int, on_done: Callable[[dict],
     with _local_pool(workers) as pool:
         futs = {}
         try:
-            with children_without_sigint():  # submitting starts the workers
+            # submitting starts the workers: whole, so that a signal meanwhile (answered at the
+            # end of the block) finds each started worker in the pool, to be killed; a worker
+            # forked after the run had stopped would find the pool's queues gone, with a
+            # traceback (the first one waits for the fork server's imports, ~2 s)
+            with signals_deferred(), children_without_sigint():
                 for p in payloads:
                     futs[pool.submit(run_case, p)] = p
             pending = set(futs)
