@@ -159,6 +159,19 @@ class _Fast:
     spread_q: NDArray | None  # (m, g, n+1, gz) index of each point's film in [H_q, H_q + d]
     spread_zq: NDArray | None  # (m+1, gt, n, g) index of each point's film in [H_c, H_c + d]
     band: _Band | None  # band storage (non-periodic pads)
+    csc: _Csc | None  # compressed sparse column pattern (periodic pads)
+
+
+@dataclass(frozen=True)
+class _Csc:
+    """The film matrix' pattern in compressed sparse column form, rows sorted in each column,
+    as SciPy orders it (internal). ``perm`` takes the COO data (:attr:`_Mesh.rows`,
+    :attr:`_Mesh.cols` order) to it."""
+
+    perm: NDArray  # (nnz,)
+    rows: NDArray  # (nnz,) row of each entry
+    cols: NDArray  # (nnz,) column of each entry
+    indptr: NDArray  # (N+1,)
 
 
 @dataclass(frozen=True)
@@ -269,6 +282,7 @@ def pad_mesh(
         slots.append((start, start + int(mask.sum()), mask))
         start += int(mask.sum())
     n_unk = ni * n
+    rows_all, cols_all = np.concatenate(rows), np.concatenate(cols)
     nbrs = np.stack([e_nb, w_nb, n_nb, s_nb])
     iw = (unk_i - 1) % m if periodic else unk_i - 1
     wt = np.full(m + 1, dth)
@@ -314,6 +328,7 @@ def pad_mesh(
         spread_q=_spread_index(pocket_q) if has_pocket else None,
         spread_zq=_spread_index(pocket_zq) if has_pocket else None,
         band=band,
+        csc=_csc(rows_all, cols_all, n_unk) if periodic else None,
     )
     return _Mesh(
         fast=fast,
@@ -334,8 +349,8 @@ def pad_mesh(
         phi_c=phi_c,
         unk_i=unk_i,
         unk_j=unk_j,
-        rows=np.concatenate(rows),
-        cols=np.concatenate(cols),
+        rows=rows_all,
+        cols=cols_all,
         slots=tuple(slots),
         w_area=dth * dzw[unk_j],
         neighbours=np.where(
@@ -501,24 +516,47 @@ def _contact(h_min: float) -> FilmContact:
     return FilmContact(f"the journal touches a pad (film thickness ≤ 0, min h/c = {h_min:.3g})")
 
 
+def _csc(rows: NDArray, cols: NDArray, n: int) -> _Csc:
+    perm = np.lexsort((rows, cols))
+    indptr = np.concatenate([[0], np.cumsum(np.bincount(cols, minlength=n))])
+    return _Csc(
+        perm=perm,
+        rows=rows[perm].astype(np.intc),
+        cols=cols[perm].astype(np.intc),
+        indptr=indptr.astype(np.intc),
+    )
+
+
+def _free_block(csc: _Csc, data: NDArray, free: NDArray) -> sp.csc_array:
+    """The block of the free rows and columns, as ``a[free][:, free]`` of the CSC matrix gives
+    it (the entries in the same order, rows renumbered)."""
+    keep = free[csc.rows] & free[csc.cols]
+    rank = (np.cumsum(free) - 1).astype(np.intc)
+    nf = int(rank[-1]) + 1
+    cols = rank[csc.cols[keep]]
+    indptr = np.concatenate([[0], np.cumsum(np.bincount(cols, minlength=nf))]).astype(np.intc)
+    return sp.csc_array((data[keep], rank[csc.rows[keep]], indptr), shape=(nf, nf))
+
+
 def _lcp_active_set(
-    a: sp.csr_matrix, f: NDArray, active: NDArray | None, max_iter: int = 60
+    a: sp.csc_array, csc: _Csc, f: NDArray, active: NDArray | None, max_iter: int = 60
 ) -> tuple[NDArray, NDArray, int]:
     """Solve the M-matrix LCP ``A p − f ≥ 0, p ≥ 0, complementary`` by primal–dual active set.
 
     General sparse version (periodic pads): one sparse LU of the free block per iteration.
+    ``a`` in CSC form with the pattern ``csc``.
     """
     n = len(f)
     d = a.diagonal()
     act = np.zeros(n, dtype=bool) if active is None else active.copy()
     tol = 1e-13 * (np.abs(f).max() + 1e-300)
-    a_csc = a.tocsc()
     for it in range(1, max_iter + 1):
         free = ~act
         p = np.zeros(n)
         if free.any():
-            sub = a_csc[free][:, free]
-            p[free] = splu(sub.tocsc(), permc_spec="MMD_AT_PLUS_A").solve(f[free])
+            sub = _free_block(csc, a.data, free)
+            p[free] = splu(sub, permc_spec="MMD_AT_PLUS_A").solve(f[free])
+        # the row sums in ascending column order, as the CSR product of the sorted matrix
         lam = a @ p - f
         # active where the multiplier is positive (active nodes) or the pressure negative
         new = (lam - d * p) > tol
@@ -667,11 +705,14 @@ def solve_pad(
         data = [diag]
         for coef, (_, _, mask) in zip((a_e, a_w, a_n, a_s), mesh.slots[1:], strict=True):
             data.append(-coef[mask])
-        amat = sp.csr_matrix((np.concatenate(data), (mesh.rows, mesh.cols)), shape=(n_unk, n_unk))
+        csc = fa.csc
+        amat = sp.csc_array(
+            (np.concatenate(data)[csc.perm], csc.rows, csc.indptr), shape=(n_unk, n_unk)
+        )
         if cavitation == "swift_stieber":
-            p, act, iters = _lcp_active_set(amat, rhs, active)
+            p, act, iters = _lcp_active_set(amat, csc, rhs, active)
         else:
-            p = splu(amat.tocsc()).solve(rhs)
+            p = splu(amat).solve(rhs)
             if cavitation == "half_sommerfeld":
                 p = np.maximum(p, 0.0)
             act, iters = np.zeros(n_unk, dtype=bool), 1
