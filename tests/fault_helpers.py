@@ -129,6 +129,41 @@ def children(pid: int) -> list[int]:
     return out
 
 
+def descendants(pid: int) -> list[int]:
+    """The pids of the children of ``pid``, their children, and so on (Linux /proc)."""
+    out, todo = [], [pid]
+    while todo:
+        found = children(todo.pop())
+        out += found
+        todo += found
+    return out
+
+
+def command_line(pid: int) -> str:
+    """The command line of ``pid``, its arguments joined by spaces ("" once it has ended)."""
+    try:
+        return Path(f"/proc/{pid}/cmdline").read_bytes().replace(b"\0", b" ").decode()
+    except OSError:
+        return ""
+
+
+def is_forkserver(pid: int) -> bool:
+    """``pid`` runs multiprocessing's fork server (its forked workers share its command line:
+    tell them apart by their parent)."""
+    return "multiprocessing.forkserver import main" in command_line(pid)
+
+
+def workers_of(pid: int) -> list[int]:
+    """The worker processes of a study run by ``pid``: its children other than
+    multiprocessing's resource tracker and fork server, and the fork server's children."""
+    out = []
+    for c in children(pid):
+        if "multiprocessing.resource_tracker" in command_line(c):
+            continue
+        out += children(c) if is_forkserver(c) else [c]
+    return out
+
+
 def alive(pid: int) -> bool:
     """The process runs (not a zombie)."""
     try:

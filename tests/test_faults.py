@@ -25,17 +25,19 @@ import pytest
 
 from fault_helpers import (
     alive,
-    children,
     dead_pid,
+    descendants,
     env,
     full_disk_at_fsync,
     invoke,
+    is_forkserver,
     leftovers,
     must_not_run,
     one_line_exit_2,
     run_signalled,
     skip_without_proc,
     tmpfs,
+    workers_of,
 )
 
 SINGLE = "unity_gearbox_single_shaft.toml"
@@ -247,7 +249,8 @@ def test_report_on_a_full_disk_names_the_report_file(examples, tmp_path, monkeyp
     assert list(tmp_path.iterdir()) == []
 
 
-def test_stop_pool_returns_when_a_worker_dies_while_sending_its_result():
+@pytest.mark.parametrize("method", ["spawn", "forkserver"])
+def test_stop_pool_returns_when_a_worker_dies_while_sending_its_result(method):
     """Stopping the local pool (a full disk, Ctrl-C) kills the running workers; one killed
     while it sent its result (a transient case's dataset is megabytes) left half a message in
     the result pipe, and the pool's manager thread, which holds the pipe's write end too, waited
@@ -255,20 +258,22 @@ def test_stop_pool_returns_when_a_worker_dies_while_sending_its_result():
     64 MB; the kill comes as its first bytes reach the pipe."""
     import threading
     from concurrent.futures import ProcessPoolExecutor
-    from multiprocessing import get_context
 
-    from gearrotor.studies.workers import stop_pool
+    from gearrotor.studies.workers import start_method, stop_pool, worker_processes
 
-    pool = ProcessPoolExecutor(1, mp_context=get_context("spawn"))
-    pool.submit(os.urandom, 64 << 20)
-    reader = pool._result_queue._reader
-    deadline = time.monotonic() + 60
-    while not reader.poll(0.001):
-        assert time.monotonic() < deadline, "the worker never sent its result"
-    stopper = threading.Thread(target=stop_pool, args=(pool,), daemon=True)
-    stopper.start()
-    stopper.join(30)
-    assert not stopper.is_alive(), "stop_pool hung on a half-sent result"
+    if method == "forkserver" and start_method() != "forkserver":
+        pytest.skip("workers are spawned here: no fork server")
+    with worker_processes(method) as (context, _):  # as the study's pool (forked or spawned)
+        pool = ProcessPoolExecutor(1, mp_context=context)
+        pool.submit(os.urandom, 64 << 20)
+        reader = pool._result_queue._reader
+        deadline = time.monotonic() + 60
+        while not reader.poll(0.001):
+            assert time.monotonic() < deadline, "the worker never sent its result"
+        stopper = threading.Thread(target=stop_pool, args=(pool,), daemon=True)
+        stopper.start()
+        stopper.join(30)
+        assert not stopper.is_alive(), "stop_pool hung on a half-sent result"
 
 
 def test_study_run_on_a_full_disk(examples, tmp_path):
@@ -292,10 +297,13 @@ def test_study_run_on_a_read_only_file_system(examples, tmp_path, monkeypatch):
 
 
 # ---- signals -------------------------------------------------------------------------------------
-def _start_study(study: Path, *extra: str, settle: float = 4.0) -> subprocess.Popen:
+def _start_study(
+    study: Path, *extra: str, settle: float = 4.0, until: str = "workers"
+) -> subprocess.Popen:
     """``python -m gearrotor study run`` in its own session (a terminal's Ctrl-C goes to the
     whole group: ``os.killpg``), waiting until two workers are computing (``settle`` s after
-    they appear; 0: while they are still starting, importing gearrotor)."""
+    they appear; 0: while they are still starting), or (``until="preloading"``) until its fork
+    server runs and has forked no worker yet: it is still importing what the cases need."""
     proc = subprocess.Popen(
         [sys.executable, "-m", "gearrotor", "study", "run", str(study), "--workers", "2", *extra],
         start_new_session=True,
@@ -307,29 +315,53 @@ def _start_study(study: Path, *extra: str, settle: float = 4.0) -> subprocess.Po
     deadline = time.time() + 60
     while time.time() < deadline:
         assert proc.poll() is None, proc.communicate()
-        # the resource tracker and two workers; the workers have been running a moment
-        if len([c for c in children(proc.pid) if alive(c)]) >= 3:
+        if until == "preloading":
+            if any(is_forkserver(c) for c in descendants(proc.pid)):
+                assert not workers_of(proc.pid), "forked before this test could look"
+                return proc
+        # two workers (spawned, or forked by the fork server); running a moment
+        elif len([c for c in workers_of(proc.pid) if alive(c)]) >= 2:
             time.sleep(settle)
             return proc
-        time.sleep(0.1)
+        time.sleep(0.02)
     proc.kill()
     raise AssertionError("the workers did not start")
 
 
+def _all_end(processes: list[int], what: str) -> None:
+    """Every one of ``processes`` ends within 10 s (PR_SET_PDEATHSIG and the fork server's end
+    are delivered asynchronously: allow the kernel a moment)."""
+    deadline = time.time() + 10
+    while any(alive(w) for w in processes) and time.time() < deadline:
+        time.sleep(0.05)
+    assert not [w for w in processes if alive(w)], f"{what} outlived the study"
+
+
+def _forkserver_expected() -> bool:
+    from gearrotor.studies.workers import start_method
+
+    return start_method() == "forkserver"
+
+
 @pytest.mark.slow
 @skip_without_proc
-def test_sigkill_of_study_run_leaves_no_worker(examples, tmp_path):
+@pytest.mark.parametrize("moment", ["computing", "preloading"])
+def test_sigkill_of_study_run_leaves_no_worker(examples, tmp_path, moment):
+    """SIGKILL of ``study run`` (the parent only, as the OOM killer would) while its workers
+    compute, or while its fork server is still importing what the cases need: no worker and no
+    fork server is left (the workers' parent is the fork server: it ends with the study, and
+    they with it)."""
+    if moment == "preloading" and not _forkserver_expected():
+        pytest.skip("workers are spawned here: no fork server")
     study = _study(tmp_path, examples, rows=(360, 720, 1080, 1440), t_end=30.0)
-    proc = _start_study(study, "--no-progress")
-    workers = children(proc.pid)
-    proc.kill()  # the parent only, as the OOM killer would
+    proc = _start_study(study, "--no-progress", until=moment)
+    processes = descendants(proc.pid)
+    assert any(is_forkserver(c) for c in processes) == _forkserver_expected(), processes
+    proc.kill()
     proc.wait(timeout=30)  # not communicate(): surviving workers would hold its pipes open
     proc.stdout.close()
     proc.stderr.close()
-    deadline = time.time() + 10
-    while any(alive(w) for w in workers) and time.time() < deadline:
-        time.sleep(0.1)
-    assert not [w for w in workers if alive(w)], "workers outlived their parent"
+    _all_end(processes, "workers or the fork server")
     # the next run in that folder removes the temporaries a killed run leaves (one is planted:
     # the kill above may or may not have hit a write); a 0.1-s case of the same folder does it
     # as well as a 30-s one
@@ -345,16 +377,23 @@ def test_sigkill_of_study_run_leaves_no_worker(examples, tmp_path):
 
 @pytest.mark.slow
 @skip_without_proc
+@pytest.mark.parametrize("moment", ["computing", "preloading"])
 @pytest.mark.parametrize(
     ("sig", "code", "how"), [(signal.SIGINT, 130, "Ctrl-C"), (signal.SIGTERM, 143, "SIGTERM")]
 )
-def test_interrupted_study_run_is_one_line(examples, tmp_path, sig, code, how):
+def test_interrupted_study_run_is_one_line(examples, tmp_path, sig, code, how, moment):
+    """The signal while the workers compute, or while the fork server still imports what the
+    cases need: the run was starting its first worker then (waiting for the server). Before,
+    a SIGTERM there stopped the run with that worker not yet in the pool: forked afterwards,
+    it found the pool's queues gone and printed a traceback after the one line."""
+    if moment == "preloading" and not _forkserver_expected():
+        pytest.skip("workers are spawned here: no fork server")
     # 30 s cases: still computing when the signal comes (2 s cases used to be; with the faster
     # modal basis of issue 16 they end within the 4 s _start_study waits, and the signal then
     # reaches a run that is writing its results)
     study = _study(tmp_path, examples, rows=(360, 720, 1080, 1440), t_end=30.0)
-    proc = _start_study(study, "--no-progress")
-    workers = children(proc.pid)
+    proc = _start_study(study, "--no-progress", until=moment)
+    processes = descendants(proc.pid)  # the workers, their fork server, the resource tracker
     if sig == signal.SIGINT:
         os.killpg(proc.pid, sig)  # what a terminal does: the whole foreground group
     else:
@@ -365,24 +404,24 @@ def test_interrupted_study_run_is_one_line(examples, tmp_path, sig, code, how):
     lines = err.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith(f"interrupted ({how})"), err
     assert "run the same command again to resume" in lines[0]
-    # the workers get SIGKILL when their parent ends (PR_SET_PDEATHSIG): delivered
-    # asynchronously, so allow the kernel a moment, as the SIGKILL test does
-    deadline = time.time() + 10
-    while any(alive(w) for w in workers) and time.time() < deadline:
-        time.sleep(0.05)
-    assert not [w for w in workers if alive(w)], "workers outlived their parent"
+    _all_end(processes, "processes")
     assert leftovers(tmp_path / "faults.study") == []
 
 
 @pytest.mark.slow
 @skip_without_proc
 @pytest.mark.parametrize(
-    ("backend", "settle"),
-    [("dask", 4.0), ("dask", 0.0), ("local", 0.0)],
-    ids=["dask-computing", "dask-starting", "local-starting"],
+    ("backend", "settle", "until"),
+    [
+        ("dask", 4.0, "workers"),
+        ("dask", 0.0, "workers"),
+        ("local", 0.0, "workers"),
+        ("local", 0.0, "preloading"),
+    ],
+    ids=["dask-computing", "dask-starting", "local-starting", "local-preloading"],
 )
 def test_ctrl_c_of_study_run_with_its_workers_starting_or_computing(
-    examples, tmp_path, backend, settle
+    examples, tmp_path, backend, settle, until
 ):
     """Ctrl-C to ``study run --scheduler local`` (a Dask LocalCluster), and to the local pool
     while its workers start: one line, exit 130, no process left, no temporary. Before: the
@@ -391,19 +430,18 @@ def test_ctrl_c_of_study_run_with_its_workers_starting_or_computing(
     each, and an interrupted cluster start an "Exception ignored in atexit callback"."""
     if backend == "dask":
         pytest.importorskip("distributed", reason="the Dask backend is the [dask] extra")
+    if until == "preloading" and not _forkserver_expected():
+        pytest.skip("workers are spawned here: no fork server")
     study = _study(tmp_path, examples, rows=(360, 720, 1080, 1440), t_end=30.0)
     extra = ("--scheduler", "local") if backend == "dask" else ()
-    proc = _start_study(study, "--no-progress", *extra, settle=settle)
-    processes = children(proc.pid)
+    proc = _start_study(study, "--no-progress", *extra, settle=settle, until=until)
+    processes = descendants(proc.pid)
     os.killpg(proc.pid, signal.SIGINT)  # a terminal's Ctrl-C: the whole foreground group
     _, err = proc.communicate(timeout=60)
     assert proc.returncode == 130, err
     lines = err.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("interrupted (Ctrl-C)"), err
-    deadline = time.time() + 10
-    while any(alive(w) for w in processes) and time.time() < deadline:
-        time.sleep(0.05)
-    assert not [w for w in processes if alive(w)], "processes outlived the study"
+    _all_end(processes, "processes")
     assert leftovers(tmp_path / "faults.study") == []
 
 

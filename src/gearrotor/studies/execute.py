@@ -13,7 +13,9 @@ cases, and identical rows run once. The study folder holds::
 
 Workers run one case at a time with one BLAS/numba thread each (GEARROTOR_THREADS,
 OMP_NUM_THREADS, OPENBLAS_NUM_THREADS, MKL_NUM_THREADS and NUMBA_NUM_THREADS = 1): local workers
-are spawned processes; a Dask ``LocalCluster`` gets the same environment. Each case also runs
+are forked from a fork server that imported what a case needs once, or spawned where there is
+none (Windows; :func:`gearrotor.studies.workers.worker_processes`); a Dask ``LocalCluster`` gets
+the same environment. Each case also runs
 in a one-thread :func:`gearrotor.threads.scope` (threadpoolctl), so that the workers of a
 remote Dask cluster started without these variables use one BLAS thread too; every worker must
 be able to import gearrotor. Results come
@@ -31,7 +33,6 @@ import traceback
 from collections.abc import Callable, Iterator
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from dataclasses import dataclass, field
-from multiprocessing import get_context
 from typing import TextIO
 
 from ..errors import ModelError
@@ -53,6 +54,7 @@ from .workers import (
     signals_deferred,
     stop_local_cluster,
     stop_pool,
+    worker_processes,
 )
 
 __all__ = [
@@ -365,19 +367,31 @@ def _case_weight(p: PlannedCase) -> float:
 
 
 # ---- execution ---------------------------------------------------------------------------------
-def _execute_local(payloads: list[dict], workers: int, on_done: Callable[[dict], None]) -> None:
-    with (
-        _thread_env(),
-        ProcessPoolExecutor(
+@contextlib.contextmanager
+def _local_pool(workers: int, method: str | None = None) -> Iterator[ProcessPoolExecutor]:
+    """The pool of local workers: forked from a fork server that imported what a case needs,
+    or spawned where there is none (:func:`~gearrotor.studies.workers.worker_processes`), with
+    the one-thread environment; ``method`` forces the start method (tests)."""
+    with _thread_env(), worker_processes(method) as (context, parent):
+        env = dict(os.environ)
+        with ProcessPoolExecutor(
             max_workers=workers,
-            mp_context=get_context("spawn"),
+            mp_context=context,
             initializer=init_worker,
-            initargs=(os.getpid(),),
-        ) as pool,
-    ):
+            initargs=(parent, env),
+        ) as pool:
+            yield pool
+
+
+def _execute_local(payloads: list[dict], workers: int, on_done: Callable[[dict], None]) -> None:
+    with _local_pool(workers) as pool:
         futs = {}
         try:
-            with children_without_sigint():  # submitting starts the workers
+            # submitting starts the workers: whole, so that a signal meanwhile (answered at the
+            # end of the block) finds each started worker in the pool, to be killed; a worker
+            # forked after the run had stopped would find the pool's queues gone, with a
+            # traceback (the first one waits for the fork server's imports, ~2 s)
+            with signals_deferred(), children_without_sigint():
                 for p in payloads:
                     futs[pool.submit(run_case, p)] = p
             pending = set(futs)

@@ -1,10 +1,28 @@
 """The lifetime of a study's local worker processes and the signals of the process running it.
 
+* How workers start (:func:`worker_processes`): where multiprocessing has the "forkserver"
+  start method (Linux, macOS), a fork server of this process imports what a case needs once
+  (:data:`PRELOAD`: the transient and modal analyses, the metrics, xarray; ~1.5–2 s of CPU)
+  and each worker is a fork of it, ready to compute; with "spawn" (Windows, or a run while
+  another run of the same process uses the fork server with another environment) every worker
+  is a fresh interpreter that imports them again.
+  One code path, the start method chosen by availability. The fork server is gearrotor's own
+  (not multiprocessing's default one, which other libraries may use with other modules and
+  another environment), started by :func:`worker_processes` in the main thread with the
+  environment the workers must have (the caller's, with the one-thread variables of the run)
+  and SIGINT blocked; it is kept for the next run of the same process while the environment
+  and ``sys.path`` (and the folder, if ``sys.path`` has a relative entry) stay the same, and
+  started again when they change (it imported its modules under them). It ends with that
+  process: at its exit (:mod:`atexit`), or when the process is killed.
 * A worker dies with its parent: :func:`init_worker` (the pool's initializer) asks Linux to send
   it SIGKILL when the process that started it ends (``prctl(PR_SET_PDEATHSIG)``), so a
   ``study run`` killed with SIGKILL or by the OOM killer leaves no worker computing for minutes.
-  Elsewhere (macOS, Windows) the request is skipped: the pool's own shutdown still ends the
-  workers on an ordinary exit or Ctrl-C.
+  A forked worker's parent is the fork server: the server ends when the last holder of the
+  write end of its "alive" pipe ends, which multiprocessing hands to every worker as well, so
+  the worker closes its copy first thing (:func:`init_worker`); the process running the study
+  is then the only holder, and its end (also by SIGKILL) ends the server, whose end kills the
+  workers. Elsewhere (macOS, Windows) the request is skipped: the pool's own shutdown still
+  ends the workers on an ordinary exit or Ctrl-C.
 * A worker never sees SIGINT: Ctrl-C at a terminal goes to the whole process group, and only
   the parent should answer it (it stops the pool, :func:`stop_pool`, or the Dask cluster,
   :func:`stop_local_cluster`), not every worker with a traceback. The workers are started with
@@ -24,6 +42,7 @@
 
 from __future__ import annotations
 
+import atexit
 import contextlib
 import ctypes
 import ctypes.util
@@ -32,9 +51,11 @@ import os
 import signal
 import sys
 import threading
+import time
 from collections.abc import Callable, Iterator
 
 __all__ = [
+    "PRELOAD",
     "StopSignals",
     "Terminated",
     "children_without_sigint",
@@ -42,7 +63,15 @@ __all__ = [
     "signals_deferred",
     "stop_local_cluster",
     "stop_pool",
+    "start_method",
+    "worker_processes",
 ]
+
+try:  # not on Windows (no sending of file descriptors)
+    from multiprocessing import context as _mp_context
+    from multiprocessing import popen_forkserver as _popen_forkserver
+except ImportError:
+    _popen_forkserver = None
 
 _PR_SET_PDEATHSIG = 1  # <linux/prctl.h>
 _STOP = (signal.SIGINT, signal.SIGTERM)  # the signals that stop a study
@@ -67,11 +96,219 @@ def _die_with_parent(parent: int) -> bool:
     return True
 
 
-def init_worker(parent: int) -> None:
-    """Initializer of a local worker process: die with ``parent`` (the pid of the process that
-    runs the study), ignore SIGINT."""
+def init_worker(parent: int, env: dict[str, str] | None = None) -> None:
+    """Initializer of a local worker process: ignore SIGINT, die with ``parent`` (the pid of
+    the process that started it: the one that runs the study, or its fork server), take the
+    environment ``env`` (the caller's when the pool was made: a fork server's is the one it was
+    started with) and run BLAS/OpenMP on one thread."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     _die_with_parent(parent)
+    _leave_forkserver()
+    if env is not None and dict(os.environ) != env:
+        os.environ.clear()
+        os.environ.update(env)
+    _one_thread()
+
+
+def _leave_forkserver() -> None:
+    """Close this worker's copy of its fork server's "alive" pipe (none when spawned): the
+    server ends once the process that runs the study, the pipe's other holder, ends, and with
+    it (``PR_SET_PDEATHSIG``) this worker. Kept open, the server and its workers would wait for
+    each other for ever after a SIGKILL of the study."""
+    from multiprocessing import forkserver
+
+    server = forkserver._forkserver
+    fd = getattr(server, "_forkserver_alive_fd", None)
+    if fd is not None and forkserver.get_inherited_fds() is not None:  # a forked worker
+        with contextlib.suppress(OSError):
+            os.close(fd)
+        server._forkserver_alive_fd = None
+
+
+def _one_thread() -> None:
+    """One thread for the BLAS/OpenMP libraries already loaded (the fork server loaded numpy's
+    under the one-thread variables; this holds whatever it was started with)."""
+    with contextlib.suppress(ImportError):
+        from threadpoolctl import threadpool_limits
+
+        threadpool_limits(1)  # kept: called as a function, not as a context
+
+
+#: Imported once by the fork server (``python -X importtime`` of a worker running a case: the
+#: transient analysis 0.95 s, the study execution with the model and units 0.51 s, the metrics
+#: 0.27 s, dask as xarray looks for it 0.25–0.33 s; a missing optional one is skipped).
+PRELOAD = (
+    "gearrotor.studies.execute",
+    "gearrotor.studies.metrics",
+    "gearrotor.analyses",
+    "gearrotor.analyses.transient",
+    "xarray",
+    "dask.array",
+    "threadpoolctl",
+)
+
+#: Variables that change without bearing on the workers (pytest names the running test): a
+#: change of any other variable starts the fork server again.
+_VOLATILE_ENV = ("PYTEST_CURRENT_TEST",)
+
+_server_lock = threading.Lock()
+_server: dict = {"server": None, "key": None, "users": 0}
+_route = threading.local()  # the fork server a Process started in this thread connects to
+
+
+def start_method() -> str:
+    """``"forkserver"`` where multiprocessing has it (Linux, macOS) with the pieces
+    :func:`worker_processes` builds on, else ``"spawn"`` (Windows)."""
+    import multiprocessing
+
+    if "forkserver" not in multiprocessing.get_all_start_methods() or _popen_forkserver is None:
+        return "spawn"
+    from multiprocessing import forkserver, popen_forkserver
+
+    needs = ("_forkserver_pid", "_forkserver_alive_fd", "_forkserver_address")
+    server = getattr(forkserver, "ForkServer", lambda: None)()
+    if (
+        server is None
+        or not all(hasattr(server, a) for a in needs)
+        or not callable(getattr(forkserver, "connect_to_new_process", None))
+        or not hasattr(popen_forkserver.Popen, "_launch")
+    ):
+        return "spawn"  # a multiprocessing whose fork server this module does not know
+    return "forkserver"
+
+
+@contextlib.contextmanager
+def worker_processes(method: str | None = None) -> Iterator[tuple[object, int]]:
+    """The multiprocessing context to start a pool's workers with, and the pid
+    :func:`init_worker` checks as their parent: gearrotor's fork server's
+    (:func:`start_method`) or this process's (spawn). Enter it in the main thread, with the
+    environment the workers must have: a fork server started here keeps it. ``method``
+    forces one (tests)."""
+    import multiprocessing
+
+    method = method or start_method()
+    if method != "forkserver":
+        yield multiprocessing.get_context("spawn"), os.getpid()
+        return
+    server = _acquire_forkserver()
+    if server is None:  # another run of this process uses it, with another environment
+        yield multiprocessing.get_context("spawn"), os.getpid()
+        return
+    try:
+        yield _forkserver_context(server), server._forkserver_pid
+    finally:
+        with _server_lock:
+            _server["users"] -= 1
+
+
+def _acquire_forkserver():
+    """gearrotor's fork server, running, started under the current environment and
+    ``sys.path`` (and folder), having imported :data:`PRELOAD`: the one of an earlier run when
+    they are the same, else a new one (the earlier one is stopped when no run uses it). Not
+    multiprocessing's own: that one may be another library's (other modules, other
+    environment), and a library that uses it gets what it asked for. None when another run
+    of this process uses ours with another environment (that run spawns its workers)."""
+    from multiprocessing import forkserver
+
+    key = (
+        tuple(sorted((k, v) for k, v in os.environ.items() if k not in _VOLATILE_ENV)),
+        tuple(sys.path),
+        # the modules are found from the current folder through a relative entry ("")
+        os.getcwd() if not all(os.path.isabs(p) for p in sys.path) else None,
+        PRELOAD,
+    )
+    with _server_lock:
+        server = _server["server"]
+        if server is None or _server["key"] != key:
+            if server is not None:
+                if _server["users"]:
+                    return None
+                _stop_forkserver(server)
+            server = forkserver.ForkServer()
+            server.set_forkserver_preload(list(PRELOAD))
+            # ended and reaped when this process exits (it would end by itself a moment
+            # later): none is left behind, and its CPU time and its workers' are this
+            # process's children's in the operating system's accounting
+            atexit.register(_stop_forkserver, server)
+            _server.update(server=server, key=key, users=0)
+        # SIGINT blocked in the server, so in every worker it forks (children_without_sigint)
+        with children_without_sigint():
+            server.ensure_running()  # starts it, or again if it died
+        _server["users"] += 1
+        return server
+
+
+def _stop_forkserver(server) -> None:
+    """Ask a fork server of ours to end (close our end of its "alive" pipe) and reap it; not
+    waiting more than a second (a process forked from this one would hold a copy)."""
+    from multiprocessing import util
+
+    pid, fd, address = (
+        server._forkserver_pid,
+        server._forkserver_alive_fd,
+        server._forkserver_address,
+    )
+    server._forkserver_pid = server._forkserver_alive_fd = server._forkserver_address = None
+    if pid is None:
+        return
+    with contextlib.suppress(OSError):
+        os.close(fd)
+    if address and not util.is_abstract_socket_namespace(address):
+        with contextlib.suppress(OSError):
+            os.unlink(address)
+    for _ in range(100):
+        try:
+            if os.waitpid(pid, os.WNOHANG)[0]:
+                return
+        except ChildProcessError:
+            return
+        time.sleep(0.01)
+
+
+def _forkserver_context(server):
+    """A "forkserver" multiprocessing context whose processes are forked by ``server``."""
+    from multiprocessing import context, forkserver
+
+    _route_connections(forkserver)
+    ctx = context.ForkServerContext()
+    ctx.Process = _ForkedProcess
+    return ctx
+
+
+if _popen_forkserver is not None:
+
+    class _ForkedPopen(_popen_forkserver.Popen):
+        """multiprocessing's forkserver ``Popen``, forked by gearrotor's fork server."""
+
+        def _launch(self, process_obj):
+            _route.server = _server["server"]
+            try:
+                super()._launch(process_obj)
+            finally:
+                _route.server = None
+
+    class _ForkedProcess(_mp_context.ForkServerProcess):
+        """A process forked by gearrotor's fork server (module level: it is pickled)."""
+
+        @staticmethod
+        def _Popen(process_obj):
+            return _ForkedPopen(process_obj)
+
+
+def _route_connections(forkserver) -> None:
+    """Have ``multiprocessing.forkserver.connect_to_new_process`` (what a forkserver Process
+    calls to be forked) go to the server a Process started in this thread asked for
+    (:data:`_route`), else, as before, to multiprocessing's own."""
+    if getattr(forkserver.connect_to_new_process, "_gearrotor", False):
+        return
+    default = forkserver.connect_to_new_process
+
+    def connect_to_new_process(fds):
+        server = getattr(_route, "server", None)
+        return default(fds) if server is None else server.connect_to_new_process(fds)
+
+    connect_to_new_process._gearrotor = True
+    forkserver.connect_to_new_process = connect_to_new_process
 
 
 @contextlib.contextmanager
