@@ -214,3 +214,11 @@ def test_no_fork_server_is_left_after_a_study(tmp_path):
     while alive(pid) and time.time() < deadline:
         time.sleep(0.05)
     assert not alive(pid), f"the fork server {pid} outlived its process"
+
+
+def test_spawn_on_pythons_whose_fork_server_is_not_checked(monkeypatch):
+    """The fork server is driven through pieces private to multiprocessing, checked on the
+    Python versions the suite runs on; a later Python (3.14 authenticates the connections to
+    a fork server) spawns its workers until it is checked."""
+    monkeypatch.setattr(sys, "version_info", (3, 14, 0, "final", 0))
+    assert W.start_method() == "spawn"

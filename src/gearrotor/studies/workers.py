@@ -158,11 +158,16 @@ _route = threading.local()  # the fork server a Process started in this thread c
 
 def start_method() -> str:
     """``"forkserver"`` where multiprocessing has it (Linux, macOS) with the pieces
-    :func:`worker_processes` builds on, else ``"spawn"`` (Windows)."""
+    :func:`worker_processes` builds on, else ``"spawn"`` (Windows). Those pieces are private
+    to multiprocessing (the fork server's fields, ``Popen._launch``,
+    ``connect_to_new_process``): used on the Python versions the suite ran on (3.11, 3.13;
+    3.12 between them), spawn on later ones until they are checked."""
     import multiprocessing
 
     if "forkserver" not in multiprocessing.get_all_start_methods() or _popen_forkserver is None:
         return "spawn"
+    if sys.version_info >= (3, 14):  # private pieces used here verified on 3.11-3.13 only
+        return "spawn"  # (3.14 authenticates the connections to a fork server)
     from multiprocessing import forkserver, popen_forkserver
 
     needs = ("_forkserver_pid", "_forkserver_alive_fd", "_forkserver_address")
