@@ -151,6 +151,9 @@ def test_multiprocessing_s_own_fork_server_is_neither_used_nor_changed(monkeypat
 
     monkeypatch.setenv("OPENBLAS_NUM_THREADS", "4")
     theirs = forkserver._forkserver
+    # started by an earlier test of this process under another environment (the doc
+    # examples' runner, under the suite's one BLAS thread): started again under this one
+    theirs._stop()
     saved = theirs._preload_modules
     theirs.set_forkserver_preload(["numpy"])
     theirs.ensure_running()
