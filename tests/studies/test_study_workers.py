@@ -19,7 +19,7 @@ from pathlib import Path
 import pytest
 import xarray as xr
 
-from fault_helpers import alive
+from fault_helpers import alive, skip_without_proc
 from gearrotor.studies import THREAD_ENV, case_path, load_study, plan, run_study
 from gearrotor.studies import workers as W
 from gearrotor.studies.execute import _local_pool, _payload, run_case
@@ -49,7 +49,6 @@ window = "0.05 s"
 
 FORKSERVER = W.start_method() == "forkserver"
 needs_forkserver = pytest.mark.skipif(not FORKSERVER, reason="no fork server here (spawn)")
-needs_proc = pytest.mark.skipif(not Path("/proc/self/status").exists(), reason="Linux /proc")
 
 
 def _study(folder: Path):
@@ -109,7 +108,7 @@ def test_forked_workers_give_the_spawned_workers_results_bit_for_bit(tmp_path, m
         assert a.attrs["worker_env"] == b.attrs["worker_env"]
 
 
-@needs_proc
+@skip_without_proc
 @pytest.mark.parametrize("method", ["forkserver", "spawn"])
 def test_workers_get_the_environment_of_the_run_and_never_see_sigint(monkeypatch, method):
     """A variable the user sets before a run (GEARROTOR_CACHE_DIR) is in the workers, also
@@ -199,7 +198,7 @@ if __name__ == "__main__":
 
 
 @needs_forkserver
-@needs_proc
+@skip_without_proc
 def test_no_fork_server_is_left_after_a_study(tmp_path):
     """The fork server of a process that ran a study ends when that process ends (it is not
     a daemon of its own: its "alive" pipe's only holder left is that process)."""
