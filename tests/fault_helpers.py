@@ -8,7 +8,8 @@ tests/static/): real faults made on purpose, and the checks of what they must le
   a process leaves;
 * a signal at a chosen moment: the ``gearrotor`` program run in a child process that sends
   itself a real SIGINT/SIGTERM/SIGKILL when a given function is first called
-  (:func:`run_signalled`);
+  (:func:`run_signalled`; the child is forked from a server that imported the package once,
+  :func:`run_program`);
 * damaged result files (:func:`rewrite_netcdf`).
 """
 
@@ -17,8 +18,10 @@ from __future__ import annotations
 import contextlib
 import errno
 import os
+import signal
 import subprocess
 import sys
+import time
 import uuid
 from collections.abc import Callable, Iterator
 from pathlib import Path
@@ -129,6 +132,14 @@ def children(pid: int) -> list[int]:
     return out
 
 
+def parent_of(pid: int) -> int:
+    """The parent's pid of ``pid`` (0 once it has ended; Linux /proc)."""
+    try:
+        return int(Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[1])
+    except (OSError, IndexError, ValueError):
+        return 0
+
+
 def descendants(pid: int) -> list[int]:
     """The pids of the children of ``pid``, their children, and so on (Linux /proc)."""
     out, todo = [], [pid]
@@ -173,6 +184,29 @@ def alive(pid: int) -> bool:
     return state != "Z"
 
 
+def _ticks(stat: Path) -> float:
+    """User + system CPU seconds of the task whose ``/proc/.../stat`` this is (0 once ended)."""
+    try:
+        fields = stat.read_text().rsplit(")", 1)[1].split()
+    except (OSError, IndexError):
+        return 0.0
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
+def cpu_seconds(pid: int) -> float:
+    """CPU time (user + system, all threads) ``pid`` has used (Linux /proc; 0 once ended)."""
+    return _ticks(Path(f"/proc/{pid}/stat"))
+
+
+def thread_cpu_seconds(pid: int) -> list[float]:
+    """CPU time of each thread of ``pid`` but its main thread (Linux /proc)."""
+    try:
+        tasks = [t for t in Path(f"/proc/{pid}/task").iterdir() if t.name != str(pid)]
+    except OSError:
+        return []
+    return [_ticks(t / "stat") for t in tasks]
+
+
 def env() -> dict[str, str]:
     """The environment of a child ``gearrotor`` process: this tree's sources."""
     return {**os.environ, "PYTHONPATH": str(SRC)}
@@ -211,28 +245,200 @@ main()
 """
 
 
+#: A program started once that imports the libraries the programs of these tests import (numpy,
+#: SciPy, numba, xarray, matplotlib...: ~1.6 s of the ~2 s the imports take, most of such a
+#: program's run) and then, for each request (a JSON line on its stdin), forks a child that
+#: becomes that program: the request's environment, folder, arguments and output files, its code
+#: run as ``python -c`` runs it, at the top level of the interpreter (its exit, atexit callbacks
+#: and signals are the interpreter's own); the server prints the child's pid, then its exit
+#: status (``-N``: killed by signal N). gearrotor itself is not imported in the server: the child
+#: imports it as a fresh program does, so that code which replaces one of its functions first
+#: (``_SIGNALLED``) sees every module bind the replacement.
+_FORK_SERVER = r"""
+import json, os, sys
+for name in json.loads(sys.argv[1]):
+    try:
+        __import__(name)
+    except ImportError:  # an optional part (a [extra]) not installed
+        pass
+requests = open(0, "rb", buffering=0, closefd=False)  # unbuffered: nothing a child would see
+while True:
+    line = requests.readline()
+    if not line:
+        os._exit(0)
+    pid = os.fork()
+    if pid == 0:
+        break
+    print(pid, flush=True)
+    print(os.waitstatus_to_exitcode(os.waitpid(pid, 0)[1]), flush=True)
+request = json.loads(line)
+del line, name, pid, requests
+os.chdir(request["cwd"])
+os.environ.clear()
+os.environ.update(request["env"])
+for fd, path, flags in (
+    (0, os.devnull, os.O_RDONLY),
+    (1, request["stdout"], os.O_WRONLY | os.O_CREAT | os.O_TRUNC),
+    (2, request["stderr"], os.O_WRONLY | os.O_CREAT | os.O_TRUNC),
+):
+    opened = os.open(path, flags, 0o600)
+    os.dup2(opened, fd)
+    os.close(opened)
+sys.stdin = open(0, closefd=False)
+sys.argv = ["-c", *request["argv"]]
+code = compile(request["code"], "<string>", "exec")
+del request, fd, path, flags, opened
+exec(code, {"__name__": "__main__", "__builtins__": __builtins__})
+"""
+
+#: What the fork server imports: the libraries gearrotor's commands load, not gearrotor (a
+#: missing optional one is skipped).
+PRELOAD = (
+    "numpy",
+    "scipy.constants",
+    "scipy.fft",
+    "scipy.linalg",
+    "scipy.optimize",
+    "scipy.sparse.linalg",
+    "scipy.spatial",
+    "scipy.special",
+    "numba",
+    "pandas",
+    "xarray",
+    "dask.array",
+    "h5py",
+    "h5netcdf",
+    "matplotlib.pyplot",
+    "PIL.Image",
+    "pydantic",
+    "typer",
+    "platformdirs",
+    "threadpoolctl",
+    "yaml",
+    "rainflow",
+)
+
+#: Variables that change without bearing on what the server imported (pytest names the test).
+_VOLATILE = ("PYTEST_CURRENT_TEST",)
+_server: dict = {"proc": None, "key": None}
+
+
+def _stop_server() -> None:
+    proc = _server["proc"]
+    if proc is not None and proc.poll() is None:
+        proc.stdin.close()  # it exits at the end of its input
+        try:
+            proc.wait(timeout=10)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            proc.wait()
+    _server["proc"] = None
+
+
+def _fork_server(environ: dict[str, str]) -> subprocess.Popen:
+    """The fork server (started at the first use, and again when the environment changed: it
+    imported its modules under the one it was started with)."""
+    key = {k: v for k, v in environ.items() if k not in _VOLATILE}
+    proc = _server["proc"]
+    if proc is None or proc.poll() is not None or _server["key"] != key:
+        _stop_server()
+        import atexit
+        import json
+
+        proc = subprocess.Popen(
+            [sys.executable, "-c", _FORK_SERVER, json.dumps(PRELOAD)],
+            stdin=subprocess.PIPE,
+            stdout=subprocess.PIPE,
+            bufsize=0,
+            env=environ,
+        )
+        if _server["key"] is None:
+            atexit.register(_stop_server)
+        _server.update(proc=proc, key=key)
+    return proc
+
+
+def _read_line(proc: subprocess.Popen, deadline: float) -> str | None:
+    """One line of the fork server's output, read a byte at a time (nothing buffered past
+    it); None at the deadline."""
+    import select
+
+    out = b""
+    while not out.endswith(b"\n"):
+        left = deadline - time.monotonic()
+        if left <= 0 or not select.select([proc.stdout], [], [], left)[0]:
+            return None
+        byte = os.read(proc.stdout.fileno(), 1)
+        if not byte:
+            raise AssertionError("the fork server of the tests ended")
+        out += byte
+    return out.decode()
+
+
+def run_program(code: str, *args, timeout: float = 300) -> subprocess.CompletedProcess:
+    """``python -c CODE ARGS`` with :func:`env`, in the current folder, its output captured:
+    forked from a server that has imported the package (:data:`_FORK_SERVER`), for tests
+    about what a program does after it started, not about its start."""
+    import json
+    import tempfile
+
+    environ = env()
+    argv = [str(a) for a in args]
+    proc = _fork_server(environ)
+    deadline = time.monotonic() + timeout
+    with tempfile.TemporaryDirectory(prefix="gearrotor-test-run-") as d:
+        out, err = Path(d) / "stdout", Path(d) / "stderr"
+        request = {"code": code, "argv": argv, "env": environ, "cwd": os.getcwd()}
+        request.update(stdout=str(out), stderr=str(err))
+        data = json.dumps(request).encode() + b"\n"
+        while data:  # a raw pipe may take a part of it
+            data = data[proc.stdin.write(data) :]
+        pid = int(_read_line(proc, time.monotonic() + 60) or 0)
+        assert pid > 0, "the fork server of the tests did not answer"
+        status = _read_line(proc, deadline)
+        if status is None:
+            os.kill(pid, signal.SIGKILL)
+            _read_line(proc, time.monotonic() + 60)
+            raise subprocess.TimeoutExpired([sys.executable, "-c", code, *argv], timeout)
+        return subprocess.CompletedProcess(
+            [sys.executable, "-c", code, *argv],
+            int(status),
+            out.read_text(errors="replace"),
+            err.read_text(errors="replace"),
+        )
+
+
 def run_signalled(
     target: str, sig: str, *args, nth: int = 1, timeout: float = 300
 ) -> subprocess.CompletedProcess:
     """``gearrotor ARGS`` in a child process that receives ``sig`` ("SIGINT", "SIGKILL", ...)
-    when ``target`` is called the ``nth`` time (see ``_SIGNALLED``)."""
-    return subprocess.run(
-        [sys.executable, "-c", _SIGNALLED, target, sig, str(nth), *map(str, args)],
-        capture_output=True,
-        text=True,
-        timeout=timeout,
-        env=env(),
-    )
+    when ``target`` is called the ``nth`` time (see ``_SIGNALLED``; run by
+    :func:`run_program`)."""
+    return run_program(_SIGNALLED, target, sig, nth, *args, timeout=timeout)
 
 
 # ---- damaged files -------------------------------------------------------------------------------
+#: Datasets read by :func:`rewrite_netcdf`, by the SHA-256 of their file (xarray takes ~0.3 s to
+#: open one case file: the tests damage copies of the same few files again and again).
+_READ: dict = {}
+
+
 def rewrite_netcdf(src: Path, dst: Path, change: Callable) -> None:
-    """Read the NetCDF ``src``, apply ``change`` (Dataset -> Dataset) and write ``dst`` (which may
-    be ``src``) without the package's checks, as a foreign or damaged file would be."""
+    """Read the NetCDF ``src``, apply ``change`` (Dataset -> Dataset, given a deep copy) and
+    write ``dst`` (which may be ``src``) without the package's checks, as a foreign or damaged
+    file would be."""
+    import hashlib
+
     import xarray as xr
 
-    with xr.open_dataset(src, engine="h5netcdf") as ds:
-        ds = change(ds.load())
+    key = hashlib.sha256(Path(src).read_bytes()).hexdigest()
+    if key not in _READ:  # the same content in another copy of a study: read once
+        if len(_READ) > 16:
+            _READ.clear()
+        with xr.open_dataset(src, engine="h5netcdf") as ds:
+            _READ[key] = ds.load()
+        xr.backends.file_manager.FILE_CACHE.clear()
+    ds = change(_READ[key].copy(deep=True))
     if Path(dst).exists():
         Path(dst).unlink()
     ds.to_netcdf(dst, engine="h5netcdf")

@@ -25,6 +25,7 @@ import pytest
 
 from fault_helpers import (
     alive,
+    cpu_seconds,
     dead_pid,
     descendants,
     env,
@@ -34,8 +35,11 @@ from fault_helpers import (
     leftovers,
     must_not_run,
     one_line_exit_2,
+    parent_of,
+    run_program,
     run_signalled,
     skip_without_proc,
+    thread_cpu_seconds,
     tmpfs,
     workers_of,
 )
@@ -297,13 +301,30 @@ def test_study_run_on_a_read_only_file_system(examples, tmp_path, monkeypatch):
 
 
 # ---- signals -------------------------------------------------------------------------------------
-def _start_study(
-    study: Path, *extra: str, settle: float = 4.0, until: str = "workers"
-) -> subprocess.Popen:
+#: CPU seconds a worker has spent once it is surely inside its case's integration loop (30-s
+#: cases run for ~10 s of CPU): a forked worker imports nothing (its fork server did), and
+#: ``run_case`` spends at most ~0.7 s before the loop (numba's cache loaded, measured cold;
+#: 0.04 s warm); a spawned worker first imports the stack (~2 s, workers.PRELOAD); a Dask worker
+#: runs the case in a thread of its own (counted alone), which imports the analyses (~1.3 s)
+#: first. CPU time, not a wait in seconds: the same moment on an idle and on a loaded machine.
+_IN_CASE = {"forked": 1.0, "spawned": 3.0, "dask": 2.5}
+
+
+def _in_case(worker: int, dask: bool) -> bool:
+    """``worker`` (a local worker, or a Dask worker process) is computing its case."""
+    if dask:
+        return max(thread_cpu_seconds(worker), default=0.0) >= _IN_CASE["dask"]
+    kind = "forked" if is_forkserver(parent_of(worker)) else "spawned"
+    return cpu_seconds(worker) >= _IN_CASE[kind]
+
+
+def _start_study(study: Path, *extra: str, until: str = "computing") -> subprocess.Popen:
     """``python -m gearrotor study run`` in its own session (a terminal's Ctrl-C goes to the
-    whole group: ``os.killpg``), waiting until two workers are computing (``settle`` s after
-    they appear; 0: while they are still starting), or (``until="preloading"``) until its fork
-    server runs and has forked no worker yet: it is still importing what the cases need."""
+    whole group: ``os.killpg``) with two workers, returned once both are computing their cases
+    (``until="computing"``: see ``_in_case``), as soon as both exist (``"starting"``: still
+    importing, or just forked), or (``"preloading"``) once its fork server runs and has forked
+    no worker yet: it is still importing what the cases need. Polled, never a fixed wait."""
+    dask = "--scheduler" in extra
     proc = subprocess.Popen(
         [sys.executable, "-m", "gearrotor", "study", "run", str(study), "--workers", "2", *extra],
         start_new_session=True,
@@ -312,20 +333,22 @@ def _start_study(
         text=True,
         env=env(),
     )
-    deadline = time.time() + 60
+    deadline = time.time() + 120
     while time.time() < deadline:
         assert proc.poll() is None, proc.communicate()
         if until == "preloading":
             if any(is_forkserver(c) for c in descendants(proc.pid)):
                 assert not workers_of(proc.pid), "forked before this test could look"
                 return proc
-        # two workers (spawned, or forked by the fork server); running a moment
-        elif len([c for c in workers_of(proc.pid) if alive(c)]) >= 2:
-            time.sleep(settle)
-            return proc
+        else:  # two workers (spawned, or forked by the fork server)
+            workers = [c for c in workers_of(proc.pid) if alive(c)]
+            if len(workers) >= 2 and (
+                until == "starting" or sum(_in_case(w, dask) for w in workers) >= 2
+            ):
+                return proc
         time.sleep(0.02)
     proc.kill()
-    raise AssertionError("the workers did not start")
+    raise AssertionError(f"the workers did not reach {until!r}")
 
 
 def _all_end(processes: list[int], what: str) -> None:
@@ -388,9 +411,8 @@ def test_interrupted_study_run_is_one_line(examples, tmp_path, sig, code, how, m
     it found the pool's queues gone and printed a traceback after the one line."""
     if moment == "preloading" and not _forkserver_expected():
         pytest.skip("workers are spawned here: no fork server")
-    # 30 s cases: still computing when the signal comes (2 s cases used to be; with the faster
-    # modal basis of issue 16 they end within the 4 s _start_study waits, and the signal then
-    # reaches a run that is writing its results)
+    # 30 s cases (~10 s of CPU): still computing when the signal comes, which _start_study
+    # sends ~1 s of CPU into them (2 s cases ended within the fixed 4-s wait it had before)
     study = _study(tmp_path, examples, rows=(360, 720, 1080, 1440), t_end=30.0)
     proc = _start_study(study, "--no-progress", until=moment)
     processes = descendants(proc.pid)  # the workers, their fork server, the resource tracker
@@ -406,35 +428,30 @@ def test_interrupted_study_run_is_one_line(examples, tmp_path, sig, code, how, m
     assert "run the same command again to resume" in lines[0]
     _all_end(processes, "processes")
     assert leftovers(tmp_path / "faults.study") == []
+    assert not list(tmp_path.glob("faults.study/cases/*.nc")), "a case ended: not while computing"
 
 
 @pytest.mark.slow
 @skip_without_proc
 @pytest.mark.parametrize(
-    ("backend", "settle", "until"),
-    [
-        ("dask", 4.0, "workers"),
-        ("dask", 0.0, "workers"),
-        ("local", 0.0, "workers"),
-        ("local", 0.0, "preloading"),
-    ],
-    ids=["dask-computing", "dask-starting", "local-starting", "local-preloading"],
+    ("backend", "until"),
+    [("dask", "computing"), ("dask", "starting"), ("local", "starting")],
+    ids=["dask-computing", "dask-starting", "local-starting"],
 )
 def test_ctrl_c_of_study_run_with_its_workers_starting_or_computing(
-    examples, tmp_path, backend, settle, until
+    examples, tmp_path, backend, until
 ):
     """Ctrl-C to ``study run --scheduler local`` (a Dask LocalCluster), and to the local pool
     while its workers start: one line, exit 130, no process left, no temporary. Before: the
     Dask nanny logged "Worker process still alive after 4.0 seconds, killing" for each busy
     worker (and took those 4 s); workers still importing printed a KeyboardInterrupt traceback
-    each, and an interrupted cluster start an "Exception ignored in atexit callback"."""
+    each, and an interrupted cluster start an "Exception ignored in atexit callback". (The
+    local pool's fork server still importing: test_interrupted_study_run_is_one_line.)"""
     if backend == "dask":
         pytest.importorskip("distributed", reason="the Dask backend is the [dask] extra")
-    if until == "preloading" and not _forkserver_expected():
-        pytest.skip("workers are spawned here: no fork server")
     study = _study(tmp_path, examples, rows=(360, 720, 1080, 1440), t_end=30.0)
     extra = ("--scheduler", "local") if backend == "dask" else ()
-    proc = _start_study(study, "--no-progress", *extra, settle=settle, until=until)
+    proc = _start_study(study, "--no-progress", *extra, until=until)
     processes = descendants(proc.pid)
     os.killpg(proc.pid, signal.SIGINT)  # a terminal's Ctrl-C: the whole foreground group
     _, err = proc.communicate(timeout=60)
@@ -534,14 +551,10 @@ def test_signal_at_any_moment_of_study_run_is_one_line(
     shutil.copytree(finished_study, tmp_path, dirs_exist_ok=True)
     folder = tmp_path / "signals.study"
     (folder / "results.nc").unlink()
-    r = subprocess.run(
-        [sys.executable, "-c", _SIGNAL_AT, point, sig, "study", "run", str(tmp_path / "study.toml")]
-        + ["--workers", "1", "--no-progress"],
-        capture_output=True,
-        text=True,
-        timeout=120,
-        env=env(),
-    )
+    r = run_program(
+        _SIGNAL_AT, point, sig, "study", "run", tmp_path / "study.toml", "--workers", "1",
+        "--no-progress", timeout=120,
+    )  # fmt: skip
     assert r.returncode == code, (r.returncode, r.stderr)
     lines = r.stderr.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith(f"interrupted ({how})"), r.stderr
@@ -558,15 +571,15 @@ def test_signal_at_any_moment_of_study_run_is_one_line(
 
 
 # ---- the report's temporary folder ------------------------------------------------------------
-#: ``gearrotor report`` that stops, its temporary folder complete, just before it is published,
-#: and prints the folder's path: the moment a SIGKILL leaves the most behind
-_PAUSED_REPORT = """
-import time
+#: ``gearrotor report`` that prints the path of its temporary folder, complete, just before it
+#: is published, and is killed there (SIGKILL): the moment that leaves the most behind
+_KILLED_REPORT = """
+import os, signal
 from gearrotor.plots.report import build
 
 def publish(tmp, output):
     print(tmp, flush=True)
-    time.sleep(600)
+    os.kill(os.getpid(), signal.SIGKILL)
 
 build.replace_directory = publish
 from gearrotor.cli import main
@@ -581,18 +594,9 @@ def test_report_killed_leaves_nothing_after_the_next_run(examples, tmp_path):
     the next report into the same output removes those of dead processes, not a live one's."""
     out = tmp_path / "rep"
     args = ["report", str(examples / SINGLE), "--output", str(out), "--analyses", "modal"]
-    proc = subprocess.Popen(
-        [sys.executable, "-c", _PAUSED_REPORT, *args],
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-        env=env(),
-    )
-    try:
-        tmp = Path(proc.stdout.readline().strip())
-    finally:
-        proc.kill()
-        _, err = proc.communicate(timeout=30)
+    r = run_program(_KILLED_REPORT, *args)
+    assert r.returncode == -signal.SIGKILL, r.stderr
+    tmp, err = Path(r.stdout.splitlines()[-1]), r.stderr
     assert tmp.parent == tmp_path and tmp.name.startswith(".rep.tmp-"), err
     assert (tmp / "report.html").exists()  # killed with the whole report in it
     live = tmp_path / f".rep.tmp-{os.getpid()}-abcdef"  # a report being built right now
@@ -846,16 +850,25 @@ def test_temporaries_of_a_killed_run_are_removed_by_the_next(small_ops, tmp_path
 
 
 # ---- issue 23: the report folder is replaced as a whole ----------------------------------------
-@pytest.fixture
-def earlier_report(examples, tmp_path) -> Path:
-    """A report with a Campbell diagram, which the next report (modes only) does not have."""
-    out = tmp_path / "rep"
+@pytest.fixture(scope="module")
+def campbell_report(examples, tmp_path_factory) -> Path:
+    """A report with a Campbell diagram, which the next report (modes only) does not have
+    (made once; each test gets a copy: :func:`earlier_report`)."""
+    out = tmp_path_factory.mktemp("report") / "rep"
     r = invoke(
         "report", examples / SINGLE, "--output", out, "--analyses", "modal,campbell",
         "--max-frequency", "30000",
     )  # fmt: skip
     assert r.exit_code == 0, (r.output, r.exception)
     assert (out / "campbell.png").exists()
+    return out
+
+
+@pytest.fixture
+def earlier_report(campbell_report, tmp_path) -> Path:
+    """A copy of :func:`campbell_report`, at ``tmp_path / "rep"``."""
+    out = tmp_path / "rep"
+    shutil.copytree(campbell_report, out)
     return out
 
 
