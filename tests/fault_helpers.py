@@ -273,6 +273,8 @@ while True:
     print(os.waitstatus_to_exitcode(os.waitpid(pid, 0)[1]), flush=True)
 request = json.loads(line)
 del line, name, pid, requests
+if request["session"]:  # as Popen(start_new_session=True): a group of its own for os.killpg
+    os.setsid()
 os.chdir(request["cwd"])
 os.environ.clear()
 os.environ.update(request["env"])
@@ -320,19 +322,20 @@ PRELOAD = (
 
 #: Variables that change without bearing on what the server imported (pytest names the test).
 _VOLATILE = ("PYTEST_CURRENT_TEST",)
-_server: dict = {"proc": None, "key": None}
+_server: dict = {"proc": None, "key": None, "running": None}
 
 
 def _stop_server() -> None:
     proc = _server["proc"]
-    if proc is not None and proc.poll() is None:
-        proc.stdin.close()  # it exits at the end of its input
+    if proc is not None:
+        proc.stdin.close()  # it exits at the end of its input (after the child it waits for)
         try:
             proc.wait(timeout=10)
         except subprocess.TimeoutExpired:
             proc.kill()
             proc.wait()
-    _server["proc"] = None
+        proc.stdout.close()
+    _server.update(proc=None, running=None)
 
 
 def _fork_server(environ: dict[str, str]) -> subprocess.Popen:
@@ -360,14 +363,16 @@ def _fork_server(environ: dict[str, str]) -> subprocess.Popen:
 
 def _read_line(proc: subprocess.Popen, deadline: float) -> str | None:
     """One line of the fork server's output, read a byte at a time (nothing buffered past
-    it); None at the deadline."""
+    it); None at the deadline (at once if it has passed and nothing is there)."""
     import select
 
     out = b""
     while not out.endswith(b"\n"):
-        left = deadline - time.monotonic()
-        if left <= 0 or not select.select([proc.stdout], [], [], left)[0]:
-            return None
+        left = max(deadline - time.monotonic(), 0.0)
+        if not select.select([proc.stdout], [], [], left)[0]:
+            if not out:
+                return None
+            continue  # the rest of a line being written
         byte = os.read(proc.stdout.fileno(), 1)
         if not byte:
             raise AssertionError("the fork server of the tests ended")
@@ -375,37 +380,91 @@ def _read_line(proc: subprocess.Popen, deadline: float) -> str | None:
     return out.decode()
 
 
-def run_program(code: str, *args, timeout: float = 300) -> subprocess.CompletedProcess:
-    """``python -c CODE ARGS`` with :func:`env`, in the current folder, its output captured:
-    forked from a server that has imported the package (:data:`_FORK_SERVER`), for tests
-    about what a program does after it started, not about its start."""
+class Program:
+    """A program forked by the server (:func:`start_program`), with the parts of
+    ``subprocess.Popen`` the tests use; its output goes to files, read when it has ended."""
+
+    def __init__(self, server: subprocess.Popen, args: list[str], folder: Path, pid: int):
+        self.args, self.pid, self.returncode = args, pid, None
+        self._server, self._folder = server, folder
+
+    def poll(self) -> int | None:
+        if self.returncode is None:
+            status = _read_line(self._server, 0.0)
+            if status is not None:
+                self.returncode = int(status)
+                _server["running"] = None
+        return self.returncode
+
+    def wait(self, timeout: float | None = None) -> int:
+        if self.returncode is None:
+            deadline = time.monotonic() + (1e9 if timeout is None else timeout)
+            status = _read_line(self._server, deadline)
+            if status is None:
+                raise subprocess.TimeoutExpired(self.args, timeout)
+            self.returncode = int(status)
+            _server["running"] = None
+        return self.returncode
+
+    def communicate(self, timeout: float | None = None) -> tuple[str, str]:
+        """Its stdout and stderr, once it has ended (within ``timeout`` s)."""
+        self.wait(timeout)
+        out = (self._folder / "stdout").read_text(errors="replace")
+        err = (self._folder / "stderr").read_text(errors="replace")
+        import shutil
+
+        shutil.rmtree(self._folder, ignore_errors=True)
+        return out, err
+
+    def send_signal(self, sig: int) -> None:
+        if self.poll() is None:
+            os.kill(self.pid, sig)
+
+    def kill(self) -> None:
+        self.send_signal(signal.SIGKILL)
+
+
+def start_program(code: str, *args, new_session: bool = False) -> Program:
+    """``python -c CODE ARGS`` with :func:`env`, in the current folder, started: forked from a
+    server that has imported the libraries (:data:`_FORK_SERVER`), for tests about what a
+    program does after it started, not about its start. ``new_session``: in a session (and
+    process group) of its own, as ``Popen(start_new_session=True)``."""
     import json
     import tempfile
 
     environ = env()
     argv = [str(a) for a in args]
     proc = _fork_server(environ)
-    deadline = time.monotonic() + timeout
-    with tempfile.TemporaryDirectory(prefix="gearrotor-test-run-") as d:
-        out, err = Path(d) / "stdout", Path(d) / "stderr"
-        request = {"code": code, "argv": argv, "env": environ, "cwd": os.getcwd()}
-        request.update(stdout=str(out), stderr=str(err))
-        data = json.dumps(request).encode() + b"\n"
-        while data:  # a raw pipe may take a part of it
-            data = data[proc.stdin.write(data) :]
-        pid = int(_read_line(proc, time.monotonic() + 60) or 0)
-        assert pid > 0, "the fork server of the tests did not answer"
-        status = _read_line(proc, deadline)
-        if status is None:
-            os.kill(pid, signal.SIGKILL)
-            _read_line(proc, time.monotonic() + 60)
-            raise subprocess.TimeoutExpired([sys.executable, "-c", code, *argv], timeout)
-        return subprocess.CompletedProcess(
-            [sys.executable, "-c", code, *argv],
-            int(status),
-            out.read_text(errors="replace"),
-            err.read_text(errors="replace"),
-        )
+    running = _server.get("running")
+    if running is not None and running.poll() is None:  # left by a failed test: the server
+        running.kill()  # waits for it before it reads the next request
+        running.wait(60)
+    folder = Path(tempfile.mkdtemp(prefix="gearrotor-test-run-"))
+    request = {"code": code, "argv": argv, "env": environ, "cwd": os.getcwd()}
+    request.update(stdout=str(folder / "stdout"), stderr=str(folder / "stderr"))
+    request.update(session=new_session)
+    data = json.dumps(request).encode() + b"\n"
+    while data:  # a raw pipe may take a part of it
+        data = data[proc.stdin.write(data) :]
+    pid = int(_read_line(proc, time.monotonic() + 60) or 0)
+    assert pid > 0, "the fork server of the tests did not answer"
+    program = Program(proc, [sys.executable, "-c", code, *argv], folder, pid)
+    _server["running"] = program
+    return program
+
+
+def run_program(code: str, *args, timeout: float = 300) -> subprocess.CompletedProcess:
+    """``python -c CODE ARGS`` run to its end by :func:`start_program`, its output captured
+    (as ``subprocess.run(..., capture_output=True, text=True)``)."""
+    program = start_program(code, *args)
+    try:
+        program.wait(timeout)
+    except subprocess.TimeoutExpired:
+        program.kill()
+        program.communicate(60)
+        raise
+    out, err = program.communicate()
+    return subprocess.CompletedProcess(program.args, program.returncode, out, err)
 
 
 def run_signalled(

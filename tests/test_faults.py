@@ -24,11 +24,11 @@ from pathlib import Path
 import pytest
 
 from fault_helpers import (
+    Program,
     alive,
     cpu_seconds,
     dead_pid,
     descendants,
-    env,
     full_disk_at_fsync,
     invoke,
     is_forkserver,
@@ -39,6 +39,7 @@ from fault_helpers import (
     run_program,
     run_signalled,
     skip_without_proc,
+    start_program,
     thread_cpu_seconds,
     tmpfs,
     workers_of,
@@ -318,21 +319,22 @@ def _in_case(worker: int, dask: bool) -> bool:
     return cpu_seconds(worker) >= _IN_CASE[kind]
 
 
-def _start_study(study: Path, *extra: str, until: str = "computing") -> subprocess.Popen:
-    """``python -m gearrotor study run`` in its own session (a terminal's Ctrl-C goes to the
-    whole group: ``os.killpg``) with two workers, returned once both are computing their cases
-    (``until="computing"``: see ``_in_case``), as soon as both exist (``"starting"``: still
-    importing, or just forked), or (``"preloading"``) once its fork server runs and has forked
-    no worker yet: it is still importing what the cases need. Polled, never a fixed wait."""
+#: ``python -m gearrotor``, for :func:`fault_helpers.start_program`
+_PYTHON_M_GEARROTOR = (
+    "import runpy; runpy.run_module('gearrotor', run_name='__main__', alter_sys=True)"
+)
+
+
+def _start_study(study: Path, *extra: str, until: str = "computing") -> Program:
+    """``python -m gearrotor study run`` (forked by ``start_program``) in its own session (a
+    terminal's Ctrl-C goes to the whole group: ``os.killpg``) with two workers, returned once
+    both are computing their cases (``until="computing"``: see ``_in_case``), as soon as both
+    exist (``"starting"``: still importing, or just forked), or (``"preloading"``) once its
+    fork server runs and has forked no worker yet: it is still importing what the cases need.
+    Polled, never a fixed wait."""
     dask = "--scheduler" in extra
-    proc = subprocess.Popen(
-        [sys.executable, "-m", "gearrotor", "study", "run", str(study), "--workers", "2", *extra],
-        start_new_session=True,
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-        env=env(),
-    )
+    args = ["study", "run", study, "--workers", "2", *extra]
+    proc = start_program(_PYTHON_M_GEARROTOR, *args, new_session=True)
     deadline = time.time() + 120
     while time.time() < deadline:
         assert proc.poll() is None, proc.communicate()
@@ -381,9 +383,7 @@ def test_sigkill_of_study_run_leaves_no_worker(examples, tmp_path, moment):
     processes = descendants(proc.pid)
     assert any(is_forkserver(c) for c in processes) == _forkserver_expected(), processes
     proc.kill()
-    proc.wait(timeout=30)  # not communicate(): surviving workers would hold its pipes open
-    proc.stdout.close()
-    proc.stderr.close()
+    proc.communicate(timeout=30)
     _all_end(processes, "workers or the fork server")
     # the next run in that folder removes the temporaries a killed run leaves (one is planted:
     # the kill above may or may not have hit a write); a 0.1-s case of the same folder does it
