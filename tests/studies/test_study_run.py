@@ -11,6 +11,8 @@ import json
 import os
 import signal
 import socket
+import subprocess
+import sys
 import time
 from pathlib import Path
 
@@ -19,7 +21,6 @@ import pytest
 import xarray as xr
 from typer.testing import CliRunner
 
-from fault_helpers import start_program
 from gearrotor.analyses import modal
 from gearrotor.cli.study import study_app
 from gearrotor.io import load_model
@@ -228,7 +229,12 @@ def test_killed_run_resumes(tmp_path):
         "import sys; from gearrotor.cli.study import study_app; "
         "study_app(['run', sys.argv[1], '--workers', '1', '--no-progress'])"
     )
-    proc = start_program(code, path, new_session=True)  # forked from a server of the tests
+    proc = subprocess.Popen(
+        [sys.executable, "-c", code, str(path)],
+        start_new_session=True,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+    )
     keys = [p.key for p in plan(st)]
     try:
         deadline = time.time() + 120
@@ -237,7 +243,7 @@ def test_killed_run_resumes(tmp_path):
             time.sleep(0.05)
         os.killpg(proc.pid, signal.SIGKILL)
     finally:
-        proc.communicate(timeout=30)
+        proc.wait(timeout=30)
     done = [k for k in keys if case_path(st, k).exists()]
     assert 1 <= len(done) < 3
     mtimes = {k: case_path(st, k).stat().st_mtime_ns for k in done}

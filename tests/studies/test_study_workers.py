@@ -11,6 +11,7 @@ tests/test_faults.py's.
 from __future__ import annotations
 
 import os
+import subprocess
 import sys
 import time
 from pathlib import Path
@@ -18,13 +19,14 @@ from pathlib import Path
 import pytest
 import xarray as xr
 
-from fault_helpers import alive, run_program, skip_without_proc
+from fault_helpers import alive, skip_without_proc
 from gearrotor.studies import THREAD_ENV, case_path, load_study, plan, run_study
 from gearrotor.studies import workers as W
 from gearrotor.studies.execute import _local_pool, _payload, run_case
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 MODEL = (EXAMPLES / "unity_gearbox.toml").as_posix()
+SRC = Path(__file__).resolve().parents[2] / "src"
 
 STUDY = f"""
 name = "workers"
@@ -203,7 +205,13 @@ def test_no_fork_server_is_left_after_a_study(tmp_path):
     """The fork server of a process that ran a study ends when that process ends (it is not
     a daemon of its own: its "alive" pipe's only holder left is that process)."""
     st = _study(tmp_path)
-    r = run_program(_RUN_AND_PRINT_SERVER, st.file)  # forked from a server of the tests
+    r = subprocess.run(
+        [sys.executable, "-c", _RUN_AND_PRINT_SERVER, str(st.file)],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        env={**os.environ, "PYTHONPATH": str(SRC)},
+    )
     assert r.returncode == 0 and r.stderr == "", r.stderr
     pid = int(r.stdout.split()[-1])
     deadline = time.time() + 10
