@@ -255,7 +255,13 @@ main()
 #: imports it as a fresh program does, so that code which replaces one of its functions first
 #: (``_SIGNALLED``) sees every module bind the replacement.
 _FORK_SERVER = r"""
-import json, os, sys
+import json, os, signal, sys
+# the signals as a program started from a terminal has them, whatever the test runner's (a
+# runner started in the background by a shell without job control ignores SIGINT, and Python
+# then keeps it ignored: no KeyboardInterrupt, in a fresh interpreter as well)
+signal.pthread_sigmask(signal.SIG_SETMASK, [])
+signal.signal(signal.SIGINT, signal.default_int_handler)
+signal.signal(signal.SIGTERM, signal.SIG_DFL)
 for name in json.loads(sys.argv[1]):
     try:
         __import__(name)
@@ -272,7 +278,7 @@ while True:
     print(pid, flush=True)
     print(os.waitstatus_to_exitcode(os.waitpid(pid, 0)[1]), flush=True)
 request = json.loads(line)
-del line, name, pid, requests
+del line, name, pid, requests, signal
 if request["session"]:  # as Popen(start_new_session=True): a group of its own for os.killpg
     os.setsid()
 os.chdir(request["cwd"])
