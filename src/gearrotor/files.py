@@ -319,17 +319,19 @@ def _laid_out(fig, savefig_kw: dict):
         or bbox not in (None, "tight")
         or rc["figure.autolayout"]  # (then set_layout_engine(None) would set one)
         or rc["figure.constrained_layout.use"]
-        or not (  # the save draws with Agg (a canvas without print_png switches to Agg)
-            isinstance(canvas, FigureCanvasAgg)
+        or not (  # the save draws with Agg (a canvas without print_png switches to Agg); a
+            # GUI canvas (an Agg subclass) would resize its window with the dpi: savefig's way
+            type(canvas) is FigureCanvasAgg
             or (
                 not hasattr(canvas, "print_png")
                 and get_registered_canvas_class("png") is FigureCanvasAgg
             )
         )
+        or getattr(canvas, "device_pixel_ratio", 1) != 1
     ):
         yield savefig_kw
         return
-    agg = canvas if isinstance(canvas, FigureCanvasAgg) else FigureCanvasAgg(fig)
+    agg = canvas if type(canvas) is FigureCanvasAgg else FigureCanvasAgg(fig)
     kw = dict(savefig_kw)
     try:
         dpi0 = fig.dpi

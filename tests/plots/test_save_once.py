@@ -129,6 +129,52 @@ def test_the_figure_keeps_its_engine_and_canvas():
     assert figure_bytes(fig, dpi=120) == first
 
 
+def _save_seen(fig, monkeypatch, **kw) -> dict:
+    """What ``figure_bytes`` passes to ``fig.savefig``: its keywords and the figure's layout
+    engine while it saves."""
+    seen = {}
+    real = fig.savefig
+
+    def savefig(buf, **savefig_kw):
+        seen.update(savefig_kw, engine=fig.get_layout_engine())
+        return real(buf, **savefig_kw)
+
+    monkeypatch.setattr(fig, "savefig", savefig)
+    figure_bytes(fig, **kw)
+    return seen
+
+
+@pytest.mark.parametrize("build", [_constrained_pyplot, _constrained_object_api, _tight_layout])
+def test_the_save_is_one_draw(build, monkeypatch):
+    """The saves above compare equal because the pass is left out (not because matplotlib's
+    own path was taken): savefig sees no engine and a crop box, not "tight"."""
+    from matplotlib.transforms import Bbox
+
+    plt = _pyplot()
+    fig = build()
+    seen = _save_seen(fig, monkeypatch, dpi=110, bbox_inches="tight")
+    plt.close(fig)
+    assert seen["engine"] is None
+    assert isinstance(seen["bbox_inches"], Bbox)
+
+
+def test_a_gui_canvas_saves_as_matplotlib_does(monkeypatch):
+    """A canvas of an interactive backend (a subclass of Agg's) would resize its window with
+    the dpi: savefig as it is."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    class Window(FigureCanvasAgg):
+        pass
+
+    plt = _pyplot()
+    fig = _constrained_pyplot()
+    Window(fig)
+    seen = _save_seen(fig, monkeypatch, dpi=110, bbox_inches="tight")
+    plt.close(fig)
+    assert seen["bbox_inches"] == "tight"
+    assert seen["engine"] is not None
+
+
 def test_other_saves_are_matplotlibs():
     """Other formats, a crop given as a box, other keywords: savefig as it is."""
     from matplotlib.transforms import Bbox
