@@ -74,6 +74,58 @@ _CHEAP_FIXTURES = {"examples", "doc_workspaces", "make_gearbox"}
 _SCOPE_RANK = {"session": 0, "package": 1, "module": 2, "class": 3}
 
 
+#: ``GEARROTOR_TESTS=all`` runs the slow cross-checks with the rest (CI: ``.ci/run``).
+_ALL = "all"
+
+
+def _slow_left_out(config) -> bool:
+    """Whether this run leaves out the tests marked slow: when no ``-m`` is given and
+    ``GEARROTOR_TESTS`` is not ``all``."""
+    return not config.option.markexpr and os.environ.get("GEARROTOR_TESTS", "").strip() != _ALL
+
+
+def _named(config) -> list[str]:
+    """The node ids named on the command line (``FILE::TEST``), relative to the root folder as
+    pytest writes them."""
+    out = []
+    for arg in config.args:
+        if "::" not in arg:
+            continue
+        path, rest = arg.split("::", 1)
+        try:
+            rel = Path(path).resolve().relative_to(config.rootpath).as_posix()
+        except ValueError:
+            continue
+        out.append(f"{rel}::{rest}")
+    return out
+
+
+def _leave_out_slow(config, items) -> None:
+    """The default run (the README's ``python3 -m pytest -n 2 -q``) leaves out the long
+    cross-checks marked slow, as pytest's own recipe for slow tests and SciPy's test runner do:
+    every area's checks and the docs' quick commands stay in it. ``-m slow`` runs them alone,
+    ``GEARROTOR_TESTS=all`` with the rest (CI runs the whole suite so: ``.ci/run``), and a
+    slow test named on the command line (``FILE::TEST``) runs."""
+    if not _slow_left_out(config):
+        return
+    named = _named(config)
+    keep, out = [], []
+    for item in items:
+        wanted = any(item.nodeid == n or item.nodeid.startswith((f"{n}[", f"{n}::")) for n in named)
+        (out if item.get_closest_marker("slow") and not wanted else keep).append(item)
+    if out:
+        config.hook.pytest_deselected(items=out)
+        items[:] = keep
+
+
+def pytest_terminal_summary(terminalreporter, exitstatus, config) -> None:
+    if _slow_left_out(config) and terminalreporter.stats.get("deselected"):
+        terminalreporter.write_line(
+            "the long cross-checks marked slow were left out: `-m slow` runs them, "
+            "`GEARROTOR_TESTS=all` runs the whole suite (as CI does)"
+        )
+
+
 @pytest.hookimpl(tryfirst=True)
 def pytest_collection_modifyitems(config, items) -> None:
     """The tests that share a module- or session-scoped fixture of this suite (a computed
@@ -85,6 +137,7 @@ def pytest_collection_modifyitems(config, items) -> None:
     ``loadgroup``)."""
     if os.environ.get("PYTEST_XDIST_WORKER") and os.environ.get("GEARROTOR_TEST_LOADGROUP"):
         config.option.loadgroup = True
+    _leave_out_slow(config, items)
     for item in items:
         if item.get_closest_marker("xdist_group"):
             continue

@@ -435,3 +435,43 @@ def test_written_counts_files_in_place_only(tmp_path):
     assert files.written()[n:] == ()
     files.replace_directory(tmp, tmp_path / "rep")
     assert files.written()[n:] == (tmp_path / "rep",)
+
+
+def test_a_failed_write_releases_its_in_memory_file(tmp_path, monkeypatch):
+    """The NetCDF and npz bytes are memoryviews of a BytesIO (xarray's ``to_netcdf()``,
+    ``files._npz``); a write that fails (a full disk) releases them at once. Left to the garbage
+    collector in the exception's reference cycle, a view could be collected after its BytesIO:
+    Python 3.12 printed "SystemError: deallocated BytesIO object has exported buffers" and the
+    process crashed (SIGSEGV) — tests/test_faults.py's transient on a full tmpfs, then any later
+    collection (found running the fault tests on 3.12.1)."""
+    import xarray as xr
+
+    views = []
+    real_npz, real_netcdf = files._npz, xr.Dataset.to_netcdf
+
+    def npz(arrays):
+        views.append(real_npz(arrays))
+        return views[-1]
+
+    def to_netcdf(self, *a, **kw):
+        views.append(real_netcdf(self, *a, **kw))
+        return views[-1]
+
+    monkeypatch.setattr(files, "_npz", npz)
+    monkeypatch.setattr(xr.Dataset, "to_netcdf", to_netcdf)
+    full_disk_at_fsync(monkeypatch)
+    with pytest.raises(ModelError, match="no space left"):
+        files.write_npz(tmp_path / "a.npz", x=np.zeros(3))
+    with pytest.raises(ModelError, match="no space left"):
+        files.write_netcdf(tmp_path / "a.nc", xr.Dataset({"x": ("n", np.zeros(3))}))
+    (tmp_path / "ro").mkdir()
+    (tmp_path / "ro").chmod(0o500)
+    try:
+        written = files.write_cache_entry(tmp_path / "ro" / "a.npz", x=np.zeros(3))
+    finally:
+        (tmp_path / "ro").chmod(0o700)
+    assert len(views) == 3 and all(isinstance(v, memoryview) for v in views)
+    for v in views:
+        with pytest.raises(ValueError, match="released"):
+            v.tobytes()
+    assert written is False or os.geteuid() == 0  # root writes in a read-only folder

@@ -296,7 +296,22 @@ def write_netcdf(path: str | os.PathLike, dataset, *, engine: str = "h5netcdf") 
 
             stack.enter_context(dask.config.set(scheduler="synchronous"))
         data = dataset.to_netcdf(engine=engine)
-    return write_bytes(path, data)
+    with _released(data):
+        return write_bytes(path, data)
+
+
+@contextlib.contextmanager
+def _released(data) -> Iterator[None]:
+    """Release ``data`` when it is a memoryview (of a ``BytesIO``: what xarray's ``to_netcdf()``
+    and :func:`_npz` return) once the block ends, also when it raises. A view left to the
+    garbage collector in the reference cycle of an exception's traceback (a full disk) could be
+    collected after its ``BytesIO``: Python 3.12 then printed "SystemError: deallocated BytesIO
+    object has exported buffers" and crashed the process (SIGSEGV)."""
+    try:
+        yield
+    finally:
+        if isinstance(data, memoryview):
+            data.release()
 
 
 def _npz(arrays) -> memoryview:
@@ -310,7 +325,9 @@ def _npz(arrays) -> memoryview:
 
 def write_npz(path: str | os.PathLike, **arrays) -> Path:
     """``numpy.savez`` of ``arrays`` to ``path`` atomically (produced in memory first)."""
-    return write_bytes(path, _npz(arrays))
+    data = _npz(arrays)
+    with _released(data):
+        return write_bytes(path, data)
 
 
 def write_cache_entry(path: str | os.PathLike, **arrays) -> bool:
@@ -333,6 +350,8 @@ def write_cache_entry(path: str | os.PathLike, **arrays) -> bool:
     except BaseException:
         _discard(tmp)
         raise
+    finally:
+        data.release()
     return True
 
 
