@@ -216,10 +216,25 @@ def test_dense_and_sparse_solvers_agree():
         np.testing.assert_allclose(sa.rigid_critical_speeds, sb.rigid_critical_speeds, rtol=1e-8)
 
 
-def test_intersections_with_a_tabulated_bearing():
+def strict_brentq(f, a, b, **kw):
+    """Brent's method as SciPy ≥ 1.18 runs it: a NaN value of ``f`` stops the search (SciPy
+    1.17 went on regardless)."""
+
+    def checked(x):
+        v = f(x)
+        assert np.isfinite(v), f"g({x!r}) = {v}"
+        return v
+
+    return brentq(checked, a, b, **kw)
+
+
+def test_intersections_with_a_tabulated_bearing(monkeypatch):
     """A bearing stiffness rising linearly with speed meets the first critical where
     ω_1(K(N)) = N: re-solving the map at exactly K(N) returns N (to the map's log-k
     interpolation error, ~1e-4 with 61 points over 4 decades)."""
+    import gearrotor.analyses.audit.ucs as ucs_module
+
+    monkeypatch.setattr(ucs_module, "brentq", strict_brentq)
     L, d = 1.0, 0.05
     rpm = np.array([1000.0, 20000.0])
     kk = np.array([1e6, 4e8])
@@ -557,3 +572,33 @@ def test_bearing_curves_at_an_operating_point_carry_its_loads():
     pin = [x for x in res.intersections if x.shaft == "pinion"]
     assert pin and all(x.directions == ("kxx",) for x in pin)
     assert all(13610 <= x.speed / rpm <= 14520 for x in pin)  # "13,618-14,518 rpm"
+
+
+def test_root_search_at_a_range_end_to_round_off(monkeypatch):
+    """Brent's method starts at the bracket's ends; an end where the curve crosses the sweep's
+    last stiffness gives back, through np.interp, a stiffness 1 ulp above it (these numbers do:
+    7.5e-9 N/m above 44,959,564.59 N/m). That end was "outside the sweep", g = NaN: SciPy 1.17
+    went on, SciPy 1.18 raised ValueError (`ucs` on a tabulated bearing failed with Python
+    3.12's newer SciPy). A sweep of ω² = c·√k (exact at every k) over [2e6, 44,959,564.59] N/m
+    and a bearing whose stiffness rises linearly from 1e6 to 4e8 N/m between 100 and 2000 rad/s
+    meet once, where c·√K(N) = N²."""
+    import gearrotor.analyses.audit.ucs as ucs_module
+
+    k_lo, k_hi, c = 2e6, 44959564.59045085, 10.0
+    S, K = (100.0, 2000.0), (1e6, 4e8)
+    n_hi = S[0] + (k_hi - K[0]) / (K[1] - K[0]) * (S[1] - S[0])
+    assert np.interp(n_hi, S, K) > k_hi  # the round-off this test is about
+
+    class Sweep:
+        ks = [k_lo, k_hi]
+        w2 = [np.array([c * np.sqrt(k)]) for k in ks]
+
+        def at(self, b, k):
+            assert k_lo <= k <= k_hi, k
+            return c * np.sqrt(k), np.array([1.0])
+
+    monkeypatch.setattr(ucs_module, "brentq", strict_brentq)
+    (got,) = ucs_module._meet(Sweep(), 0, 0, S, K, k_lo, k_hi)
+    n, k, q = got
+    assert k == pytest.approx(np.interp(n, S, K), rel=1e-12) and k_lo <= k <= k_hi
+    assert c * np.sqrt(k) == pytest.approx(n**2, rel=1e-9) and q == 1.0

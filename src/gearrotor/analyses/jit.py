@@ -28,9 +28,11 @@ import os
 import sys
 from pathlib import Path
 
+from numba import njit
 from numba.core import caching, config
+from numba.core.registry import CPUDispatcher
 
-__all__ = ["PackageCacheLocator", "cache_dir", "configure_cache"]
+__all__ = ["KernelOnly", "PackageCacheLocator", "cache_dir", "configure_cache", "kernel_only"]
 
 
 def cache_dir() -> Path:
@@ -109,3 +111,37 @@ class PackageCacheLocator(caching.UserProvidedCacheLocator):
         except (OSError, ValueError):
             return None  # not a gearrotor module: numba's other locators decide
         return super().from_function(py_func, py_file)
+
+
+class KernelOnly(CPUDispatcher):
+    """A numba dispatcher compiled without a Python entry point (:func:`kernel_only`): calling
+    it from Python raises TypeError (numba would jump to a null entry point and crash)."""
+
+    def __call__(self, *args, **kwargs):
+        raise TypeError(
+            f"{self.py_func.__qualname__} is compiled without a Python entry point: "
+            "it is called from other compiled kernels only"
+        )
+
+
+def kernel_only(**options):
+    """``numba.njit(**options)`` for a function called only from other compiled kernels: without
+    the wrappers numba adds so that Python (``no_cpython_wrapper``) or C (``no_cfunc_wrapper``)
+    can call it, as numba compiles its own ``@overload`` implementations.
+
+    Why: numba compiles a called kernel on its own before its caller, and links it into the
+    caller's module, which LLVM then optimises and compiles again, so each kernel is compiled
+    once by itself and once in every kernel that reaches it. The Python wrapper (it unboxes
+    every array of every pack, ~60 for the modal model) is compiled with it, and was as large
+    as the function itself: without it, compiling the transient kernels into an empty cache
+    takes ~23 % less CPU (docs/performance.md, "numba start-up"). The function itself, and so
+    every result, is the same to the bit: the wrappers only convert arguments.
+
+    The dispatcher becomes a :class:`KernelOnly`, whose call from Python raises TypeError."""
+
+    def decorate(fn):
+        dispatcher = njit(no_cpython_wrapper=True, no_cfunc_wrapper=True, **options)(fn)
+        dispatcher.__class__ = KernelOnly  # same layout (adds no slots): only __call__ differs
+        return dispatcher
+
+    return decorate

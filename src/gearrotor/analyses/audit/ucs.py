@@ -1013,6 +1013,10 @@ def _intersections(s: UCSShaft, branches, sweep: _Sweep, curves, ks, min_share):
     return out
 
 
+#: Relative round-off of a stiffness interpolated at a speed computed from it (np.interp).
+_ROUND = 1e-12
+
+
 def _meet(sweep: _Sweep, b: int, si: int, speeds, kv, k_lo: float, k_hi: float):
     """(N, K(N), q_s) where branch b meets the curve K(N) (``speeds`` None: a constant k).
 
@@ -1033,12 +1037,19 @@ def _meet(sweep: _Sweep, b: int, si: int, speeds, kv, k_lo: float, k_hi: float):
     def kof(n):
         return float(np.interp(n, S, K))
 
+    known: dict[float, float] = {}  # N -> g(N), exact
+
     def g(n):
+        if n in known:  # Brent's method starts at the bracket's ends: their exact values
+            return known[n]
         k = kof(n)
-        got = sweep.at(b, k) if k_lo <= k <= k_hi else None
+        if k_lo * (1 - _ROUND) <= k <= k_hi * (1 + _ROUND):  # a range end to round-off is in
+            k = min(max(k, k_lo), k_hi)
+            got = sweep.at(b, k)
+        else:
+            got = None
         return np.nan if got is None else float(np.sqrt(got[0]) - n)
 
-    known: dict[float, float] = {}  # N -> g(N), exact
     ks = np.asarray(sweep.ks)
     for i in range(len(S) - 1):
         n0, n1, k0, k1 = S[i], S[i + 1], K[i], K[i + 1]
@@ -1067,5 +1078,5 @@ def _meet(sweep: _Sweep, b: int, si: int, speeds, kv, k_lo: float, k_hi: float):
             elif np.isfinite(gs[j]) and np.isfinite(gs[j + 1]) and gs[j] * gs[j + 1] < 0:
                 roots.append(brentq(g, xs[j], xs[j + 1], xtol=1e-10, rtol=4 * np.finfo(float).eps))
     for n in sorted(roots):
-        k = kof(n)
+        k = min(max(kof(n), k_lo), k_hi)
         yield n, k, float(sweep.at(b, k)[1][si])

@@ -41,7 +41,7 @@ from numba import njit
 from numpy.typing import NDArray
 
 from ..csr import Csr, row_dot
-from ..jit import configure_cache
+from ..jit import configure_cache, kernel_only
 from ..torsional.drive_laws import Drives, drive_torques
 
 configure_cache()  # before the first @njit(cache=True): numba's cache outside the package
@@ -542,7 +542,7 @@ def bearing_forces(qs, vs, Om, bearings, fs):
             fs[dofs[j, 3]] -= fy
 
 
-@njit(cache=_CACHE, fastmath=False)
+@kernel_only(cache=_CACHE, fastmath=False)
 def nonlinear_forces(t, qs, vs, Om, forces, fs):
     """Generalised forces on the force DOFs (fs overwritten): meshes, unbalances, torques,
     speed-dependent bearings, drives and loads (:class:`Forces`).
@@ -566,7 +566,7 @@ def nonlinear_forces(t, qs, vs, Om, forces, fs):
         drive_torques(t, qs, vs, drives, True, fs)
 
 
-@njit(cache=_CACHE, fastmath=False)
+@kernel_only(cache=_CACHE, fastmath=False)
 def _lu_solve(A, b, piv):
     """Solve A x = b in place (b ← x) by Gaussian elimination with partial pivoting; A is
     overwritten. Returns False when A is singular."""
@@ -640,7 +640,7 @@ def _rk4_update(dt, q, v, k):
 # ------------------------------------------------------------------------------------------
 # physical coordinates
 # ------------------------------------------------------------------------------------------
-@njit(cache=_CACHE)
+@kernel_only(cache=_CACHE)
 def _csr_mv(A, x, out, scale_rows, Om, row_shaft, accumulate_sign):
     """out += sign · A x (rows optionally scaled by the speed of the row's shaft)."""
     indptr, indices, data = A
@@ -653,7 +653,7 @@ def _csr_mv(A, x, out, scale_rows, Om, row_shaft, accumulate_sign):
         out[i] += accumulate_sign * s
 
 
-@njit(cache=_CACHE)
+@kernel_only(cache=_CACHE)
 def _msolve(mass, x, out, y):
     """out = M⁻¹ x with the sparse Cholesky factor ``mass`` (:class:`MassFactor`)."""
     perm = mass.perm
@@ -678,7 +678,7 @@ def _msolve(mass, x, out, y):
         out[perm[i]] = y[i]
 
 
-@njit(cache=_CACHE)
+@kernel_only(cache=_CACHE)
 def _accel_physical(t, q, v, a, P, W):
     """Accelerations of the physical model (a ← q̈): P a :class:`PhysicalModel`, W its
     :class:`PhysicalWork`.
@@ -760,7 +760,7 @@ def _accel_physical(t, q, v, a, P, W):
             a[i] -= Z[c, i] * f
 
 
-@njit(cache=_CACHE)
+@kernel_only(cache=_CACHE)
 def _qdot(row, x, q, gq, ns, per_s, Q):
     """Q[:, row]ᵀ x for the low-rank factor Q of the implicit terms (physical model; gq the
     current ½ G q; ``Q`` = (speed rows, g_ptr, g_idx, the unbalances' DOFs, phases))."""
@@ -919,7 +919,7 @@ def rk4_physical(t0, dt, n_steps, q, v, save_every, row0, rec, P, W, k):
 # ------------------------------------------------------------------------------------------
 # modal coordinates
 # ------------------------------------------------------------------------------------------
-@njit(cache=_CACHE, fastmath=_FAST)
+@kernel_only(cache=_CACHE, fastmath=_FAST)
 def _accel_modal(t, e, de, a, P, W):
     """Modal accelerations (a ← η̈) of the :class:`ModalModel` P (M_r = I; work W a
     :class:`ModalWork`); the stiffness's skew part acts as a force on its force DOFs; the
@@ -1091,14 +1091,14 @@ def outputs_kernel(rec_q, rec_v, meshes, mesh_out):
 # ------------------------------------------------------------------------------------------
 # modal coordinates, linear part exact (integrating factor), contact changes located
 # ------------------------------------------------------------------------------------------
-@njit(cache=_CACHE, fastmath=False)
+@kernel_only(cache=_CACHE, fastmath=False)
 def _gap_deflections(k, qs, vs, dofs, w, teeth, te, n_te):
     """:func:`mesh_deflections` for :func:`mesh_gaps`, compiled on its own without fastmath
     (as in :func:`mesh_eval`; inlined into mesh_gaps it would take that function's flags)."""
     return mesh_deflections(k, qs, vs, dofs, w, teeth, te, n_te)
 
 
-@njit(cache=_CACHE, fastmath=_FAST)
+@kernel_only(cache=_CACHE, fastmath=_FAST)
 def mesh_gaps(qs, vs, meshes, G):
     """Gap functions of every mesh k into G[k, 0:4]: δ − b, δ̇ (drive line), δ_b − b, δ̇_b
     (back line), with the transmission error, as :func:`mesh_eval` forms them (> 0: that flank
@@ -1119,14 +1119,14 @@ def mesh_gaps(qs, vs, meshes, G):
         G[k, 3] = ddb
 
 
-@njit(cache=_CACHE, fastmath=_FAST)
+@kernel_only(cache=_CACHE, fastmath=_FAST)
 def _gaps_of(e, de, Phi_sel, qs, vs, meshes, G):
     """G[k, 0:4] = :func:`mesh_gaps` of every mesh at the modal state (e, de)."""
     _matvec2(Phi_sel, e, de, qs, vs)
     mesh_gaps(qs, vs, meshes, G)
 
 
-@njit(cache=_CACHE)
+@kernel_only(cache=_CACHE)
 def _op_code(G, pat, stride):
     """Index of the linear operator for the contact state of every mesh (gaps G)."""
     code = 0
@@ -1136,7 +1136,7 @@ def _op_code(G, pat, stride):
     return code
 
 
-@njit(cache=_CACHE)
+@kernel_only(cache=_CACHE)
 def _hermite(g0, d0, g1, d1, h, s):
     """Cubic Hermite interpolant on [0, h] at s·h (values g, slopes d per second)."""
     s2 = s * s
@@ -1149,7 +1149,7 @@ def _hermite(g0, d0, g1, d1, h, s):
     )
 
 
-@njit(cache=_CACHE)
+@kernel_only(cache=_CACHE)
 def _line_crossing(g0, d0, g1, d1, h, n_probe):
     """First zero crossing in (0, 1] (fraction of h) of the cubic Hermite interpolant through
     a gap g and its rate d at both ends of a step h, probed at ``n_probe`` points and bisected;
@@ -1173,7 +1173,7 @@ def _line_crossing(g0, d0, g1, d1, h, n_probe):
     return 2.0
 
 
-@njit(cache=_CACHE)
+@kernel_only(cache=_CACHE)
 def _first_event(G0, G1, h, n_probe, pat, stride, code, Gs):
     """Earliest contact change within a step h that changes the linear operator: returns the
     fraction of h and the operator code just after it, or (2.0, code) for none. A crossing
@@ -1221,7 +1221,7 @@ def _first_event(G0, G1, h, n_probe, pat, stride, code, Gs):
     return best, best_code
 
 
-@njit(cache=_CACHE)
+@kernel_only(cache=_CACHE)
 def _phis(z):
     """(e^z, φ1, φ2, φ3)(z) of a complex z, φ_k(z) = Σ_j z^j/(j+k)!: one series for |z| < 0.5
     (terms until they stop changing the sums; no cancellation), else the recurrence
@@ -1291,7 +1291,7 @@ def _etd_rhs(t, z, v, g, om, P, W):
         g[i] += om[i] * om[i] * z[i]
 
 
-@njit(cache=_CACHE, fastmath=_FAST_ETD)
+@kernel_only(cache=_CACHE, fastmath=_FAST_ETD)
 def _etd_substep(t, tau, z, v, om, coef, P, W, L, out_z, out_v):
     """One exponential RK4 step (ETDRK4, Cox & Matthews 2002) of length tau from (z, v) at t
     in the coordinates of a linear operator diag(μ = om²): the oscillators ζ̈ + μζ are
@@ -1340,7 +1340,7 @@ def _etd_substep(t, tau, z, v, om, coef, P, W, L, out_z, out_v):
         )  # fmt: skip
 
 
-@njit(cache=_CACHE)
+@kernel_only(cache=_CACHE)
 def _op_system(P, X, op):
     """The :class:`ModalModel` of :func:`_accel_modal` in the coordinates of operator op of
     the :class:`ContactOperators` X (the meshes' stiffness it holds not subtracted again)."""
@@ -1358,14 +1358,14 @@ def _op_system(P, X, op):
     )  # fmt: skip
 
 
-@njit(cache=_CACHE)
+@kernel_only(cache=_CACHE)
 def _rotate(Ya, Yb, z, v, tz, tv):
     """(z, v) ← Y_bᵀ Y_a (z, v): coordinates of operator a to those of operator b."""
     _matvec2(Ya, z, v, tz, tv)
     _matvec2(Yb.T, tz, tv, z, v)
 
 
-@njit(cache=_CACHE, fastmath=_FAST_ETD)
+@kernel_only(cache=_CACHE, fastmath=_FAST_ETD)
 def _record_etd(j, t, z, v, g1, om, Po, alpha, rec, acc):
     """Record row j of the outputs Φ_out η, η̇, η̈ (η̈ = N − μζ, ``g1`` the first stage's N,
     into the work vector ``acc``) and the shaft speeds at t, in an operator's coordinates (its
