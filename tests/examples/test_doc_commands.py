@@ -329,6 +329,8 @@ def test_printed_command_runs(cmd, doc_workspaces):
     where = doc_workspaces(_workspace_of(cmd))
     for dep in depends_on(cmd):
         if (dep.doc, dep.shell) not in _DONE:
+            for folder in folders_made_earlier(dep):
+                (where / folder).mkdir(parents=True, exist_ok=True)
             p = _run(dep, where)
             assert p.returncode == expected_status(dep), (dep.shell, p.stderr[-2000:])
             _DONE[(dep.doc, dep.shell)] = where
