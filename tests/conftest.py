@@ -121,9 +121,11 @@ def _leave_out_slow(config, items) -> None:
 
 
 def pytest_terminal_summary(terminalreporter, exitstatus, config) -> None:
-    if _slow_left_out(config) and terminalreporter.stats.get("deselected"):
+    """Says that the slow tests were left out (under ``-n N`` the workers deselect them and
+    the summary line of the controlling process does not count them)."""
+    if _slow_left_out(config) and not os.environ.get("PYTEST_XDIST_WORKER"):
         terminalreporter.write_line(
-            "the long cross-checks marked slow were left out: `-m slow` runs them, "
+            "the long cross-checks marked slow are left out of this run: `-m slow` runs them, "
             "`GEARROTOR_TESTS=all` runs the whole suite (as CI does)"
         )
 

@@ -86,7 +86,12 @@ def test_a_slow_test_named_on_the_command_line_runs(conftest, monkeypatch):
 
 def test_the_hook_is_called_by_pytest():
     """A collection of a file with one slow test, as a user runs it."""
-    env = {k: v for k, v in os.environ.items() if k != "GEARROTOR_TESTS"}
+    # as a user runs it: not under this run's tier setting nor as one of its xdist workers
+    env = {
+        k: v
+        for k, v in os.environ.items()
+        if k != "GEARROTOR_TESTS" and not k.startswith(("PYTEST_XDIST", "GEARROTOR_TEST_"))
+    }
     target = "tests/transient/test_transient_seed.py"
     p = subprocess.run(
         [sys.executable, "-m", "pytest", "--co", "-q", "-p", "no:cacheprovider", target],
