@@ -160,8 +160,8 @@ def start_method() -> str:
     """``"forkserver"`` where multiprocessing has it (Linux, macOS) with the pieces
     :func:`worker_processes` builds on, else ``"spawn"`` (Windows). Those pieces are private
     to multiprocessing (the fork server's fields, ``Popen._launch``,
-    ``connect_to_new_process``): used on the Python versions the suite ran on (3.11, 3.13;
-    3.12 between them), spawn on later ones until they are checked."""
+    ``connect_to_new_process``): used on the Python versions the study and fault tests ran on
+    (3.11, 3.12, 3.13), spawn on later ones until they are checked."""
     import multiprocessing
 
     if "forkserver" not in multiprocessing.get_all_start_methods() or _popen_forkserver is None:
