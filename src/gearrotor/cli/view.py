@@ -229,8 +229,9 @@ def view_command(
         typer.echo(f"serving {model} at http://{host}:{bound}/ (Ctrl-C to stop)", err=True)
         if watcher.error:
             typer.echo(watcher.error, err=True)
-        while True:
-            time.sleep(3600)
+        while True:  # short sleeps: the kernel may hand a Ctrl-C to any thread of the process
+            time.sleep(0.2)  # (the server's, the watcher's); Python then raises it here only
+            # when this thread next runs, and a long sleep kept the view up for up to an hour
     except KeyboardInterrupt:
         server.shutdown()
         typer.echo("view stopped", err=True)
