@@ -237,6 +237,10 @@ _DONE: dict[tuple[str, str], Path] = {}
 
 
 def _run(cmd: PrintedCommand, where: Path) -> subprocess.CompletedProcess:
+    """``cmd`` run in ``where``, with the folders the doc's earlier commands make there (a
+    reader following the doc has them, whichever worker ran those commands)."""
+    for folder in folders_made_earlier(cmd):
+        (where / folder).mkdir(parents=True, exist_ok=True)
     env = dict(ENV, PYTHONPATH=os.pathsep.join([str(ROOT / "src"), ENV.get("PYTHONPATH", "")]))
     return run_gearrotor(cmd.argv, where, env, timeout=1800)
 
@@ -329,13 +333,9 @@ def test_printed_command_runs(cmd, doc_workspaces):
     where = doc_workspaces(_workspace_of(cmd))
     for dep in depends_on(cmd):
         if (dep.doc, dep.shell) not in _DONE:
-            for folder in folders_made_earlier(dep):
-                (where / folder).mkdir(parents=True, exist_ok=True)
             p = _run(dep, where)
             assert p.returncode == expected_status(dep), (dep.shell, p.stderr[-2000:])
             _DONE[(dep.doc, dep.shell)] = where
-    for folder in folders_made_earlier(cmd):
-        (where / folder).mkdir(parents=True, exist_ok=True)
     p = _run(cmd, where)
     status = expected_status(cmd)
     assert p.returncode == status, (cmd.shell, p.stderr[-3000:])
